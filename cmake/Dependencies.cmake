@@ -1,0 +1,17 @@
+# Every dependency is a Debian 12 package installed by scripts/install-deps.
+find_package(PkgConfig REQUIRED)
+find_package(fmt REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json REQUIRED)
+find_package(glm REQUIRED)
+
+# OpenImageIO 2.4's CMake config references tools and include dirs that Debian does not ship
+# (see ../shared/TOOLCHAIN.md); its pkg-config file is clean, so use that.
+pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET GLOBAL OpenImageIO)
+
+if(HYDROLUX_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(HYDROLUX_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,52 @@
+#pragma once
+// Errors the library throws. Nothing in the library prints or exits: the CLI turns these into one
+// line on stderr and exit code 2.
+#include <stdexcept>
+#include <string>
+
+namespace hydrolux {
+
+// Base of every error hydrolux throws on purpose.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A number outside the domain where a model is valid: a wavelength outside a medium's table, an
+// angle outside [0, 90] degrees, a NaN. Carries the quantity's name (snake_case with its unit, e.g.
+// "wavelength_nm") so a caller can name its own flag or field for it.
+class DomainError : public Error {
+ public:
+  DomainError(std::string quantity, double value, double lo, double hi, std::string context = {});
+  const std::string& quantity() const noexcept { return quantity_; }
+  double value() const noexcept { return value_; }
+  double lo() const noexcept { return lo_; }
+  double hi() const noexcept { return hi_; }
+  // What the range belongs to, e.g. "water (IAPWS R9-97)"; may be empty.
+  const std::string& context() const noexcept { return context_; }
+  // "outside [lo, hi] of <context>", without the quantity: for callers that name it themselves.
+  std::string range_text() const;
+
+ private:
+  std::string quantity_;
+  double value_, lo_, hi_;
+  std::string context_;
+};
+
+// A name that is not one of a known set (a medium, a theory). The message lists the valid names.
+class UnknownNameError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A file that cannot be read or written, or whose content is malformed.
+class IoError : public Error {
+ public:
+  using Error::Error;
+};
+
+// Throws DomainError unless lo <= value <= hi (NaN always throws).
+void require_in_range(const char* quantity, double value, double lo, double hi,
+                      const std::string& context = {});
+
+}  // namespace hydrolux

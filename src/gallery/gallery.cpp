@@ -1,0 +1,255 @@
+#include "hydrolux/gallery/gallery.hpp"
+
+#include <fmt/format.h>
+
+#include <functional>
+
+#include "hydrolux/core/math.hpp"
+#include "hydrolux/io/files.hpp"
+#include "hydrolux/io/svg_plot.hpp"
+#include "hydrolux/optics/fresnel.hpp"
+#include "hydrolux/optics/media.hpp"
+#include "hydrolux/optics/snell.hpp"
+#include "hydrolux/version.hpp"
+
+namespace hydrolux::gallery {
+
+namespace {
+
+using io::Plot;
+using io::PlotMarker;
+using io::PlotSeries;
+
+constexpr const char* kBlue = "#1f77b4";
+constexpr const char* kOrange = "#ff7f0e";
+constexpr const char* kBlack = "#222222";
+constexpr const char* kGreen = "#2ca02c";
+constexpr const char* kRed = "#d62728";
+constexpr const char* kPurple = "#9467bd";
+constexpr const char* kBrown = "#8c564b";
+
+struct Entry {
+  Figure figure;
+  std::function<std::string()> render;  // SVG text
+};
+
+std::vector<double> angles_deg() {
+  std::vector<double> a;
+  for (int i = 0; i <= 360; ++i) a.push_back(0.25 * i);
+  return a;
+}
+
+// R_s, R_p, R (and T for dielectrics) against the angle of incidence, n1 -> n2 + i k2.
+Plot fresnel_plot(const std::string& title, double n1, std::complex<double> n2) {
+  Plot p;
+  p.title = title;
+  p.x_label = "angle of incidence (degrees)";
+  p.y_label = "reflectance";
+  p.x_min = 0, p.x_max = 90, p.x_tick = 10;
+  p.y_min = 0, p.y_max = 1, p.y_tick = 0.1;
+  PlotSeries rs{"R_s (perpendicular)", {}, {}, kBlue}, rp{"R_p (parallel)", {}, {}, kOrange},
+      r{"R (unpolarised)", {}, {}, kBlack}, t{"T = 1 - R (transmitted)", {}, {}, kGreen, true};
+  const bool conductor = n2.imag() > 0;
+  for (double a : angles_deg()) {
+    const double c = std::cos(deg_to_rad(a));
+    double vs, vp, v, vt = 0;
+    if (conductor) {
+      const auto f = optics::fresnel_conductor(c, n1, n2);
+      vs = f.R_s, vp = f.R_p, v = f.R;
+    } else {
+      const auto f = optics::fresnel_dielectric(c, n1, n2.real());
+      vs = f.R_s, vp = f.R_p, v = f.R, vt = f.T;
+    }
+    for (auto* s : {&rs, &rp, &r, &t}) s->x.push_back(a);
+    rs.y.push_back(vs), rp.y.push_back(vp), r.y.push_back(v), t.y.push_back(vt);
+  }
+  p.series = {rs, rp, r};
+  if (!conductor) {
+    p.series.push_back(t);
+    p.markers.push_back({rad_to_deg(optics::brewster_angle(n1, n2.real())),
+                         fmt::format("Brewster {:.2f} deg", rad_to_deg(optics::brewster_angle(n1, n2.real()))),
+                         kOrange});
+    if (auto crit = optics::critical_angle(n1, n2.real()))
+      p.markers.push_back({rad_to_deg(*crit), fmt::format("critical {:.2f} deg", rad_to_deg(*crit)), kRed});
+  }
+  return p;
+}
+
+std::string n_text(std::complex<double> n) {
+  return n.imag() > 0 ? fmt::format("{:.4f} + {:.4f}i", n.real(), n.imag()) : fmt::format("{:.5f}", n.real());
+}
+
+std::vector<Entry> entries() {
+  std::vector<Entry> e;
+  const auto water = optics::find_medium("water");
+  const auto bk7 = optics::find_medium("bk7");
+  const auto gold = optics::find_medium("gold");
+  const double lw = 589.3;
+
+  const double n_w = water->n(lw, 20.0);
+  e.push_back({{"fresnel_air_water.svg", "Fresnel: air to water",
+                fmt::format("Reflectance of a still water surface seen from air at {} nm, 20 C (n = {}, "
+                            "IAPWS R9-97). R_p vanishes at Brewster's angle; every curve rises to 1 "
+                            "at grazing incidence.",
+                            lw, n_text(n_w))},
+               [=] {
+                 return io::render_svg(fresnel_plot(
+                     fmt::format("Air to water, {} nm (n = {:.4f})", lw, n_w), 1.0, n_w));
+               }});
+  e.push_back({{"fresnel_water_air.svg", "Fresnel: water to air (inside a drop)",
+                fmt::format("The same interface seen from inside the water, as by light inside a rain "
+                            "drop: past the critical angle asin(1/n) = {:.2f} degrees all light is "
+                            "reflected (total internal reflection).",
+                            rad_to_deg(*optics::critical_angle(n_w, 1.0)))},
+               [=] {
+                 auto p = fresnel_plot(fmt::format("Water to air, {} nm (n = {:.4f})", lw, n_w), n_w, 1.0);
+                 p.legend = io::LegendCorner::BottomRight;
+                 return io::render_svg(p);
+               }});
+  const double n_g = bk7->n(587.6);
+  e.push_back({{"fresnel_air_glass.svg", "Fresnel: air to glass (N-BK7)",
+                fmt::format("Crown glass N-BK7 at 587.6 nm (n = {}, SCHOTT Sellmeier, made absolute). "
+                            "At normal incidence about 4% is reflected.",
+                            n_text(n_g))},
+               [=] {
+                 return io::render_svg(
+                     fresnel_plot(fmt::format("Air to N-BK7 glass, 587.6 nm (n = {:.4f})", n_g), 1.0, n_g));
+               }});
+  const auto n_au = gold->index(550.0);
+  e.push_back({{"fresnel_air_gold.svg", "Fresnel: air to gold",
+                fmt::format("Gold at 550 nm (n = {}, Johnson & Christy 1972), exact complex Fresnel "
+                            "equations. R_p dips at the principal angle but never reaches zero; "
+                            "what is not reflected is absorbed.",
+                            n_text(n_au))},
+               [=] {
+                 auto p = fresnel_plot("Air to gold, 550 nm", 1.0, n_au);
+                 p.legend = io::LegendCorner::BottomLeft;
+                 return io::render_svg(p);
+               }});
+  e.push_back({{"metals_normal_incidence.svg", "Metals at normal incidence",
+                "Normal-incidence reflectance R = ((n-1)^2 + k^2) / ((n+1)^2 + k^2) of the built-in "
+                "metals across the visible: gold and copper reflect red better than blue, which is "
+                "their colour; aluminium dips near 800 nm (interband absorption)."},
+               [] {
+                 Plot p;
+                 p.title = "Normal-incidence reflectance of metals";
+                 p.x_label = "vacuum wavelength (nm)";
+                 p.y_label = "reflectance";
+                 p.x_min = 300, p.x_max = 1000, p.x_tick = 100;
+                 p.y_min = 0, p.y_max = 1, p.y_tick = 0.1;
+                 p.legend = io::LegendCorner::BottomRight;
+                 const std::pair<const char*, const char*> metals[] = {
+                     {"silver", "#7f7f7f"}, {"aluminium", kBlue}, {"gold", "#c9a000"}, {"copper", kBrown}};
+                 for (const auto& [name, colour] : metals) {
+                   const auto m = optics::find_medium(name);
+                   PlotSeries s{name, {}, {}, colour};
+                   for (double l = 300; l <= 1000; l += 2.5) {
+                     s.x.push_back(l);
+                     s.y.push_back(optics::fresnel_conductor(1.0, 1.0, m->index(l)).R);
+                   }
+                   p.series.push_back(s);
+                 }
+                 return io::render_svg(p);
+               }});
+  e.push_back({{"dispersion.svg", "Dispersion n(lambda)",
+                "Refractive index against wavelength of the built-in transparent media, each within "
+                "its source's valid range (PMMA's fit starts at 436.8 nm). Water's dispersion is what "
+                "separates the colours of a rainbow."},
+               [] {
+                 Plot p;
+                 p.title = "Refractive index of transparent media";
+                 p.x_label = "vacuum wavelength (nm)";
+                 p.y_label = "refractive index n";
+                 p.x_min = 400, p.x_max = 1000, p.x_tick = 100;
+                 p.y_min = 1.30, p.y_max = 1.54, p.y_tick = 0.02;
+                 p.legend = io::LegendCorner::TopRight;
+                 const std::pair<const char*, const char*> media[] = {{"bk7", kRed},
+                                                                      {"pmma", kPurple},
+                                                                      {"fused-silica", kGreen},
+                                                                      {"water", kBlue},
+                                                                      {"ice", "#17becf"}};
+                 for (const auto& [name, colour] : media) {
+                   const auto m = optics::find_medium(name);
+                   const auto& info = m->info();
+                   PlotSeries s{fmt::format("{} ({})", name, info.description.substr(0, info.description.find(" ("))),
+                                {}, {}, colour};
+                   for (double l = 400; l <= 1000; l += 2) {
+                     if (l < info.lambda_min_nm || l > info.lambda_max_nm) continue;
+                     s.x.push_back(l);
+                     s.y.push_back(m->n(l));
+                   }
+                   p.series.push_back(s);
+                 }
+                 return io::render_svg(p);
+               }});
+  e.push_back({{"water_temperature.svg", "Water: index against temperature",
+                "IAPWS R9-97 refractive index of liquid water at 0.1 MPa from 0 to 100 C at three "
+                "wavelengths; the density comes from Kell (1975). Warmer water is less dense and "
+                "refracts less."},
+               [water] {
+                 Plot p;
+                 p.title = "Liquid water: n against temperature (IAPWS R9-97)";
+                 p.x_label = "temperature (C)";
+                 p.y_label = "refractive index n";
+                 p.x_min = 0, p.x_max = 100, p.x_tick = 10;
+                 p.y_min = 1.315, p.y_max = 1.345, p.y_tick = 0.005;
+                 p.legend = io::LegendCorner::TopRight;
+                 const std::pair<double, const char*> lines[] = {{450, kBlue}, {550, kGreen}, {650, kRed}};
+                 for (const auto& [l, colour] : lines) {
+                   PlotSeries s{fmt::format("{:g} nm", l), {}, {}, colour};
+                   for (double t = 0; t <= 100; t += 1) {
+                     s.x.push_back(t);
+                     s.y.push_back(water->n(l, t));
+                   }
+                   p.series.push_back(s);
+                 }
+                 return io::render_svg(p);
+               }});
+  return e;
+}
+
+std::string index_html(const std::vector<Figure>& figures) {
+  std::string h = fmt::format(R"(<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>hydrolux gallery</title>
+<style>
+body {{ font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1540px; color: #222; }}
+h1 {{ margin-bottom: 0.2em; }}
+.grid {{ display: grid; grid-template-columns: repeat(auto-fill, minmax(720px, 1fr)); gap: 1.5em; }}
+figure {{ margin: 0; border: 1px solid #ddd; padding: 0.5em; background: #fff; }}
+figure img {{ width: 100%; height: auto; }}
+figcaption {{ font-size: 0.92em; line-height: 1.4; }}
+</style>
+</head>
+<body>
+<h1>hydrolux gallery</h1>
+<p>Made by <code>hydrolux gallery</code> (hydrolux {}) from built-in data, with no input files.</p>
+<div class="grid">
+)",
+                              kVersion);
+  for (const auto& f : figures)
+    h += fmt::format("<figure><img src=\"{0}\" alt=\"{1}\"><figcaption><b>{1}.</b> {2}</figcaption></figure>\n",
+                     f.file, f.title, f.caption);
+  h += "</div>\n</body>\n</html>\n";
+  return h;
+}
+
+}  // namespace
+
+std::vector<Figure> write_gallery(const std::filesystem::path& dir, const ProgressFn& progress) {
+  const auto all = entries();
+  std::vector<Figure> figures;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (progress) progress(double(i) / double(all.size() + 1), all[i].figure.file);
+    io::write_text_file(dir / all[i].figure.file, all[i].render());
+    figures.push_back(all[i].figure);
+  }
+  if (progress) progress(double(all.size()) / double(all.size() + 1), "index.html");
+  io::write_text_file(dir / "index.html", index_html(figures));
+  if (progress) progress(1.0, "done");
+  return figures;
+}
+
+}  // namespace hydrolux::gallery

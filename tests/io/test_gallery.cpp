@@ -1,0 +1,86 @@
+// The gallery and its SVG plots.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/gallery/gallery.hpp"
+#include "hydrolux/io/svg_plot.hpp"
+
+namespace hydrolux {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::size_t count(const std::string& s, const std::string& what) {
+  std::size_t n = 0;
+  for (auto pos = s.find(what); pos != std::string::npos; pos = s.find(what, pos + 1)) ++n;
+  return n;
+}
+
+TEST(SvgPlot, DrawsAxesSeriesLegendAndMarkers) {
+  io::Plot p;
+  p.title = "R & T <test>";
+  p.x_label = "angle (degrees)";
+  p.y_label = "reflectance";
+  p.x_min = 0, p.x_max = 90, p.x_tick = 10;
+  p.y_min = 0, p.y_max = 1, p.y_tick = 0.1;
+  p.series = {{"R_s", {0, 45, 90}, {0.04, 0.09, 1}, "#123456"}, {"R_p", {0, 90}, {0.04, 1}, "#654321", true}};
+  p.markers = {{56.3, "Brewster"}};
+  const std::string svg = io::render_svg(p);
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_NE(svg.find("R &amp; T &lt;test&gt;"), std::string::npos);  // escaped title
+  EXPECT_EQ(count(svg, "<polyline"), 2u);
+  EXPECT_NE(svg.find(">R_s</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">Brewster</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">0.5</text>"), std::string::npos);  // y tick label
+  EXPECT_NE(svg.find(">90</text>"), std::string::npos);   // x tick label
+  p.x_max = 0;
+  EXPECT_THROW(io::render_svg(p), Error);
+  p.x_max = 90;
+  p.series[0].y.pop_back();
+  EXPECT_THROW(io::render_svg(p), Error);
+}
+
+TEST(Gallery, WritesEveryFigureAndAnIndexThatShowsThem) {
+  const fs::path dir = fs::temp_directory_path() / "hydrolux_test_gallery";
+  fs::remove_all(dir);
+  double last = -1;
+  bool monotone = true;
+  const auto figures = gallery::write_gallery(dir, [&](double f, std::string_view) {
+    monotone = monotone && f >= last;
+    last = f;
+  });
+  EXPECT_TRUE(monotone);
+  EXPECT_EQ(last, 1.0);
+  const std::string index = slurp(dir / "index.html");
+  // Fresnel curves for water, glass and gold are what the foundation issue asks for.
+  for (const char* f : {"fresnel_air_water.svg", "fresnel_air_glass.svg", "fresnel_air_gold.svg"})
+    EXPECT_TRUE(std::any_of(figures.begin(), figures.end(), [&](const auto& g) { return g.file == f; })) << f;
+  for (const auto& f : figures) {
+    const std::string svg = slurp(dir / f.file);
+    EXPECT_EQ(svg.rfind("<svg", 0), 0u) << f.file;
+    EXPECT_NE(svg.find("</svg>"), std::string::npos) << f.file;
+    EXPECT_NE(svg.find("<polyline"), std::string::npos) << f.file;
+    EXPECT_EQ(svg.find("nan"), std::string::npos) << f.file;
+    EXPECT_NE(index.find("src=\"" + f.file + "\""), std::string::npos) << f.file;
+  }
+  // Nothing but the figures and the index (no temporary files left behind).
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, figures.size() + 1);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace hydrolux

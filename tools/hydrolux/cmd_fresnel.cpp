@@ -1,0 +1,87 @@
+// hydrolux fresnel: reflectance and transmittance of one plane interface.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <complex>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "common.hpp"
+#include "hydrolux/core/math.hpp"
+#include "hydrolux/optics/fresnel.hpp"
+
+namespace hydrolux::cli {
+
+namespace {
+struct FresnelArgs {
+  double n1 = 1.0;
+  double n2 = 1.333;
+  double k2 = 0.0;
+  double theta_deg = 0.0;
+  bool json = false;
+};
+
+int run_fresnel(const FresnelArgs& a) {
+  const double theta = deg_to_rad(a.theta_deg);
+  const double cos_i = std::cos(theta);
+  nlohmann::ordered_json j;
+  if (a.k2 > 0) {  // absorbing medium: no propagating transmitted beam
+    const auto f = optics::fresnel_conductor(cos_i, a.n1, std::complex<double>(a.n2, a.k2));
+    j = {{"theta_t_deg", nullptr}, {"rs", f.R_s}, {"rp", f.R_p}, {"r", f.R},
+         {"t", nullptr},           {"tir", false}};
+  } else {
+    const auto f = optics::fresnel_dielectric(cos_i, a.n1, a.n2);
+    j = {{"theta_t_deg", f.tir ? nlohmann::ordered_json(nullptr)
+                               : nlohmann::ordered_json(rad_to_deg(safe_acos(f.cos_t)))},
+         {"rs", f.R_s}, {"rp", f.R_p}, {"r", f.R}, {"t", f.T}, {"tir", f.tir}};
+  }
+  if (a.json) {
+    std::cout << j.dump() << "\n";
+    return 0;
+  }
+  const auto num = [](const nlohmann::ordered_json& v) {
+    return v.is_null() ? std::string("-") : fmt::format("{:.8g}", v.get<double>());
+  };
+  fmt::print("interface   n1 = {:g} -> n2 = {:g}{}  at theta_i = {:g} deg\n", a.n1, a.n2,
+             a.k2 > 0 ? fmt::format(" + {:g}i", a.k2) : "", a.theta_deg);
+  fmt::print("theta_t     {} deg{}\n", num(j["theta_t_deg"]),
+             j["tir"].get<bool>() ? " (total internal reflection)"
+                                  : (a.k2 > 0 ? " (absorbing medium: no refracted beam)" : ""));
+  fmt::print("R_s         {}\n", num(j["rs"]));
+  fmt::print("R_p         {}\n", num(j["rp"]));
+  fmt::print("R           {}   (unpolarised, (R_s + R_p) / 2)\n", num(j["r"]));
+  fmt::print("T           {}{}\n", num(j["t"]), a.k2 > 0 ? "   (1 - R is absorbed)" : "");
+  fmt::print("TIR         {}\n", j["tir"].get<bool>() ? "yes" : "no");
+  return 0;
+}
+}  // namespace
+
+Command add_fresnel(CLI::App& app) {
+  auto args = std::make_shared<FresnelArgs>();
+  auto* sub = app.add_subcommand(
+      "fresnel",
+      "Fresnel reflectance and transmittance of a plane interface from a transparent medium (n1) "
+      "into a dielectric (n2) or an absorbing medium (n2 + i k2). Exact equations, unpolarised "
+      "R = (R_s + R_p) / 2, T = 1 - R for dielectrics.");
+  sub->add_option("--n1", args->n1, "Refractive index of the incident medium (real, > 0)")
+      ->check(positive_number(1000))
+      ->capture_default_str();
+  sub->add_option("--n2", args->n2, "Real part of the second medium's refractive index (> 0)")
+      ->check(positive_number(1000))
+      ->capture_default_str();
+  sub->add_option("--k2", args->k2,
+                  "Imaginary part (extinction coefficient) of the second medium's index; > 0 makes "
+                  "it a conductor (no transmitted beam)")
+      ->check(number_in(0, 1000))
+      ->capture_default_str();
+  sub->add_option("--theta-deg", args->theta_deg, "Angle of incidence from the normal, degrees")
+      ->required()
+      ->check(number_in(0, 90, "deg"));
+  sub->add_flag("--json", args->json,
+                "Print one JSON object: theta_t_deg, rs, rp, r, t, tir (theta_t_deg and t are null "
+                "for a conductor; theta_t_deg is null under total internal reflection)");
+  return {sub, [args] { return run_fresnel(*args); }, {}};
+}
+
+}  // namespace hydrolux::cli

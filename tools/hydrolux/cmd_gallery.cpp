@@ -1,0 +1,40 @@
+// hydrolux gallery: the main job; renders every figure hydrolux makes from built-in data.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include "common.hpp"
+#include "hydrolux/gallery/gallery.hpp"
+#include "progress.hpp"
+
+namespace hydrolux::cli {
+
+namespace {
+struct GalleryArgs {
+  std::string out = "out/gallery";
+  bool quiet = false;
+};
+
+int run_gallery(const GalleryArgs& a) {
+  ProgressBar bar("gallery", a.quiet);
+  const auto figures = gallery::write_gallery(a.out, bar.callback());
+  bar.finish();
+  for (const auto& f : figures) fmt::print("{}/{}\n", a.out, f.file);
+  fmt::print("{}/index.html  ({} figures)\n", a.out, figures.size());
+  return 0;
+}
+}  // namespace
+
+Command add_gallery(CLI::App& app) {
+  auto args = std::make_shared<GalleryArgs>();
+  auto* sub = app.add_subcommand(
+      "gallery",
+      "Render the gallery (index.html and its figures) from built-in data; no input files needed.");
+  sub->add_option("-o,--out", args->out, "Output directory (created if missing)")->capture_default_str();
+  sub->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
+  return {sub, [args] { return run_gallery(*args); }, {}};
+}
+
+}  // namespace hydrolux::cli

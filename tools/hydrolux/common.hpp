@@ -1,0 +1,36 @@
+#pragma once
+// Shared pieces of the hydrolux CLI: how subcommands register, input validators that produce the
+// one-line "flag, value, valid range" errors, and how library errors become exit code 2.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <map>
+#include <string>
+
+namespace hydrolux::cli {
+
+inline constexpr int kExitUsage = 2;     // bad input: flag, value or file
+inline constexpr int kExitInternal = 1;  // a bug or an unexpected failure
+
+// A subcommand's action, run after parsing. Returns the exit code.
+using Action = std::function<int()>;
+
+// Each subcommand adds itself to `app` and returns its action.
+struct Command {
+  CLI::App* app;
+  Action run;
+  // Library DomainError quantities ("wavelength_nm") -> the flag that set them ("--wavelength-nm").
+  std::map<std::string, std::string> flags_for_quantity;
+};
+
+Command add_fresnel(CLI::App& app);
+Command add_ior(CLI::App& app);
+Command add_gallery(CLI::App& app);
+
+// A finite number in [lo, hi] (unit printed in help and errors, e.g. "deg"). Rejects NaN, inf and
+// non-numeric text with the valid range in the message.
+CLI::Validator number_in(double lo, double hi, const std::string& unit = {});
+// A finite number > 0 (at most `hi`).
+CLI::Validator positive_number(double hi, const std::string& unit = {});
+
+}  // namespace hydrolux::cli

@@ -1,0 +1,26 @@
+#pragma once
+// Progress on stderr with elapsed time and an ETA, redrawn in place on a terminal and printed at
+// most every few seconds otherwise (logs, CI).
+#include <chrono>
+#include <string>
+
+#include "hydrolux/core/progress.hpp"
+
+namespace hydrolux::cli {
+
+class ProgressBar {
+ public:
+  ProgressBar(std::string job, bool quiet);
+  ProgressFn callback();
+  void update(double fraction, std::string_view label);
+  void finish();
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string job_;
+  bool quiet_, tty_;
+  Clock::time_point start_, last_print_;
+  bool printed_ = false;
+};
+
+}  // namespace hydrolux::cli
