@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <functional>
+#include <tuple>
 
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/io/files.hpp"
@@ -161,18 +162,18 @@ std::vector<Entry> entries() {
                  p.x_label = "vacuum wavelength (nm)";
                  p.y_label = "refractive index n";
                  p.x_min = 400, p.x_max = 1000, p.x_tick = 100;
-                 p.y_min = 1.30, p.y_max = 1.54, p.y_tick = 0.02;
-                 p.legend = io::LegendCorner::TopRight;
-                 const std::pair<const char*, const char*> media[] = {{"bk7", kRed},
-                                                                      {"pmma", kPurple},
-                                                                      {"fused-silica", kGreen},
-                                                                      {"water", kBlue},
-                                                                      {"ice", "#17becf"}};
-                 for (const auto& [name, colour] : media) {
+                 p.y_min = 1.26, p.y_max = 1.54, p.y_tick = 0.02;  // legend fits between water and silica
+                 p.legend = io::LegendCorner::CenterRight;
+                 const std::tuple<const char*, const char*, const char*> media[] = {
+                     {"bk7", "N-BK7 glass", kRed},
+                     {"pmma", "PMMA (acrylic)", kPurple},
+                     {"fused-silica", "fused silica", kGreen},
+                     {"water", "water, 20 C", kBlue},
+                     {"ice", "ice Ih, -7 C", "#17becf"}};
+                 for (const auto& [name, label, colour] : media) {
                    const auto m = optics::find_medium(name);
                    const auto& info = m->info();
-                   PlotSeries s{fmt::format("{} ({})", name, info.description.substr(0, info.description.find(" ("))),
-                                {}, {}, colour};
+                   PlotSeries s{label, {}, {}, colour};
                    for (double l = 400; l <= 1000; l += 2) {
                      if (l < info.lambda_min_nm || l > info.lambda_max_nm) continue;
                      s.x.push_back(l);

@@ -120,10 +120,13 @@ std::string render_svg(const Plot& p) {
   std::size_t longest = 0;
   for (const auto& s : p.series) longest = std::max(longest, s.label.size());
   const double lw = 46 + 7.2 * double(longest), lh = 8 + 20.0 * double(p.series.size());
-  const bool at_right = p.legend == LegendCorner::TopRight || p.legend == LegendCorner::BottomRight;
+  const bool at_right = p.legend == LegendCorner::TopRight || p.legend == LegendCorner::CenterRight ||
+                        p.legend == LegendCorner::BottomRight;
   const bool at_bottom = p.legend == LegendCorner::BottomLeft || p.legend == LegendCorner::BottomRight;
   const double lx = at_right ? left + pw - lw - 10 : left + 10;
-  const double ly = at_bottom ? top + ph - lh - 10 : top + 10;
+  const double ly = p.legend == LegendCorner::CenterRight ? top + (ph - lh) / 2
+                    : at_bottom                           ? top + ph - lh - 10
+                                                          : top + 10;
   if (!p.series.empty()) {
     o += fmt::format("<rect x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" fill=\"white\" "
                      "fill-opacity=\"0.9\" stroke=\"#999\"/>\n",

@@ -101,6 +101,16 @@ double ciddor_standard_air(double l) {
   return 1 + 0.05792105 / (238.0185 - s2) + 0.00167917 / (57.362 - s2);
 }
 
+// Glass catalogues and most dispersion fits give the index relative to air at air wavelengths.
+// hydrolux uses absolute indices at vacuum wavelengths (as IAPWS R9-97 does), so such a formula
+// n_rel(l_air) becomes n(l_vac) = n_air(l_vac) * n_rel(l_vac / n_air(l_vac)), with Ciddor's air.
+std::function<double(double)> made_absolute(std::function<double(double)> relative_to_air) {
+  return [rel = std::move(relative_to_air)](double l) {
+    const double n_air = ciddor_standard_air(l);
+    return n_air * rel(l / n_air);
+  };
+}
+
 class ConstantMedium final : public Medium {
  public:
   explicit ConstantMedium(std::complex<double> index)
@@ -199,39 +209,33 @@ const Registry& registry() {
           "of their data by refractiveindex.info";
       info.lambda_min_nm = 436.8;
       info.lambda_max_nm = 1052;
-      reg.add(std::make_shared<FormulaMedium>(info, sellmeier({{{1.1819, 0.011313}}})),
+      reg.add(std::make_shared<FormulaMedium>(info, made_absolute(sellmeier({{{1.1819, 0.011313}}}))),
               {"acrylic"});
     }
     {
       MediumInfo info;
       info.name = "bk7";
       info.description = "Schott N-BK7 borosilicate crown glass, 20 C";
-      info.source =
-          "SCHOTT N-BK7 Sellmeier coefficients (catalogue 2017), relative to air and made absolute "
-          "with Ciddor's standard air (SCHOTT TIE-29)";
+      info.source = "SCHOTT N-BK7 Sellmeier coefficients (catalogue 2017)";
       info.lambda_min_nm = 300;
       info.lambda_max_nm = 2500;
-      const auto relative = sellmeier(
-          {{1.03961212, 0.00600069867}, {0.231792344, 0.0200179144}, {1.01046945, 103.560653}});
-      reg.add(std::make_shared<FormulaMedium>(info,
-                                              [relative](double l) {
-                                                // n_abs(l_vac) = n_air * n_rel(l_vac / n_air)
-                                                const double n_air = ciddor_standard_air(l);
-                                                return n_air * relative(l / n_air);
-                                              }),
+      reg.add(std::make_shared<FormulaMedium>(
+                  info, made_absolute(sellmeier({{1.03961212, 0.00600069867},
+                                                 {0.231792344, 0.0200179144},
+                                                 {1.01046945, 103.560653}}))),
               {"glass"});
     }
     {
       MediumInfo info;
       info.name = "fused-silica";
       info.description = "fused silica (amorphous SiO2), 20 C";
-      info.source = "Malitson, J. Opt. Soc. Am. 55, 1205 (1965)";
+      info.source = "Malitson, J. Opt. Soc. Am. 55, 1205 (1965)";  // relative to air
       info.lambda_min_nm = 210;
       info.lambda_max_nm = 3710;
       reg.add(std::make_shared<FormulaMedium>(
-          info, sellmeier({{0.6961663, 0.0684043 * 0.0684043},
-                           {0.4079426, 0.1162414 * 0.1162414},
-                           {0.8974794, 9.896161 * 9.896161}})));
+          info, made_absolute(sellmeier({{0.6961663, 0.0684043 * 0.0684043},
+                                         {0.4079426, 0.1162414 * 0.1162414},
+                                         {0.8974794, 9.896161 * 9.896161}}))));
     }
     {
       MediumInfo info;

@@ -1,6 +1,8 @@
 #pragma once
 // Optical media: complex refractive index n + i k as a function of vacuum wavelength (and, where
-// the source models it, temperature). Every medium names its source and its valid range; a
+// the source models it, temperature). Indices are absolute (relative to vacuum): sources that give
+// them relative to air (glass catalogues, BK7, fused silica, PMMA) are converted with Ciddor's
+// standard air, a change of about 4e-4. Every medium names its source and its valid range; a
 // wavelength or temperature outside it is a DomainError, never an extrapolation.
 //
 // Built-in media (names accepted by find_medium; aliases in brackets):
@@ -8,7 +10,7 @@
 //                          (1975) density; k: Hale & Querry 1973 (25 C)
 //   ice                    Warren & Brandt 2008 (ice Ih at -7 C), tabulated n and k
 //   pmma [acrylic]         Sultanova et al. 2009 (436.8-1052 nm)
-//   bk7 [glass]            Schott N-BK7 Sellmeier (made absolute: Schott's indices are relative to air)
+//   bk7 [glass]            Schott N-BK7 Sellmeier
 //   fused-silica           Malitson 1965 Sellmeier
 //   air                    Ciddor 1996 (standard air, 15 C, 101325 Pa, 450 ppm CO2)
 //   gold, silver, copper   Johnson & Christy 1972, tabulated n and k
