@@ -8,6 +8,7 @@
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/svg_plot.hpp"
+#include "hydrolux/optics/bsdf.hpp"
 #include "hydrolux/optics/fresnel.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/optics/snell.hpp"
@@ -125,6 +126,48 @@ std::vector<Entry> entries() {
                [=] {
                  auto p = fresnel_plot("Air to gold, 550 nm", 1.0, n_au);
                  p.legend = io::LegendCorner::BottomLeft;
+                 return io::render_svg(p);
+               }});
+  e.push_back({{"rough_water_albedo.svg", "Rough water surface (microfacet BSDF)",
+                fmt::format("Light arriving from air on a rough water surface (n = {:.4f}): the "
+                            "fractions reflected (rising at grazing) and transmitted, from the Walter "
+                            "et al. (2007) BSDF with a GGX distribution, by importance sampling (20000 "
+                            "samples per point). Smooth Fresnel in black. At roughness 0.6 the sum "
+                            "falls below 1 at grazing incidence: single-scattering microfacet models lose the "
+                            "light that masking blocks.",
+                            n_w)},
+               [n_w] {
+                 Plot p;
+                 p.title = "Rough air-water interface: reflected and transmitted power";
+                 p.x_label = "angle of incidence (degrees)";
+                 p.y_label = "fraction of incident power";
+                 p.x_min = 0, p.x_max = 90, p.x_tick = 10;
+                 p.y_min = 0, p.y_max = 1, p.y_tick = 0.1;
+                 p.legend = io::LegendCorner::CenterLeft;
+                 PlotSeries smooth_r{"smooth: R (Fresnel)", {}, {}, kBlack};
+                 PlotSeries smooth_t{"smooth: T = 1 - R", {}, {}, kBlack, true};
+                 for (double a = 0; a <= 89; a += 0.5) {
+                   const double f = optics::fresnel_dielectric(std::cos(deg_to_rad(a)), 1.0, n_w).R;
+                   smooth_r.x.push_back(a), smooth_r.y.push_back(f);
+                   smooth_t.x.push_back(a), smooth_t.y.push_back(1 - f);
+                 }
+                 p.series = {smooth_r, smooth_t};
+                 const std::pair<double, const char*> roughness[] = {{0.1, kBlue}, {0.3, kGreen}, {0.6, kRed}};
+                 for (const auto& [alpha, colour] : roughness) {
+                   const optics::RoughDielectric bsdf(
+                       optics::MicrofacetDistribution::trowbridge_reitz(alpha, alpha), n_w);
+                   PlotSeries r{fmt::format("GGX alpha {:g}: reflected", alpha), {}, {}, colour};
+                   PlotSeries t{fmt::format("GGX alpha {:g}: transmitted", alpha), {}, {}, colour, true};
+                   for (int i = 0; i <= 44; ++i) {
+                     const double a = 2.0 * i;
+                     const auto alb = optics::directional_albedo(
+                         bsdf, spherical_direction(deg_to_rad(a), 0.0), 20000, 1000 + i);
+                     r.x.push_back(a), r.y.push_back(alb.reflected);
+                     t.x.push_back(a), t.y.push_back(alb.transmitted);
+                   }
+                   p.series.push_back(r);
+                   p.series.push_back(t);
+                 }
                  return io::render_svg(p);
                }});
   e.push_back({{"metals_normal_incidence.svg", "Metals at normal incidence",

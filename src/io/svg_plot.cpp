@@ -124,9 +124,10 @@ std::string render_svg(const Plot& p) {
                         p.legend == LegendCorner::BottomRight;
   const bool at_bottom = p.legend == LegendCorner::BottomLeft || p.legend == LegendCorner::BottomRight;
   const double lx = at_right ? left + pw - lw - 10 : left + 10;
-  const double ly = p.legend == LegendCorner::CenterRight ? top + (ph - lh) / 2
-                    : at_bottom                           ? top + ph - lh - 10
-                                                          : top + 10;
+  const bool centred = p.legend == LegendCorner::CenterLeft || p.legend == LegendCorner::CenterRight;
+  const double ly = centred ? top + (ph - lh) / 2
+                    : at_bottom ? top + ph - lh - 10
+                                : top + 10;
   if (!p.series.empty()) {
     o += fmt::format("<rect x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" fill=\"white\" "
                      "fill-opacity=\"0.9\" stroke=\"#999\"/>\n",

@@ -19,7 +19,7 @@ struct PlotMarker {  // a labelled vertical line at x
   std::string color = "#777777";
 };
 
-enum class LegendCorner { TopLeft, TopRight, CenterRight, BottomLeft, BottomRight };
+enum class LegendCorner { TopLeft, TopRight, CenterLeft, CenterRight, BottomLeft, BottomRight };
 
 struct Plot {
   std::string title;
