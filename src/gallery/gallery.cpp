@@ -35,6 +35,36 @@ struct Entry {
   std::function<std::string()> render;  // SVG text
 };
 
+struct Axis {
+  double min, max, tick;
+};
+
+Plot axes(std::string title, std::string x_label, std::string y_label, Axis x, Axis y,
+          io::LegendCorner legend = io::LegendCorner::TopLeft) {
+  Plot p;
+  p.title = std::move(title);
+  p.x_label = std::move(x_label);
+  p.y_label = std::move(y_label);
+  p.x_min = x.min, p.x_max = x.max, p.x_tick = x.tick;
+  p.y_min = y.min, p.y_max = y.max, p.y_tick = y.tick;
+  p.legend = legend;
+  return p;
+}
+
+// A series y = fn(x) for x = from, from + step, ... <= to.
+template <typename Fn>
+PlotSeries curve(std::string label, const char* colour, double from, double to, double step, Fn fn,
+                 bool dashed = false) {
+  PlotSeries s{std::move(label), {}, {}, colour, dashed};
+  for (int i = 0;; ++i) {
+    const double x = from + step * i;
+    if (x > to + 1e-9 * step) break;
+    s.x.push_back(x);
+    s.y.push_back(fn(x));
+  }
+  return s;
+}
+
 std::vector<double> angles_deg() {
   std::vector<double> a;
   for (int i = 0; i <= 360; ++i) a.push_back(0.25 * i);
@@ -43,12 +73,7 @@ std::vector<double> angles_deg() {
 
 // R_s, R_p, R (and T for dielectrics) against the angle of incidence, n1 -> n2 + i k2.
 Plot fresnel_plot(const std::string& title, double n1, std::complex<double> n2) {
-  Plot p;
-  p.title = title;
-  p.x_label = "angle of incidence (degrees)";
-  p.y_label = "reflectance";
-  p.x_min = 0, p.x_max = 90, p.x_tick = 10;
-  p.y_min = 0, p.y_max = 1, p.y_tick = 0.1;
+  Plot p = axes(title, "angle of incidence (degrees)", "reflectance", {0, 90, 10}, {0, 1, 0.1});
   PlotSeries rs{"R_s (perpendicular)", {}, {}, kBlue}, rp{"R_p (parallel)", {}, {}, kOrange},
       r{"R (unpolarised)", {}, {}, kBlack}, t{"T = 1 - R (transmitted)", {}, {}, kGreen, true};
   const bool conductor = n2.imag() > 0;
@@ -137,21 +162,15 @@ std::vector<Entry> entries() {
                             "light that masking blocks.",
                             n_w)},
                [n_w] {
-                 Plot p;
-                 p.title = "Rough air-water interface: reflected and transmitted power";
-                 p.x_label = "angle of incidence (degrees)";
-                 p.y_label = "fraction of incident power";
-                 p.x_min = 0, p.x_max = 90, p.x_tick = 10;
-                 p.y_min = 0, p.y_max = 1, p.y_tick = 0.1;
-                 p.legend = io::LegendCorner::CenterLeft;
-                 PlotSeries smooth_r{"smooth: R (Fresnel)", {}, {}, kBlack};
-                 PlotSeries smooth_t{"smooth: T = 1 - R", {}, {}, kBlack, true};
-                 for (double a = 0; a <= 89; a += 0.5) {
-                   const double f = optics::fresnel_dielectric(std::cos(deg_to_rad(a)), 1.0, n_w).R;
-                   smooth_r.x.push_back(a), smooth_r.y.push_back(f);
-                   smooth_t.x.push_back(a), smooth_t.y.push_back(1 - f);
-                 }
-                 p.series = {smooth_r, smooth_t};
+                 Plot p = axes("Rough air-water interface: reflected and transmitted power",
+                               "angle of incidence (degrees)", "fraction of incident power",
+                               {0, 90, 10}, {0, 1, 0.1}, io::LegendCorner::CenterLeft);
+                 const auto smooth = [n_w](double a) {
+                   return optics::fresnel_dielectric(std::cos(deg_to_rad(a)), 1.0, n_w).R;
+                 };
+                 p.series = {curve("smooth: R (Fresnel)", kBlack, 0, 89, 0.5, smooth),
+                             curve("smooth: T = 1 - R", kBlack, 0, 89, 0.5,
+                                   [&](double a) { return 1 - smooth(a); }, true)};
                  const std::pair<double, const char*> roughness[] = {{0.1, kBlue}, {0.3, kGreen}, {0.6, kRed}};
                  for (const auto& [alpha, colour] : roughness) {
                    const optics::RoughDielectric bsdf(
@@ -175,23 +194,16 @@ std::vector<Entry> entries() {
                 "metals across the visible: gold and copper reflect red better than blue, which is "
                 "their colour; aluminium dips near 800 nm (interband absorption)."},
                [] {
-                 Plot p;
-                 p.title = "Normal-incidence reflectance of metals";
-                 p.x_label = "vacuum wavelength (nm)";
-                 p.y_label = "reflectance";
-                 p.x_min = 300, p.x_max = 1000, p.x_tick = 100;
-                 p.y_min = 0, p.y_max = 1, p.y_tick = 0.1;
-                 p.legend = io::LegendCorner::BottomRight;
+                 Plot p = axes("Normal-incidence reflectance of metals", "vacuum wavelength (nm)",
+                               "reflectance", {300, 1000, 100}, {0, 1, 0.1},
+                               io::LegendCorner::BottomRight);
                  const std::pair<const char*, const char*> metals[] = {
                      {"silver", "#7f7f7f"}, {"aluminium", kBlue}, {"gold", "#c9a000"}, {"copper", kBrown}};
                  for (const auto& [name, colour] : metals) {
                    const auto m = optics::find_medium(name);
-                   PlotSeries s{name, {}, {}, colour};
-                   for (double l = 300; l <= 1000; l += 2.5) {
-                     s.x.push_back(l);
-                     s.y.push_back(optics::fresnel_conductor(1.0, 1.0, m->index(l)).R);
-                   }
-                   p.series.push_back(s);
+                   p.series.push_back(curve(name, colour, 300, 1000, 2.5, [&](double l) {
+                     return optics::fresnel_conductor(1.0, 1.0, m->index(l)).R;
+                   }));
                  }
                  return io::render_svg(p);
                }});
@@ -200,13 +212,10 @@ std::vector<Entry> entries() {
                 "its source's valid range (PMMA's fit starts at 436.8 nm). Water's dispersion is what "
                 "separates the colours of a rainbow."},
                [] {
-                 Plot p;
-                 p.title = "Refractive index of transparent media";
-                 p.x_label = "vacuum wavelength (nm)";
-                 p.y_label = "refractive index n";
-                 p.x_min = 400, p.x_max = 1000, p.x_tick = 100;
-                 p.y_min = 1.26, p.y_max = 1.54, p.y_tick = 0.02;  // legend fits between water and silica
-                 p.legend = io::LegendCorner::CenterRight;
+                 // The y range leaves room for the legend between water and fused silica.
+                 Plot p = axes("Refractive index of transparent media", "vacuum wavelength (nm)",
+                               "refractive index n", {400, 1000, 100}, {1.26, 1.54, 0.02},
+                               io::LegendCorner::CenterRight);
                  const std::tuple<const char*, const char*, const char*> media[] = {
                      {"bk7", "N-BK7 glass", kRed},
                      {"pmma", "PMMA (acrylic)", kPurple},
@@ -215,14 +224,9 @@ std::vector<Entry> entries() {
                      {"ice", "ice Ih, -7 C", "#17becf"}};
                  for (const auto& [name, label, colour] : media) {
                    const auto m = optics::find_medium(name);
-                   const auto& info = m->info();
-                   PlotSeries s{label, {}, {}, colour};
-                   for (double l = 400; l <= 1000; l += 2) {
-                     if (l < info.lambda_min_nm || l > info.lambda_max_nm) continue;
-                     s.x.push_back(l);
-                     s.y.push_back(m->n(l));
-                   }
-                   p.series.push_back(s);
+                   const double from = std::ceil(std::max(400.0, m->info().lambda_min_nm) / 2) * 2;
+                   const double to = std::min(1000.0, m->info().lambda_max_nm);
+                   p.series.push_back(curve(label, colour, from, to, 2, [&](double l) { return m->n(l); }));
                  }
                  return io::render_svg(p);
                }});
@@ -231,22 +235,13 @@ std::vector<Entry> entries() {
                 "wavelengths; the density comes from Kell (1975). Warmer water is less dense and "
                 "refracts less."},
                [water] {
-                 Plot p;
-                 p.title = "Liquid water: n against temperature (IAPWS R9-97)";
-                 p.x_label = "temperature (C)";
-                 p.y_label = "refractive index n";
-                 p.x_min = 0, p.x_max = 100, p.x_tick = 10;
-                 p.y_min = 1.315, p.y_max = 1.345, p.y_tick = 0.005;
-                 p.legend = io::LegendCorner::TopRight;
+                 Plot p = axes("Liquid water: n against temperature (IAPWS R9-97)", "temperature (C)",
+                               "refractive index n", {0, 100, 10}, {1.315, 1.345, 0.005},
+                               io::LegendCorner::TopRight);
                  const std::pair<double, const char*> lines[] = {{450, kBlue}, {550, kGreen}, {650, kRed}};
-                 for (const auto& [l, colour] : lines) {
-                   PlotSeries s{fmt::format("{:g} nm", l), {}, {}, colour};
-                   for (double t = 0; t <= 100; t += 1) {
-                     s.x.push_back(t);
-                     s.y.push_back(water->n(l, t));
-                   }
-                   p.series.push_back(s);
-                 }
+                 for (const auto& [l, colour] : lines)
+                   p.series.push_back(curve(fmt::format("{:g} nm", l), colour, 0, 100, 1,
+                                            [&](double t) { return water->n(l, t); }));
                  return io::render_svg(p);
                }});
   return e;
