@@ -4,6 +4,8 @@ find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json REQUIRED)
 find_package(glm REQUIRED)
+find_package(TBB REQUIRED)   # oneTBB: parallel loops over angles, sizes, wavelengths
+find_package(hwy REQUIRED)   # Google Highway: portable SIMD with runtime dispatch
 
 # OpenImageIO 2.4's CMake config references tools and include dirs that Debian does not ship
 # (see ../shared/TOOLCHAIN.md); its pkg-config file is clean, so use that.
