@@ -23,12 +23,14 @@ DomainError::DomainError(std::string quantity, double value, double lo, double h
       context_(std::move(context)) {}
 
 std::string DomainError::range_text() const {
-  // The unit is the quantity's suffix: wavelength_nm -> nm, theta_deg -> deg, temperature_c -> C.
+  // The unit is the quantity's suffix when it names one: wavelength_nm -> nm, theta_deg -> deg,
+  // temperature_c -> C (m_imag has none).
   std::string unit;
   if (const auto us = quantity_.rfind('_'); us != std::string::npos) {
-    unit = quantity_.substr(us + 1);
-    if (unit == "c") unit = "C";
-    unit = " " + unit;
+    const std::string suffix = quantity_.substr(us + 1);
+    for (const char* u : {"nm", "um", "mm", "deg", "rad", "s", "mmh"})
+      if (suffix == u) unit = " " + suffix;
+    if (suffix == "c") unit = " C";
   }
   std::string m = fmt::format("outside the valid range [{:g}, {:g}]{}", lo_, hi_, unit);
   if (!context_.empty()) m += fmt::format(" of {}", context_);

@@ -12,6 +12,8 @@
 
 #include "hydrolux/optics/fresnel.hpp"
 #include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/sphere.hpp"
 
 namespace {
 
@@ -140,6 +142,123 @@ TEST(Cli, BadInputIsOneLineAndExitCodeTwo) {
   EXPECT_NE(r.err.find("100"), std::string::npos);
   EXPECT_NE(r.err.find("[200, 1100] nm"), std::string::npos) << r.err;
   EXPECT_NE(run("fresnel --theta-deg 100").err.find("[0, 90] deg"), std::string::npos);
+}
+
+TEST(Cli, MieJsonContract) {
+  const auto r = run("mie --m 1.333+1e-8i --x 1000 --angles-deg 0,10,90 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"x", "m", "n_terms", "qext", "qsca", "qabs", "qback", "g", "angles_deg", "s1", "s2",
+                          "compute_s"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  const auto c = hydrolux::scatter::mie_coefficients({1.333, 1e-8}, 1000.0);
+  const auto q = hydrolux::scatter::mie_efficiencies(c);
+  EXPECT_EQ(j.at("n_terms").get<int>(), c.terms());
+  EXPECT_DOUBLE_EQ(j.at("qext").get<double>(), q.qext);
+  EXPECT_DOUBLE_EQ(j.at("g").get<double>(), q.g);
+  EXPECT_EQ(j.at("m"), nlohmann::json::array({1.333, 1e-8}));
+  EXPECT_EQ(j.at("angles_deg").size(), 3u);
+  EXPECT_EQ(j.at("s1").size(), 3u);
+  EXPECT_EQ(j.at("s2")[0].size(), 2u);  // [re, im]
+  // Optical theorem through the CLI: Qext = 4/x^2 Re S(0). The amplitude path and the efficiency
+  // sum add ~1000 terms in different orders: 1e-11 relative covers their rounding.
+  EXPECT_NEAR(4.0 / 1e6 * j.at("s1")[0][0].get<double>(), q.qext, 1e-11 * q.qext);
+  EXPECT_GE(j.at("compute_s").get<double>(), 0.0);
+  // Angle ranges A:B:N, inclusive.
+  const auto g = nlohmann::json::parse(run("mie --m 1.5 --x 3 --angles-deg 0:180:1801 --json").out);
+  EXPECT_EQ(g.at("angles_deg").size(), 1801u);
+  EXPECT_DOUBLE_EQ(g.at("angles_deg")[1800].get<double>(), 180.0);
+  EXPECT_DOUBLE_EQ(g.at("angles_deg")[10].get<double>(), 1.0);
+}
+
+// The physical form computes m and x from the media: water in air at 650 nm.
+TEST(Cli, MiePhysicalForm) {
+  const auto r = run("mie --radius-um 500 --wavelength-nm 650 --medium water --angles-deg 0 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const auto p = hydrolux::scatter::sphere_problem(500, 650, *hydrolux::optics::find_medium("water"),
+                                                   *hydrolux::optics::find_medium("air"));
+  EXPECT_DOUBLE_EQ(j.at("x").get<double>(), p.x);
+  EXPECT_DOUBLE_EQ(j.at("m")[0].get<double>(), p.m.real());
+  EXPECT_NEAR(p.x, 2 * std::acos(-1.0) * 500e3 * 1.00027 / 650, 0.5);
+  const auto vac = nlohmann::json::parse(
+      run("mie --radius-um 500 --wavelength-nm 650 --surrounding const:1 --angles-deg 0 --json").out);
+  EXPECT_NEAR(vac.at("x").get<double>(), 2 * std::acos(-1.0) * 500e3 / 650, 1e-9);
+}
+
+TEST(Cli, MieBadInput) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"mie --m 1.333 --x 0", "--x"},
+      {"mie --m 1.333 --x 2e5", "--x"},
+      {"mie --m 1.333-1i --x 10", "--m"},
+      {"mie --m abc --x 10", "--m"},
+      {"mie --m 20 --x 10", "--m"},
+      {"mie --m 1.333 --x 10 --angles-deg 0:200:5", "--angles-deg"},
+      {"mie --m 1.333 --x 10 --angles-deg 0:180:0", "--angles-deg"},
+      {"mie --m 1.333 --x 10 --angles-deg 10,abc", "--angles-deg"},
+      {"mie --radius-um 500 --wavelength-nm 100", "--wavelength-nm"},
+      {"mie --radius-um -5 --wavelength-nm 500", "--radius-um"},
+      {"mie --m 1.333", "--x"},
+      {"mie --m 1.333 --x 10 --radius-um 3", "--radius-um"},
+      {"mie --m 1.333 --x 10 --threads -1", "--threads"},
+  };
+  for (const auto& [args, flag] : cases) {
+    const auto r = run(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
+    EXPECT_TRUE(r.out.empty()) << args;
+  }
+}
+
+// phase: the same intensities as the library, as text or CSV, for every theory.
+TEST(Cli, PhaseTheoriesAndCsv) {
+  const auto r = run("phase --theory mie --radius-um 100 --wavelength-nm 650 --angles-deg 0:180:19 --csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream in(r.out);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "theta_deg,i1,i2,i");
+  int rows = 0;
+  double i1 = 0, i2 = 0, i = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    if (rows == 1) std::sscanf(line.c_str(), "%*[^,],%lf,%lf,%lf", &i1, &i2, &i);
+  }
+  EXPECT_EQ(rows, 19);
+  // Forward: i1 = i2 = |S(0)|^2, and the average is their mean.
+  EXPECT_NEAR(i1 / i2, 1.0, 1e-9);
+  EXPECT_NEAR(i, (i1 + i2) / 2, 1e-9 * i);
+  for (const char* theory : {"debye:2", "airy", "geometric", "geometric:5", "debye:0"}) {
+    const auto t = run(std::string("phase --theory ") + theory + " --radius-um 200 --wavelength-nm 550 --angles-deg 137:140:4");
+    EXPECT_EQ(t.code, 0) << theory << t.err;
+    EXPECT_EQ(lines(t.out), 2u + 1u + 4u) << theory;  // two comment lines, a header, four angles
+  }
+  const auto avg = run("phase --radius-um 50 --wavelength-nm 650 --size-distribution gamma:0.05 --nodes 16 "
+                       "--angles-deg 140 --csv -q");
+  EXPECT_EQ(avg.code, 0) << avg.err;
+  EXPECT_EQ(lines(avg.out), 2u);
+}
+
+TEST(Cli, PhaseBadInput) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"phase --theory foo --radius-um 10 --wavelength-nm 500", "--theory"},
+      {"phase --theory debye:-1 --radius-um 10 --wavelength-nm 500", "--theory"},
+      {"phase --theory mie --wavelength-nm 500", "--radius-um"},
+      {"phase --theory mie --radius-um 10", "--wavelength-nm"},
+      {"phase --radius-um 10 --wavelength-nm 500 --size-distribution gamma:2", "--size-distribution"},
+      {"phase --radius-um 10 --wavelength-nm 500 --size-distribution cauchy:1", "--size-distribution"},
+      {"phase --radius-um 10 --wavelength-nm 500 --nodes 0", "--nodes"},
+      {"phase --radius-um 10 --wavelength-nm 2000", "--wavelength-nm"},
+      {"phase --radius-um 10 --wavelength-nm 500 --angles-deg 190", "--angles-deg"},
+  };
+  for (const auto& [args, flag] : cases) {
+    const auto r = run(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
+    EXPECT_TRUE(r.out.empty()) << args;
+  }
 }
 
 TEST(Cli, GalleryWritesIndexAndFigures) {

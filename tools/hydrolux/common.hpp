@@ -3,7 +3,9 @@
 // one-line "flag, value, valid range" errors, and how library errors become exit code 2.
 #include <CLI/CLI.hpp>
 
+#include <complex>
 #include <functional>
+#include <vector>
 #include <map>
 #include <string>
 
@@ -26,11 +28,21 @@ struct Command {
 Command add_fresnel(CLI::App& app);
 Command add_ior(CLI::App& app);
 Command add_gallery(CLI::App& app);
+Command add_mie(CLI::App& app);
+Command add_phase(CLI::App& app);
 
 // A finite number in [lo, hi] (unit printed in help and errors, e.g. "deg"). Rejects NaN, inf and
 // non-numeric text with the valid range in the message.
 CLI::Validator number_in(double lo, double hi, const std::string& unit = {});
 // A finite number > 0 (at most `hi`).
 CLI::Validator positive_number(double hi, const std::string& unit = {});
+
+// "1.333", "1.333+1e-8i", "1.333-0i": a complex number; throws hydrolux::Error naming `flag`.
+std::complex<double> parse_complex(const std::string& text, const std::string& flag);
+
+// Scattering angles in degrees: "A:B:N" (N evenly spaced values from A to B inclusive) or a
+// comma-separated list "0,10,90"; each in [0, 180], N in [1, 1e6]. Throws hydrolux::Error
+// naming `flag`.
+std::vector<double> parse_angles_deg(const std::string& text, const std::string& flag);
 
 }  // namespace hydrolux::cli

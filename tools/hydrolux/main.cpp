@@ -20,8 +20,8 @@ int main(int argc, char** argv) {
   app.allow_extras(false);
   app.get_formatter()->column_width(34);
 
-  std::vector<cli::Command> commands = {cli::add_fresnel(app), cli::add_ior(app),
-                                        cli::add_gallery(app)};
+  std::vector<cli::Command> commands = {cli::add_fresnel(app), cli::add_ior(app), cli::add_mie(app),
+                                        cli::add_phase(app), cli::add_gallery(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
