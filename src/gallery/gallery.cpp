@@ -12,6 +12,11 @@
 #include "hydrolux/optics/fresnel.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/optics/snell.hpp"
+#include "hydrolux/scatter/amplitudes.hpp"
+#include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/geometric.hpp"
+#include "hydrolux/scatter/sphere.hpp"
+#include "hydrolux/scatter/theories.hpp"
 #include "hydrolux/version.hpp"
 
 namespace hydrolux::gallery {
@@ -187,6 +192,72 @@ std::vector<Entry> entries() {
                    p.series.push_back(r);
                    p.series.push_back(t);
                  }
+                 return io::render_svg(p);
+               }});
+  e.push_back({{"mie_phase_functions.svg", "Mie phase functions of water drops",
+                "Lorenz-Mie phase function p(theta) (normalised: its mean over the sphere is 1) of "
+                "single water drops in air at 550 nm, unpolarised light. Larger drops throw more light "
+                "forward (diffraction); the primary rainbow near 138 degrees and the glory towards 180 "
+                "degrees grow out of the oscillations as the drop grows."},
+               [water] {
+                 Plot p = axes("Mie phase function, water drops at 550 nm", "scattering angle (degrees)",
+                               "phase function p(theta)", {0, 180, 20}, {1e-3, 1e6, 1},
+                               io::LegendCorner::TopRight);
+                 p.y_log = true;
+                 const auto air = optics::find_medium("air");
+                 const std::pair<double, const char*> drops[] = {{1, kGreen}, {10, kBlue}, {100, kRed}};
+                 for (const auto& [radius_um, colour] : drops) {
+                   const auto sp = scatter::sphere_problem(radius_um, 550.0, *water, *air);
+                   const auto c = scatter::mie_coefficients(sp.m, sp.x);
+                   const double qsca = scatter::mie_efficiencies(c).qsca;
+                   std::vector<double> theta, mu;
+                   for (int i = 0; i <= 1800; ++i) {
+                     theta.push_back(0.1 * i);
+                     mu.push_back(std::cos(deg_to_rad(0.1 * i)));
+                   }
+                   std::vector<scatter::Complex> s1(mu.size()), s2(mu.size());
+                   scatter::mie_amplitudes(c, mu, s1, s2);
+                   PlotSeries s{fmt::format("r = {:g} um (x = {:.0f})", radius_um, sp.x), theta, {}, colour};
+                   // p = 4 i / (x^2 Qsca), i = (|S1|^2 + |S2|^2) / 2 (mie.hpp).
+                   for (std::size_t i = 0; i < mu.size(); ++i)
+                     s.y.push_back(2 * (std::norm(s1[i]) + std::norm(s2[i])) / (sp.x * sp.x * qsca));
+                   p.series.push_back(s);
+                 }
+                 return io::render_svg(p);
+               }});
+  e.push_back({{"rainbow_theories.svg", "The primary rainbow of one drop, four theories",
+                "A 250 um water drop in air at 650 nm (x = 2415), perpendicular polarisation, near the "
+                "primary rainbow. Lorenz-Mie is exact; its Debye p = 2 term keeps only the light "
+                "reflected once inside the drop (the rainbow rays) and follows Mie's main bow and "
+                "supernumeraries, while the full Mie curve adds the ripple of the other orders. Airy "
+                "theory reproduces the main bow and supernumeraries. Geometric optics with interference "
+                "(rays of orders 0-2, so it has the ripple too) diverges at the caustic, the "
+                "geometric rainbow angle (dotted)."},
+               [water] {
+                 Plot p = axes("Primary rainbow, r = 250 um, 650 nm, perpendicular polarisation",
+                               "scattering angle (degrees)", "intensity i1 / x^2", {136, 142, 1},
+                               {0, 1.2, 0.1}, io::LegendCorner::TopRight);
+                 const auto air = optics::find_medium("air");
+                 const auto sp = scatter::sphere_problem(250.0, 650.0, *water, *air);
+                 std::vector<double> deg, rad;
+                 for (int i = 0; i <= 1200; ++i) {
+                   deg.push_back(136.0 + 0.005 * i);
+                   rad.push_back(deg_to_rad(deg.back()));
+                 }
+                 const std::tuple<const char*, const char*, const char*, bool> theories[] = {
+                     {"mie", "Lorenz-Mie (exact)", kBlack, false},
+                     {"debye:2", "Debye p = 2", kBlue, false},
+                     {"airy", "Airy theory", kOrange, true},
+                     {"geometric:2", "geometric optics, orders 0-2", kGreen, true}};
+                 for (const auto& [name, label, colour, dashed] : theories) {
+                   std::vector<scatter::Complex> s1(rad.size()), s2(rad.size());
+                   scatter::amplitudes(scatter::parse_theory(name), sp.m, sp.x, rad, s1, s2);
+                   PlotSeries s{label, deg, {}, colour, dashed};
+                   for (const auto& v : s1) s.y.push_back(std::norm(v) / (sp.x * sp.x));
+                   p.series.push_back(s);
+                 }
+                 const double geometric = rad_to_deg(scatter::rainbow_angle(sp.m.real(), 2));
+                 p.markers.push_back({geometric, fmt::format("geometric {:.2f} deg", geometric), kGreen});
                  return io::render_svg(p);
                }});
   e.push_back({{"metals_normal_incidence.svg", "Metals at normal incidence",

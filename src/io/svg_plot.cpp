@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "hydrolux/core/error.hpp"
@@ -49,6 +50,8 @@ std::string render_svg(const Plot& p) {
     throw Error(fmt::format("plot '{}': empty axis range", p.title));
   if (!(p.x_tick > 0) || !(p.y_tick > 0))
     throw Error(fmt::format("plot '{}': tick spacing must be > 0", p.title));
+  if (p.y_log && !(p.y_min > 0))
+    throw Error(fmt::format("plot '{}': a logarithmic axis needs y_min > 0", p.title));
   for (const auto& s : p.series)
     if (s.x.size() != s.y.size())
       throw Error(fmt::format("plot '{}': series '{}' has {} x and {} y values", p.title, s.label,
@@ -57,7 +60,12 @@ std::string render_svg(const Plot& p) {
   const double left = 72, right = 24, top = 48, bottom = 58;
   const double pw = p.width - left - right, ph = p.height - top - bottom;
   const auto sx = [&](double x) { return left + (x - p.x_min) / (p.x_max - p.x_min) * pw; };
-  const auto sy = [&](double y) { return top + (1 - (y - p.y_min) / (p.y_max - p.y_min)) * ph; };
+  const double y_lo = p.y_log ? std::log10(p.y_min) : p.y_min;
+  const double y_hi = p.y_log ? std::log10(p.y_max) : p.y_max;
+  const auto sy = [&](double y) {
+    const double v = p.y_log ? std::log10(y) : y;
+    return top + (1 - (v - y_lo) / (y_hi - y_lo)) * ph;
+  };
 
   std::string o;
   o += fmt::format(
@@ -80,11 +88,22 @@ std::string render_svg(const Plot& p) {
     o += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" font-size=\"12\" text-anchor=\"middle\">{:.{}f}</text>\n",
                      sx(x), top + ph + 18, x, xd);
   }
-  for (double y : ticks(p.y_min, p.y_max, p.y_tick)) {
-    o += fmt::format("<line x1=\"{1:.2f}\" y1=\"{0:.2f}\" x2=\"{2:.2f}\" y2=\"{0:.2f}\" stroke=\"#e3e3e3\"/>\n",
-                     sy(y), left, left + pw);
-    o += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" font-size=\"12\" text-anchor=\"end\">{:.{}f}</text>\n",
-                     left - 8, sy(y) + 4, y, yd);
+  if (p.y_log) {
+    for (int e = int(std::ceil(y_lo - 1e-9)); e <= int(std::floor(y_hi + 1e-9)); ++e) {
+      const double y = std::pow(10.0, e);
+      o += fmt::format("<line x1=\"{1:.2f}\" y1=\"{0:.2f}\" x2=\"{2:.2f}\" y2=\"{0:.2f}\" stroke=\"#e3e3e3\"/>\n",
+                       sy(y), left, left + pw);
+      const std::string label = e >= -2 && e <= 3 ? fmt::format("{:g}", y) : fmt::format("1e{}", e);
+      o += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" font-size=\"12\" text-anchor=\"end\">{}</text>\n",
+                       left - 8, sy(y) + 4, label);
+    }
+  } else {
+    for (double y : ticks(p.y_min, p.y_max, p.y_tick)) {
+      o += fmt::format("<line x1=\"{1:.2f}\" y1=\"{0:.2f}\" x2=\"{2:.2f}\" y2=\"{0:.2f}\" stroke=\"#e3e3e3\"/>\n",
+                       sy(y), left, left + pw);
+      o += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" font-size=\"12\" text-anchor=\"end\">{:.{}f}</text>\n",
+                       left - 8, sy(y) + 4, y, yd);
+    }
   }
   o += fmt::format("<rect x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" fill=\"none\" "
                    "stroke=\"#333\"/>\n",
@@ -110,8 +129,14 @@ std::string render_svg(const Plot& p) {
     if (s.x.empty()) continue;
     o += fmt::format("<polyline stroke=\"{}\"{} points=\"", s.color,
                      s.dashed ? " stroke-dasharray=\"7 4\"" : "");
-    for (std::size_t i = 0; i < s.x.size(); ++i)
-      o += fmt::format("{}{:.2f},{:.2f}", i ? " " : "", sx(s.x[i]), sy(s.y[i]));
+    bool first = true;
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (p.y_log && !(s.y[i] > 0)) continue;
+      // Clamp far-off-scale points so the polyline stays within sane coordinates (it is clipped).
+      const double py = std::clamp(sy(s.y[i]), top - 4 * ph, top + 5 * ph);
+      o += fmt::format("{}{:.2f},{:.2f}", first ? "" : " ", sx(s.x[i]), py);
+      first = false;
+    }
     o += "\"/>\n";
   }
   o += "</g>\n";

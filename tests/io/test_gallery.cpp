@@ -52,6 +52,21 @@ TEST(SvgPlot, DrawsAxesSeriesLegendAndMarkers) {
   EXPECT_THROW(io::render_svg(p), Error);
 }
 
+TEST(SvgPlot, LogarithmicAxis) {
+  io::Plot p;
+  p.title = "phase";
+  p.x_min = 0, p.x_max = 180, p.x_tick = 30;
+  p.y_min = 1e-3, p.y_max = 1e4, p.y_log = true;
+  p.series = {{"p", {0, 90, 180}, {1e4, 0.0, 1e-2}, "#000"}};
+  const std::string svg = io::render_svg(p);
+  for (const char* label : {">1e-3</text>", ">0.01</text>", ">1</text>", ">1000</text>", ">1e4</text>"})
+    EXPECT_NE(svg.find(label), std::string::npos) << label;
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
+  EXPECT_EQ(svg.find("inf"), std::string::npos);
+  p.y_min = 0;
+  EXPECT_THROW(io::render_svg(p), Error);
+}
+
 TEST(Gallery, WritesEveryFigureAndAnIndexThatShowsThem) {
   const fs::path dir = fs::temp_directory_path() / "hydrolux_test_gallery";
   fs::remove_all(dir);

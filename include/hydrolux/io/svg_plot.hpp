@@ -25,7 +25,10 @@ struct Plot {
   std::string title;
   std::string x_label, y_label;
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
-  double x_tick = 0.1, y_tick = 0.1;  // spacing of ticks and grid lines
+  double x_tick = 0.1, y_tick = 0.1;  // spacing of ticks and grid lines (y_tick unused when y_log)
+  // Logarithmic y axis: y_min, y_max > 0; ticks and labels at the powers of ten; points with
+  // y <= 0 are left out of their polyline.
+  bool y_log = false;
   std::vector<PlotSeries> series;
   std::vector<PlotMarker> markers;
   LegendCorner legend = LegendCorner::TopLeft;
