@@ -208,19 +208,13 @@ std::vector<Entry> entries() {
                  const std::pair<double, const char*> drops[] = {{1, kGreen}, {10, kBlue}, {100, kRed}};
                  for (const auto& [radius_um, colour] : drops) {
                    const auto sp = scatter::sphere_problem(radius_um, 550.0, *water, *air);
-                   const auto c = scatter::mie_coefficients(sp.m, sp.x);
-                   const double qsca = scatter::mie_efficiencies(c).qsca;
                    std::vector<double> theta, mu;
                    for (int i = 0; i <= 1800; ++i) {
                      theta.push_back(0.1 * i);
                      mu.push_back(std::cos(deg_to_rad(0.1 * i)));
                    }
-                   std::vector<scatter::Complex> s1(mu.size()), s2(mu.size());
-                   scatter::mie_amplitudes(c, mu, s1, s2);
-                   PlotSeries s{fmt::format("r = {:g} um (x = {:.0f})", radius_um, sp.x), theta, {}, colour};
-                   // p = 4 i / (x^2 Qsca), i = (|S1|^2 + |S2|^2) / 2 (mie.hpp).
-                   for (std::size_t i = 0; i < mu.size(); ++i)
-                     s.y.push_back(2 * (std::norm(s1[i]) + std::norm(s2[i])) / (sp.x * sp.x * qsca));
+                   PlotSeries s{fmt::format("r = {:g} um (x = {:.0f})", radius_um, sp.x), theta,
+                                scatter::mie_phase_function(scatter::mie_coefficients(sp.m, sp.x), mu), colour};
                    p.series.push_back(s);
                  }
                  return io::render_svg(p);

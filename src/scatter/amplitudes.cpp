@@ -181,5 +181,14 @@ void mie_amplitudes(const MieCoefficients& c, std::span<const double> mu, std::s
   }
 }
 
+std::vector<double> mie_phase_function(const MieCoefficients& c, std::span<const double> mu, int threads) {
+  std::vector<Complex> s1(mu.size()), s2(mu.size());
+  mie_amplitudes(c, mu, s1, s2, threads);
+  const double scale = 2 / (c.x * c.x * mie_efficiencies(c).qsca);
+  std::vector<double> p(mu.size());
+  for (std::size_t i = 0; i < mu.size(); ++i) p[i] = scale * (std::norm(s1[i]) + std::norm(s2[i]));
+  return p;
+}
+
 }  // namespace hydrolux::scatter
 #endif  // HWY_ONCE

@@ -1,6 +1,7 @@
 // The fast amplitude path (Highway SIMD, parity-split +-mu sums, oneTBB) against the scalar
 // reference summation.
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include <vector>
 
@@ -8,6 +9,7 @@
 #include "hydrolux/core/random.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/mie.hpp"
+#include "support/stats.hpp"
 
 namespace hydrolux::scatter {
 namespace {
@@ -74,6 +76,47 @@ TEST(MieAmplitudes, ThreadCountDoesNotChangeResults) {
   EXPECT_EQ(a1, b1);
   EXPECT_EQ(a2, b2);
   EXPECT_FALSE(simd_target().empty());
+}
+
+// The phase function is normalised: (1/4pi) int p dOmega = (1/2) int_{-1}^{1} p dmu = 1. p is a
+// polynomial of degree 2N in mu, so Gauss-Legendre with N + 1 nodes integrates it exactly; the
+// tolerance covers rounding in sums whose terms reach x^2 times the result: 1e-12 + 2e-16 x^2
+// (as test_mie's invariants).
+TEST(MieAmplitudes, PhaseFunctionIsNormalised) {
+  for (double x : {0.5, 30.0, 700.0}) {
+    const auto c = mie_coefficients({1.333, 1e-3}, x);
+    const auto q = test::gauss_legendre(c.terms() + 1, -1.0, 1.0);
+    const auto p = mie_phase_function(c, q.x);
+    double integral = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) integral += q.w[i] * p[i];
+    EXPECT_NEAR(integral / 2, 1.0, 1e-12 + 2e-16 * x * x) << x;
+  }
+}
+
+// Every SIMD target compiled in and supported by this CPU (AVX-512, AVX2, SSE4, ... and the
+// emulated/scalar fallback) gives the reference result: the build runs correctly on CPUs without
+// AVX-512. Highway's test mock selects one target at a time.
+TEST(MieAmplitudes, EveryDispatchTargetMatchesReference) {
+  const auto c = mie_coefficients({1.333, 1e-6}, 2000.0);
+  const auto mu = grid_deg(0, 180, 361);
+  std::vector<Complex> r1(mu.size()), r2(mu.size()), s1(mu.size()), s2(mu.size());
+  mie_amplitudes_reference(c, mu, r1, r2);
+  const auto targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  for (const auto target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+    EXPECT_EQ(simd_target(), hwy::TargetName(target));
+    mie_amplitudes(c, mu, s1, s2);
+    EXPECT_LT(worst_relative(s1, r1), 1e-9) << hwy::TargetName(target);
+    EXPECT_LT(worst_relative(s2, r2), 1e-9) << hwy::TargetName(target);
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+  std::string names;
+  for (const auto target : targets) names += std::string(hwy::TargetName(target)) + " ";
+  RecordProperty("targets", names);
+  std::printf("dispatch targets tested: %s\n", names.c_str());
 }
 
 }  // namespace

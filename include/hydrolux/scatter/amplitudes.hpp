@@ -15,6 +15,7 @@
 // mie_amplitudes_reference (mie.hpp) is the scalar reference it is tested against.
 #include <span>
 #include <string>
+#include <vector>
 
 #include "hydrolux/scatter/mie.hpp"
 
@@ -24,6 +25,10 @@ namespace hydrolux::scatter {
 // otherwise at most that many. Spans must have equal sizes (else std::invalid_argument).
 void mie_amplitudes(const MieCoefficients& c, std::span<const double> mu, std::span<Complex> s1,
                     std::span<Complex> s2, int threads = 0);
+
+// The normalised phase function p(theta) = 2 (|S1|^2 + |S2|^2) / (x^2 Qsca) of unpolarised light at
+// the given mu, so that (1/4pi) int p dOmega = 1 (mie.hpp), through the fast path.
+std::vector<double> mie_phase_function(const MieCoefficients& c, std::span<const double> mu, int threads = 0);
 
 // The SIMD instruction set mie_amplitudes dispatches to on this CPU, e.g. "AVX3" or "AVX2".
 std::string simd_target();
