@@ -31,6 +31,7 @@
 //   double start's error is damped; the differences D1(x) - kappa D2(z) etc. are formed in long
 //   double (they cancel by ~700 near the edge); the rest of the per-n formulas in double.
 #include "hydrolux/scatter/debye.hpp"
+#include "hydrolux/core/complex.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -84,16 +85,6 @@ Complex nonzero(CL v, CL a, CL b, CL c) {
   return static_cast<double>(abs1(a) + abs1(b) + abs1(c)) * std::numeric_limits<double>::epsilon();
 }
 
-// 1/z by Smith's algorithm: no overflow, and no call to the NaN-checking __divdc3.
-inline Complex reciprocal(Complex z) {
-  const double a = z.real(), b = z.imag();
-  if (std::abs(a) >= std::abs(b)) {
-    const double r = b / a, d = a + b * r;
-    return {1.0 / d, -r / d};
-  }
-  const double r = a / b, d = b + a * r;
-  return {r / d, -1.0 / d};
-}
 
 // Above this Im z, xi2 is built from Q = 1/(psi xi2) ([Y03]); below, by the direct recurrence.
 constexpr double kDirectMaxImag = 2.0;

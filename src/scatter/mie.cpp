@@ -13,6 +13,7 @@
 // Conventions are those of include/hydrolux/scatter/mie.hpp (B&H: m = n + ik, exp(-i omega t)).
 // MIEV0 uses m = n - ik; its amplitudes are the complex conjugates of these.
 #include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/core/complex.hpp"
 
 #include <algorithm>
 
@@ -29,16 +30,6 @@ namespace {
 
 constexpr const char* kContext = "the Lorenz-Mie solver";
 
-// 1/z by Smith's algorithm (see riccati_bessel.cpp).
-inline Complex reciprocal(Complex z) noexcept {
-  const double a = z.real(), b = z.imag();
-  if (std::abs(a) >= std::abs(b)) {
-    const double r = b / a, d = a + b * r;
-    return {1.0 / d, -r / d};
-  }
-  const double r = a / b, d = b + a * r;
-  return {r / d, -1.0 / d};
-}
 
 // a b and a - i b without the C99 Annex G inf/nan recovery of the compiler's complex multiply
 // (a library call without -ffast-math); every operand here is finite.

@@ -29,6 +29,7 @@
 //   InverseComplex below), so that rounding errors add like a random walk, sqrt(n) eps, instead of
 //   the systematic n eps that a rounded 1/z would cause.
 #include "hydrolux/scatter/riccati_bessel.hpp"
+#include "hydrolux/core/complex.hpp"
 
 #include <cmath>
 #include <limits>
@@ -40,18 +41,6 @@ namespace hydrolux::scatter {
 
 namespace {
 
-// 1/z by Smith's algorithm: two real divisions, no overflow for any finite z != 0, and faster than
-// the general complex division that the compiler calls without -ffast-math.
-inline Complex reciprocal(Complex z) noexcept {
-  const double a = z.real(), b = z.imag();
-  if (std::abs(a) >= std::abs(b)) {
-    const double r = b / a, d = a + b * r;
-    return {1.0 / d, -r / d};
-  }
-  const double r = a / b, d = b + a * r;
-  return {r / d, -1.0 / d};
-}
-inline double reciprocal(double x) noexcept { return 1.0 / x; }
 
 // a b without the C99 Annex G inf/nan recovery of the compiler's complex multiply (a library call
 // without -ffast-math); the operands here are finite.

@@ -45,6 +45,18 @@ Result run(const std::string& args) {
 
 std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
 
+// Bad input: exit code 2, exactly one line on stderr that names the flag, nothing on stdout.
+template <std::size_t N>
+void expect_usage_errors(const std::pair<const char*, const char*> (&cases)[N]) {
+  for (const auto& [args, flag] : cases) {
+    const auto r = run(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
+    EXPECT_TRUE(r.out.empty()) << args;
+  }
+}
+
 TEST(Cli, VersionAndHelp) {
   const auto v = run("--version");
   EXPECT_EQ(v.code, 0);
@@ -130,13 +142,7 @@ TEST(Cli, BadInputIsOneLineAndExitCodeTwo) {
       {"ior --medium water", "--wavelength-nm"},
       {"fresnel --theta-deg 10 --bogus 3", "--bogus"},
   };
-  for (const auto& [args, flag] : cases) {
-    const auto r = run(args);
-    EXPECT_EQ(r.code, 2) << args;
-    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
-    EXPECT_TRUE(r.out.empty()) << args;
-  }
+  expect_usage_errors(cases);
   // The value and the valid range are in the message.
   const auto r = run("ior --medium water --wavelength-nm 100");
   EXPECT_NE(r.err.find("100"), std::string::npos);
@@ -202,13 +208,7 @@ TEST(Cli, MieBadInput) {
       {"mie --m 1.333 --x 10 --radius-um 3", "--radius-um"},
       {"mie --m 1.333 --x 10 --threads -1", "--threads"},
   };
-  for (const auto& [args, flag] : cases) {
-    const auto r = run(args);
-    EXPECT_EQ(r.code, 2) << args;
-    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
-    EXPECT_TRUE(r.out.empty()) << args;
-  }
+  expect_usage_errors(cases);
 }
 
 // phase: the same intensities as the library, as text or CSV, for every theory.
@@ -252,13 +252,7 @@ TEST(Cli, PhaseBadInput) {
       {"phase --radius-um 10 --wavelength-nm 2000", "--wavelength-nm"},
       {"phase --radius-um 10 --wavelength-nm 500 --angles-deg 190", "--angles-deg"},
   };
-  for (const auto& [args, flag] : cases) {
-    const auto r = run(args);
-    EXPECT_EQ(r.code, 2) << args;
-    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
-    EXPECT_TRUE(r.out.empty()) << args;
-  }
+  expect_usage_errors(cases);
 }
 
 TEST(Cli, GalleryWritesIndexAndFigures) {
