@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/drop/model.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/svg_plot.hpp"
 #include "hydrolux/optics/bsdf.hpp"
@@ -252,6 +253,25 @@ std::vector<Entry> entries() {
                  }
                  const double geometric = rad_to_deg(scatter::rainbow_angle(sp.m.real(), 2));
                  p.markers.push_back({geometric, fmt::format("geometric {:.2f} deg", geometric), kGreen});
+                 return io::render_svg(p);
+               }});
+  e.push_back({{"drop_radiance_profile.svg", "A rain drop's radiance, path by path (Garg & Nayar Fig. 4)",
+                fmt::format("Radiance leaving a water drop (mu = 1.333) towards the camera along each path, for "
+                            "a uniform environment (Le = 1) and the drop on the optical axis, against the "
+                            "distance rho from the centre of the drop's image (1 = rim). Refraction carries "
+                            "96% of the light everywhere but at the rim, where reflection takes over. The "
+                            "refracted rays see a {:.1f} degree field of view (the paper: about 165). "
+                            "Checked against an exact ray trace of the sphere.",
+                            drop::field_of_view_deg(1.333))},
+               [] {
+                 Plot p = axes("Drop radiance by path, Le = 1, mu = 1.333", "rho (0 = centre, 1 = rim)",
+                               "radiance", {0, 1, 0.1}, {1e-4, 2, 1}, io::LegendCorner::BottomLeft);
+                 p.y_log = true;
+                 const auto f = drop::radiance_profile(1.333, 501);
+                 p.series = {{"refraction (1-k)^2", f.rho, f.refraction, kBlue},
+                             {"specular reflection k", f.rho, f.reflection, kRed},
+                             {"1 internal reflection k(1-k)^2", f.rho, f.internal[0], kGreen},
+                             {"2 internal reflections k^2(1-k)^2", f.rho, f.internal[1], kOrange}};
                  return io::render_svg(p);
                }});
   e.push_back({{"metals_normal_incidence.svg", "Metals at normal incidence",

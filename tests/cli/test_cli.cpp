@@ -255,6 +255,23 @@ TEST(Cli, PhaseBadInput) {
   expect_usage_errors(cases);
 }
 
+// drop profile: Garg & Nayar's Figure 4 as JSON.
+TEST(Cli, DropProfileJsonContract) {
+  const auto r = run("drop profile --mu 1.333 --samples 11 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* key : {"rho", "refraction", "reflection", "internal1", "internal2"}) {
+    ASSERT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j.at(key).size(), 11u) << key;
+  }
+  EXPECT_NEAR(j.at("fov_deg").get<double>(), 165.6, 0.1);  // the paper: about 165 degrees
+  EXPECT_EQ(j.at("rho")[10].get<double>(), 1.0);
+  const std::pair<const char*, const char*> bad[] = {{"drop profile --mu 0.5", "--mu"},
+                                                     {"drop profile --samples 1", "--samples"},
+                                                     {"drop profile --mu abc", "--mu"}};
+  expect_usage_errors(bad);
+}
+
 TEST(Cli, GalleryWritesIndexAndFigures) {
   const fs::path dir = fs::temp_directory_path() / "hydrolux_cli_gallery";
   fs::remove_all(dir);

@@ -30,6 +30,7 @@ Command add_ior(CLI::App& app);
 Command add_gallery(CLI::App& app);
 Command add_mie(CLI::App& app);
 Command add_phase(CLI::App& app);
+Command add_drop_profile(CLI::App& app);
 
 // A finite number in [lo, hi] (unit printed in help and errors, e.g. "deg"). Rejects NaN, inf and
 // non-numeric text with the valid range in the message.

@@ -21,7 +21,8 @@ int main(int argc, char** argv) {
   app.get_formatter()->column_width(34);
 
   std::vector<cli::Command> commands = {cli::add_fresnel(app), cli::add_ior(app), cli::add_mie(app),
-                                        cli::add_phase(app), cli::add_gallery(app)};
+                                        cli::add_phase(app), cli::add_drop_profile(app),
+                                        cli::add_gallery(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -39,7 +40,9 @@ int main(int argc, char** argv) {
 
   for (const auto& cmd : commands) {
     if (!cmd.app->parsed()) continue;
-    const std::string prog = "hydrolux " + cmd.app->get_name();
+    std::string prog = cmd.app->get_name();
+    for (auto* p = cmd.app->get_parent(); p && p != &app; p = p->get_parent()) prog = p->get_name() + " " + prog;
+    prog = "hydrolux " + prog;
     try {
       return cmd.run();
     } catch (const DomainError& e) {
