@@ -55,6 +55,38 @@ DropPaths drop_paths_at_rho(double rho, double mu, int n_internal) {
   return drop_paths(kPi<> - std::asin(rho), 0.0, mu, n_internal);
 }
 
+DropRays drop_rays(const Vec3& view, const Vec3& normal, double mu, int n_internal) {
+  check_mu(mu);
+  require_in_range("n_internal", n_internal, 0, 20, kContext);
+  const double cos_i = -glm::dot(view, normal);
+  require_in_range("cos_i", cos_i, 0.0, 1.0, kContext);  // the point must face the camera
+  const double i = std::acos(std::min(1.0, cos_i));
+  const double q = safe_asin(std::sin(i) / mu);
+  const double k = optics::fr_dielectric(cos_i, mu);
+  // The in-plane unit vector across the view, pointing away from the normal (towards the axis
+  // through the drop's centre); any perpendicular at normal incidence, where no turn is made.
+  Vec3 across = -(normal + cos_i * view);
+  const double len = glm::length(across);
+  if (len > 1e-300) {
+    across /= len;
+  } else {
+    across = std::abs(view.x) < 0.9 ? glm::normalize(glm::cross(view, Vec3{1, 0, 0}))
+                                    : glm::normalize(glm::cross(view, Vec3{0, 1, 0}));
+  }
+  const auto turned = [&](double angle) { return std::cos(angle) * view + std::sin(angle) * across; };
+  DropRays r;
+  const double deflection = 2 * (i - q);
+  r.refraction = turned(deflection);
+  r.reflection = view + 2 * cos_i * normal;
+  r.R = sqr(1 - k);
+  r.S = k;
+  for (int n = 1; n <= n_internal; ++n) {
+    r.internal.push_back(turned(deflection + n * (kPi<> - 2 * q)));
+    r.P.push_back(std::pow(k, n) * sqr(1 - k));
+  }
+  return r;
+}
+
 double field_of_view_deg(double mu) {
   check_mu(mu);
   return rad_to_deg(2 * (kPi<> - 2 * std::asin(1 / mu)));

@@ -4,6 +4,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/random.hpp"
 #include "hydrolux/drop/model.hpp"
 #include "hydrolux/optics/fresnel.hpp"
 #include "hydrolux/optics/snell.hpp"
@@ -19,9 +20,7 @@ struct Traced {
 // Exact trace in a unit sphere: a ray from the camera (travelling +z) at image radius rho,
 // azimuth 0, enters, reflects n_internal times inside, leaves. Vector Snell's law (optics::refract)
 // and chords of the sphere; Fresnel from optics::fresnel_dielectric at each actual angle.
-Traced trace(double rho, double mu, int n_internal) {
-  Vec3 p{rho, 0, -std::sqrt(1 - rho * rho)};
-  Vec3 d{0, 0, 1};
+Traced trace_from(Vec3 p, Vec3 d, double mu, int n_internal) {
   const auto in = optics::refract(-d, p, mu);
   double w = optics::fresnel_dielectric(std::abs(glm::dot(-d, p)), 1.0, mu).T;
   d = in->wt;
@@ -36,6 +35,10 @@ Traced trace(double rho, double mu, int n_internal) {
     w *= optics::fresnel_dielectric(cos_in, mu, 1.0).R;
     d = d - 2 * glm::dot(d, p) * p;  // internal reflection
   }
+}
+
+Traced trace(double rho, double mu, int n_internal) {
+  return trace_from({rho, 0, -std::sqrt(1 - rho * rho)}, {0, 0, 1}, mu, n_internal);
 }
 
 // Direction of a model path as a unit vector.
@@ -65,6 +68,38 @@ TEST(DropModel, MatchesExactSphereTrace) {
       EXPECT_NEAR(model.S, optics::fresnel_dielectric(std::sqrt(1 - rho * rho), 1.0, mu).R, 1e-12);
     }
   }
+}
+
+// Off the optical axis (the paper's alpha): random viewing directions and random visible points of
+// the sphere, the vector form against the exact trace. Tolerance 1e-9 as above.
+TEST(DropModel, OffAxisRaysMatchExactSphereTrace) {
+  Rng rng(17);
+  int tested = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const double z = 1 - 2 * rng.uniform(), phi = 2 * kPi<> * rng.uniform(), rr = std::sqrt(1 - z * z);
+    const Vec3 view{rr * std::cos(phi), rr * std::sin(phi), z};
+    const double z2 = 1 - 2 * rng.uniform(), phi2 = 2 * kPi<> * rng.uniform(), rr2 = std::sqrt(1 - z2 * z2);
+    const Vec3 n{rr2 * std::cos(phi2), rr2 * std::sin(phi2), z2};
+    if (glm::dot(view, n) > -1e-3) continue;  // the point must face the camera (and not graze)
+    ++tested;
+    const auto model = drop_rays(view, n, 1.333, 2);
+    const auto refr = trace_from(n, view, 1.333, 0);
+    EXPECT_LT(glm::length(refr.direction - model.refraction), 1e-9);
+    EXPECT_NEAR(refr.weight, model.R, 1e-12);
+    for (int m = 1; m <= 2; ++m) {
+      const auto t = trace_from(n, view, 1.333, m);
+      EXPECT_LT(glm::length(t.direction - model.internal[std::size_t(m - 1)]), 1e-9) << m;
+      EXPECT_NEAR(t.weight, model.P[std::size_t(m - 1)], 1e-12);
+    }
+    EXPECT_LT(glm::length(optics::reflect(-view, n) - model.reflection), 1e-12);
+  }
+  EXPECT_GT(tested, 800);
+  // On the axis the vector form and the angle form agree.
+  const auto a = drop_paths_at_rho(0.6, 1.333);
+  const auto b = drop_rays({0, 0, 1}, {0.6, 0, -0.8}, 1.333);
+  EXPECT_LT(glm::length(unit(a.refraction) - b.refraction), 1e-12);
+  EXPECT_LT(glm::length(unit(a.internal[1]) - b.internal[1]), 1e-12);
+  EXPECT_THROW((void)drop_rays({0, 0, 1}, {0, 0, 1}, 1.333), DomainError);  // faces away
 }
 
 // The paper: a drop's field of view is about 165 degrees (section 4.4); for mu = 1.333 the rim ray

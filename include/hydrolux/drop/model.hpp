@@ -19,6 +19,8 @@
 // of entry and exit cancel); composite (eq. 19) L = R Le(r) + S Le(s) + sum_N P_N Le(p_N).
 #include <vector>
 
+#include "hydrolux/core/vec.hpp"
+
 namespace hydrolux::drop {
 
 struct Direction {
@@ -39,6 +41,21 @@ DropPaths drop_paths(double theta_n, double phi_n, double mu, int n_internal = 2
 
 // The same for the image point at normalised radius rho = sin(i) in [0, 1] (azimuth 0).
 DropPaths drop_paths_at_rho(double rho, double mu, int n_internal = 2);
+
+// The same paths in vector form, for any viewing direction: the drop seen off the optical axis
+// (the paper's alpha), as a perspective camera sees every pixel. `view` is the unit direction from
+// the camera to the surface point, `normal` the outward unit normal there (view . normal < 0). Each
+// path stays in the plane of view and normal; it leaves turned from `view` towards -n_perp (n_perp
+// the part of the normal across the view) by the path's deflection: 2 (i - q) for refraction, plus
+// N (pi - 2 q) for N internal reflections (the angles of eqs. 8 and 16 with alpha = 0 in this
+// plane); the reflection is the mirror direction. Exact for a sphere and a distant scene.
+struct DropRays {
+  Vec3 refraction, reflection;
+  std::vector<Vec3> internal;  // N = 1..n_internal
+  double R = 0, S = 0;
+  std::vector<double> P;
+};
+DropRays drop_rays(const Vec3& view, const Vec3& normal, double mu, int n_internal = 2);
 
 // The drop's field of view: the full cone of scene directions the refraction mapping reaches,
 // 2 theta_r at the rim = 2 (pi - 2 asin(1/mu)); 165.6 degrees for water (the paper: about 165).
