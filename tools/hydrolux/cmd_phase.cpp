@@ -8,6 +8,7 @@
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/scatter/geometric.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "hydrolux/scatter/sphere.hpp"
 #include "hydrolux/scatter/theories.hpp"
@@ -107,6 +108,12 @@ int run_phase(const PhaseArgs& a) {
                a.wavelength_nm, p.m.real(), p.m.imag(),
                quadrature.size() == 1 ? fmt::format(", x = {:.6g}", p.x) : std::string());
     if (quadrature.size() > 1) fmt::print("# number-weighted mean over {} radii\n", quadrature.size());
+    if (theory.kind == scatter::TheoryKind::Airy)
+      fmt::print("# Airy theory approximates order {} near its rainbow angle {:.2f} deg only (within a few "
+                 "degrees for x ~ 1000, less for larger drops); use mie or debye:{} elsewhere\n",
+                 theory.p, rad_to_deg(scatter::rainbow_angle(p.m.real(), theory.p)), theory.p);
+    if (theory.kind == scatter::TheoryKind::Geometric && p.x < 100)
+      fmt::print("# geometric optics needs x >> 1 (here x = {:.3g}); use mie\n", p.x);
     fmt::print("# i1 = |S1|^2 (perpendicular), i2 = |S2|^2 (parallel), i = (i1 + i2) / 2 "
                "(Bohren & Huffman normalisation)\n");
     fmt::print("{:>10}  {:>16}  {:>16}  {:>16}\n", "theta_deg", "i1", "i2", "i");
