@@ -1,5 +1,6 @@
 #include "hydrolux/drop/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "hydrolux/core/error.hpp"
@@ -58,9 +59,11 @@ DropPaths drop_paths_at_rho(double rho, double mu, int n_internal) {
 DropRays drop_rays(const Vec3& view, const Vec3& normal, double mu, int n_internal) {
   check_mu(mu);
   require_in_range("n_internal", n_internal, 0, 20, kContext);
-  const double cos_i = -glm::dot(view, normal);
-  require_in_range("cos_i", cos_i, 0.0, 1.0, kContext);  // the point must face the camera
-  const double i = std::acos(std::min(1.0, cos_i));
+  // The point must face the camera; rounding just outside [0, 1] is clamped.
+  const double raw_cos_i = -glm::dot(view, normal);
+  require_in_range("cos_i", raw_cos_i, -1e-12, 1.0 + 1e-12, kContext);
+  const double cos_i = std::clamp(raw_cos_i, 0.0, 1.0);
+  const double i = std::acos(cos_i);
   const double q = safe_asin(std::sin(i) / mu);
   const double k = optics::fr_dielectric(cos_i, mu);
   // The in-plane unit vector across the view, pointing away from the normal (towards the axis

@@ -116,7 +116,7 @@ std::string render_svg(const Plot& p) {
 
   // Markers, then series, clipped to the plot area.
   for (const auto& m : p.markers) {
-    if (m.x < p.x_min || m.x > p.x_max) continue;
+    if (!(m.x >= p.x_min && m.x <= p.x_max)) continue;  // also skips NaN
     o += fmt::format("<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{0:.2f}\" y2=\"{2:.2f}\" stroke=\"{3}\" "
                      "stroke-dasharray=\"2 3\"/>\n",
                      sx(m.x), top, top + ph, m.color);
@@ -131,7 +131,7 @@ std::string render_svg(const Plot& p) {
                      s.dashed ? " stroke-dasharray=\"7 4\"" : "");
     bool first = true;
     for (std::size_t i = 0; i < s.x.size(); ++i) {
-      if (p.y_log && !(s.y[i] > 0)) continue;
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (p.y_log && !(s.y[i] > 0))) continue;
       // Clamp far-off-scale points so the polyline stays within sane coordinates (it is clipped).
       const double py = std::clamp(sy(s.y[i]), top - 4 * ph, top + 5 * ph);
       o += fmt::format("{}{:.2f},{:.2f}", first ? "" : " ", sx(s.x[i]), py);

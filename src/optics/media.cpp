@@ -272,9 +272,9 @@ std::optional<double> parse_double(std::string_view s) {
 
 std::shared_ptr<const Medium> constant_medium(std::complex<double> index) {
   if (!(index.real() > 0) || !std::isfinite(index.real()))
-    throw DomainError("n", index.real(), 0, std::numeric_limits<double>::max(), "a constant medium");
+    throw UnknownNameError(fmt::format("constant medium: n = {:g} must be a finite number > 0", index.real()));
   if (!(index.imag() >= 0) || !std::isfinite(index.imag()))
-    throw DomainError("k", index.imag(), 0, std::numeric_limits<double>::max(), "a constant medium");
+    throw UnknownNameError(fmt::format("constant medium: k = {:g} must be a finite number >= 0", index.imag()));
   return std::make_shared<ConstantMedium>(index);
 }
 
@@ -284,7 +284,10 @@ std::shared_ptr<const Medium> find_medium(std::string_view name) {
     std::string_view spec = name.substr(kConst.size());
     double k = 0;
     if (spec.ends_with('i')) {
-      const auto plus = spec.find('+');
+      // The '+' between the parts: the last one that is not an exponent's sign.
+      auto plus = spec.rfind('+');
+      while (plus != std::string_view::npos && plus > 0 && (spec[plus - 1] == 'e' || spec[plus - 1] == 'E'))
+        plus = plus == 1 ? std::string_view::npos : spec.rfind('+', plus - 1);
       const auto kv = plus == std::string_view::npos
                           ? std::nullopt
                           : parse_double(spec.substr(plus + 1, spec.size() - plus - 2));

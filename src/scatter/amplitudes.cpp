@@ -19,10 +19,10 @@
 #ifndef HYDROLUX_SCATTER_AMPLITUDES_TERM
 #define HYDROLUX_SCATTER_AMPLITUDES_TERM
 namespace hydrolux::scatter::detail {
-// Per-term constants, one cache line per n: c_n a_n, c_n b_n with c_n = (2n+1)/(n(n+1)), and the
-// recurrence factors alpha_n = (2n-1)/(n-1), beta_n = n/(n-1), n, n+1.
+// Per-term constants: c_n a_n, c_n b_n with c_n = (2n+1)/(n(n+1)), n, and r_n = (n+1)/n for
+// Wiscombe's form of the Legendre recurrence (see SumAmplitudes).
 struct Term {
-  double a_re, a_im, b_re, b_im, alpha, beta, n, n1;
+  double a_re, a_im, b_re, b_im, n, r, pad0, pad1;
 };
 }  // namespace hydrolux::scatter::detail
 #endif
@@ -34,7 +34,7 @@ using detail::Term;
 
 // For `count` values of mu >= 0 (a multiple of the lane count), writes S1(+mu), S2(+mu), S1(-mu),
 // S2(-mu) as 8 arrays of `count` doubles: s1p re/im, s2p re/im, s1m re/im, s2m re/im.
-void SumAmplitudes(const double* HWY_RESTRICT mu, std::size_t count, const Term* HWY_RESTRICT t,
+void SumAmplitudes(const double* HWY_RESTRICT mu, std::size_t count, const Term* HWY_RESTRICT terms,
                    std::size_t n_terms, double* HWY_RESTRICT out, std::size_t stride) {
   const hn::ScalableTag<double> d;
   const std::size_t lanes = hn::Lanes(d);
@@ -47,13 +47,37 @@ void SumAmplitudes(const double* HWY_RESTRICT mu, std::size_t count, const Term*
     V Ror = hn::Zero(d), Roi = hn::Zero(d), Uor = hn::Zero(d), Uoi = hn::Zero(d);
     V Per = hn::Zero(d), Pei = hn::Zero(d), Qer = hn::Zero(d), Qei = hn::Zero(d);
     V Rer = hn::Zero(d), Rei = hn::Zero(d), Uer = hn::Zero(d), Uei = hn::Zero(d);
+    // Running S1(+mu), S1(-mu), S2(+mu), S2(-mu) (re, im): the parity accumulators are folded in
+    // every kBlock terms, so they never grow beyond one block's worth. Near backscatter pi_n keeps
+    // its sign, the parity sums of a whole series would reach x^2 while S ~ x, and subtracting
+    // them at the end would lose x * 1e-16 relative (4e-9 at x = 1e5).
+    V s1p_r = hn::Zero(d), s1p_i = hn::Zero(d), s1m_r = hn::Zero(d), s1m_i = hn::Zero(d);
+    V s2p_r = hn::Zero(d), s2p_i = hn::Zero(d), s2m_r = hn::Zero(d), s2m_i = hn::Zero(d);
+    const auto fold = [&]() HWY_ATTR {
+      // pi-type terms (P, U) change sign with even n under mu -> -mu, tau-type (Q, R) with odd n.
+      s1p_r = hn::Add(s1p_r, hn::Add(hn::Add(Por, Per), hn::Add(Qor, Qer)));
+      s1p_i = hn::Add(s1p_i, hn::Add(hn::Add(Poi, Pei), hn::Add(Qoi, Qei)));
+      s1m_r = hn::Add(s1m_r, hn::Add(hn::Sub(Por, Per), hn::Sub(Qer, Qor)));
+      s1m_i = hn::Add(s1m_i, hn::Add(hn::Sub(Poi, Pei), hn::Sub(Qei, Qoi)));
+      s2p_r = hn::Add(s2p_r, hn::Add(hn::Add(Ror, Rer), hn::Add(Uor, Uer)));
+      s2p_i = hn::Add(s2p_i, hn::Add(hn::Add(Roi, Rei), hn::Add(Uoi, Uei)));
+      s2m_r = hn::Add(s2m_r, hn::Add(hn::Sub(Rer, Ror), hn::Sub(Uor, Uer)));
+      s2m_i = hn::Add(s2m_i, hn::Add(hn::Sub(Rei, Roi), hn::Sub(Uoi, Uei)));
+      Por = Poi = Qor = Qoi = Ror = Roi = Uor = Uoi = hn::Zero(d);
+      Per = Pei = Qer = Qei = Rer = Rei = Uer = Uei = hn::Zero(d);
+    };
+    constexpr std::size_t kBlock = 16;  // terms per fold (even, so a block holds whole odd/even pairs)
+    // The angle functions in Wiscombe's form (MIEV0; Wiscombe 1980): with s = mu pi_n and
+    // t = s - pi_{n-1},  tau_n = n t - pi_{n-1}  and  pi_{n+1} = s + r_n t,  r_n = (n+1)/n.
+    // The rounded r_n multiplies t ~ n rather than pi_n ~ n^2, so near mu = +-1 (where pi_n grows
+    // like n^2 and the sums cancel down to ~x) the recurrence stays at rounding; at mu = +-1 it is
+    // exact. s is carried as s_{n+1} = mu s + (mu r_n) t, keeping two operations on the chain.
     V pi_prev = hn::Zero(d);   // pi_{n-1}
     V pi = hn::Set(d, 1.0);    // pi_n, starting at pi_1 = 1
-    // One term: tau_n = n mu pi_n - (n+1) pi_{n-1}, accumulate, then advance pi.
-    auto term = [&](const Term& k, const Term& next, V& Pr, V& Pi, V& Qr, V& Qi, V& Rr, V& Ri, V& Ur,
-                    V& Ui) HWY_ATTR {
-      const V mu_pi = hn::Mul(m, pi);
-      const V tau = hn::MulSub(hn::Set(d, k.n), mu_pi, hn::Mul(hn::Set(d, k.n1), pi_prev));
+    V s = m;                   // mu pi_n
+    auto term = [&](const Term& k, V& Pr, V& Pi, V& Qr, V& Qi, V& Rr, V& Ri, V& Ur, V& Ui) HWY_ATTR {
+      const V t = hn::Sub(s, pi_prev);
+      const V tau = hn::MulSub(hn::Set(d, k.n), t, pi_prev);
       const V ar = hn::Set(d, k.a_re), ai = hn::Set(d, k.a_im);
       const V br = hn::Set(d, k.b_re), bi = hn::Set(d, k.b_im);
       Pr = hn::MulAdd(ar, pi, Pr);
@@ -64,36 +88,29 @@ void SumAmplitudes(const double* HWY_RESTRICT mu, std::size_t count, const Term*
       Ri = hn::MulAdd(ai, tau, Ri);
       Ur = hn::MulAdd(br, pi, Ur);
       Ui = hn::MulAdd(bi, pi, Ui);
-      // pi_{n+1} = alpha_{n+1} mu pi_n - beta_{n+1} pi_{n-1}: one FMA on the dependency chain.
-      const V next_pi = hn::MulSub(hn::Set(d, next.alpha), mu_pi, hn::Mul(hn::Set(d, next.beta), pi_prev));
+      const V r = hn::Set(d, k.r);
+      const V next_pi = hn::MulAdd(r, t, s);
+      s = hn::MulAdd(hn::Mul(m, r), t, hn::Mul(m, s));
       pi_prev = pi;
       pi = next_pi;
     };
-    // t has n_terms + 1 entries (the last is a sentinel for the final recurrence step).
+    // terms has n_terms + 1 entries (the last one unused here).
     std::size_t n = 1;
     for (; n + 1 <= n_terms; n += 2) {
-      term(t[n - 1], t[n], Por, Poi, Qor, Qoi, Ror, Roi, Uor, Uoi);      // odd n
-      term(t[n], t[n + 1], Per, Pei, Qer, Qei, Rer, Rei, Uer, Uei);      // even n + 1
+      term(terms[n - 1], Por, Poi, Qor, Qoi, Ror, Roi, Uor, Uoi);  // odd n
+      term(terms[n], Per, Pei, Qer, Qei, Rer, Rei, Uer, Uei);      // even n + 1
+      if ((n + 1) % kBlock == 0) fold();
     }
-    if (n == n_terms) term(t[n - 1], t[n], Por, Poi, Qor, Qoi, Ror, Roi, Uor, Uoi);
-    // S1(mu) = P + Q; S1(-mu) = (Po - Pe) - (Qo - Qe); S2(mu) = R + U; S2(-mu) = (Ue - Uo)... see
-    // header: pi terms change sign with even n, tau terms with odd n.
-    const V p_sum_r = hn::Add(Por, Per), p_sum_i = hn::Add(Poi, Pei);
-    const V q_sum_r = hn::Add(Qor, Qer), q_sum_i = hn::Add(Qoi, Qei);
-    const V r_sum_r = hn::Add(Ror, Rer), r_sum_i = hn::Add(Roi, Rei);
-    const V u_sum_r = hn::Add(Uor, Uer), u_sum_i = hn::Add(Uoi, Uei);
-    const V p_alt_r = hn::Sub(Por, Per), p_alt_i = hn::Sub(Poi, Pei);  // pi-type: sign (-1)^(n-1)
-    const V q_alt_r = hn::Sub(Qer, Qor), q_alt_i = hn::Sub(Qei, Qoi);  // tau-type: sign (-1)^n
-    const V r_alt_r = hn::Sub(Rer, Ror), r_alt_i = hn::Sub(Rei, Roi);
-    const V u_alt_r = hn::Sub(Uor, Uer), u_alt_i = hn::Sub(Uoi, Uei);
-    hn::StoreU(hn::Add(p_sum_r, q_sum_r), d, out + 0 * stride + i);
-    hn::StoreU(hn::Add(p_sum_i, q_sum_i), d, out + 1 * stride + i);
-    hn::StoreU(hn::Add(r_sum_r, u_sum_r), d, out + 2 * stride + i);
-    hn::StoreU(hn::Add(r_sum_i, u_sum_i), d, out + 3 * stride + i);
-    hn::StoreU(hn::Add(p_alt_r, q_alt_r), d, out + 4 * stride + i);
-    hn::StoreU(hn::Add(p_alt_i, q_alt_i), d, out + 5 * stride + i);
-    hn::StoreU(hn::Add(r_alt_r, u_alt_r), d, out + 6 * stride + i);
-    hn::StoreU(hn::Add(r_alt_i, u_alt_i), d, out + 7 * stride + i);
+    if (n == n_terms) term(terms[n - 1], Por, Poi, Qor, Qoi, Ror, Roi, Uor, Uoi);
+    fold();
+    hn::StoreU(s1p_r, d, out + 0 * stride + i);
+    hn::StoreU(s1p_i, d, out + 1 * stride + i);
+    hn::StoreU(s2p_r, d, out + 2 * stride + i);
+    hn::StoreU(s2p_i, d, out + 3 * stride + i);
+    hn::StoreU(s1m_r, d, out + 4 * stride + i);
+    hn::StoreU(s1m_i, d, out + 5 * stride + i);
+    hn::StoreU(s2m_r, d, out + 6 * stride + i);
+    hn::StoreU(s2m_i, d, out + 7 * stride + i);
   }
 }
 
@@ -131,16 +148,17 @@ void mie_amplitudes(const MieCoefficients& c, std::span<const double> mu, std::s
     const double cn = (2 * n + 1) / (n * (n + 1));
     const Complex a = k < n_terms ? cn * c.a[k] : Complex(0);
     const Complex b = k < n_terms ? cn * c.b[k] : Complex(0);
-    const double alpha = n > 1 ? (2 * n - 1) / (n - 1) : 0;
-    const double beta = n > 1 ? n / (n - 1) : 0;
-    terms.push_back({a.real(), a.imag(), b.real(), b.imag(), alpha, beta, n, n + 1});
+    terms.push_back({a.real(), a.imag(), b.real(), b.imag(), n, (n + 1) / n, 0.0, 0.0});
   }
 
-  // Unique |mu| values (merged within kMergeMu, see the header), padded to whole vectors.
+  // Evaluation keys |mu| (one pass gives S at +mu and -mu), merged within kMergeMu (see the
+  // header).
   constexpr double kMergeMu = 1e-15;
-  std::vector<double> abs_mu(mu.size());
-  for (std::size_t i = 0; i < mu.size(); ++i) abs_mu[i] = std::abs(mu[i]);
-  std::vector<double> unique = abs_mu;
+  for (const double m : mu)
+    if (!(m >= -1.0 && m <= 1.0)) throw std::invalid_argument("mie_amplitudes: mu must lie in [-1, 1]");
+  std::vector<double> keys(mu.size());
+  for (std::size_t i = 0; i < mu.size(); ++i) keys[i] = std::abs(mu[i]);
+  std::vector<double> unique = keys;
   std::sort(unique.begin(), unique.end());
   unique.erase(std::unique(unique.begin(), unique.end(),
                            [](double a, double b) { return b - a <= kMergeMu; }),
@@ -171,8 +189,8 @@ void mie_amplitudes(const MieCoefficients& c, std::span<const double> mu, std::s
   }
 
   for (std::size_t i = 0; i < mu.size(); ++i) {
-    // The merged value nearest to |mu| (it lies within kMergeMu).
-    auto it = std::lower_bound(unique.begin(), unique.begin() + std::ptrdiff_t(count), abs_mu[i] - kMergeMu);
+    // The merged key nearest to this one (it lies within kMergeMu).
+    auto it = std::lower_bound(unique.begin(), unique.begin() + std::ptrdiff_t(count), keys[i] - kMergeMu);
     if (it == unique.begin() + std::ptrdiff_t(count)) --it;
     const std::size_t u = static_cast<std::size_t>(it - unique.begin());
     const std::size_t off = mu[i] >= 0 ? 0 : 4;  // +mu or -mu results (mu = -0.0 is +0: same)

@@ -100,6 +100,11 @@ TEST(DropModel, OffAxisRaysMatchExactSphereTrace) {
   EXPECT_LT(glm::length(unit(a.refraction) - b.refraction), 1e-12);
   EXPECT_LT(glm::length(unit(a.internal[1]) - b.internal[1]), 1e-12);
   EXPECT_THROW((void)drop_rays({0, 0, 1}, {0, 0, 1}, 1.333), DomainError);  // faces away
+  // Head-on views whose cosine rounds just past 1 are fine (normal = -view for random views).
+  for (int k = 0; k < 1000; ++k) {
+    const Vec3 v = glm::normalize(Vec3{rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5});
+    EXPECT_NO_THROW((void)drop_rays(v, -v, 1.333));
+  }
 }
 
 // The paper: a drop's field of view is about 165 degrees (section 4.4); for mu = 1.333 the rim ray

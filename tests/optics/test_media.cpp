@@ -153,7 +153,9 @@ TEST(Media, RegistryNamesAliasesAndConstants) {
   EXPECT_TRUE(find_medium("const:0.2+3.4i")->info().conductor);
   for (const char* bad : {"const:", "const:abc", "const:1.5+i", "const:1.5+2", "const:nan"})
     EXPECT_THROW((void)find_medium(bad), UnknownNameError) << bad;
-  EXPECT_THROW((void)find_medium("const:-1"), DomainError);
+  EXPECT_THROW((void)find_medium("const:-1"), UnknownNameError);
+  EXPECT_THROW((void)find_medium("const:0"), UnknownNameError);
+  EXPECT_EQ(find_medium("const:1.5e+0+2e+1i")->index(500.0), std::complex<double>(1.5, 20.0));
 }
 
 TEST(Media, EveryTableIsWellFormedAndCitesItsSource) {

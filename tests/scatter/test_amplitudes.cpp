@@ -45,6 +45,24 @@ TEST(MieAmplitudes, MatchReferenceAcrossSizes) {
   }
 }
 
+// Backscatter at the largest x: S(180) ~ x while the parity partial sums reach x^2, so exactly
+// 180 degrees and the angles just off it must still meet 1e-9 (they are summed directly); mu outside
+// [-1, 1] or NaN is an error.
+TEST(MieAmplitudes, BackscatterAtLargestX) {
+  const double x = 1e5;
+  const auto c = mie_coefficients({1.333, 0}, x);
+  const std::vector<double> mu = {-1.0, -std::cos(10.0 / x), -std::cos(29.0 / x), -std::cos(31.0 / x),
+                                  -std::cos(100.0 / x), -0.5, 1.0};
+  std::vector<Complex> s1(mu.size()), s2(mu.size()), r1(mu.size()), r2(mu.size());
+  mie_amplitudes(c, mu, s1, s2);
+  mie_amplitudes_reference(c, mu, r1, r2);
+  EXPECT_LT(worst_relative(s1, r1), 1e-9);
+  EXPECT_LT(worst_relative(s2, r2), 1e-9);
+  std::vector<Complex> one1(1), one2(1);
+  EXPECT_THROW(mie_amplitudes(c, std::vector<double>{1.5}, one1, one2), std::invalid_argument);
+  EXPECT_THROW(mie_amplitudes(c, std::vector<double>{std::nan("")}, one1, one2), std::invalid_argument);
+}
+
 // Any angle list: unsorted, asymmetric, duplicated, -0.0, exactly +-1.
 TEST(MieAmplitudes, ArbitraryAngleLists) {
   const auto c = mie_coefficients({1.333, 1e-8}, 250.0);

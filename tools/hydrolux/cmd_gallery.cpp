@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "common.hpp"
+#include "hydrolux/core/error.hpp"
 #include "hydrolux/gallery/gallery.hpp"
 #include "progress.hpp"
 
@@ -18,6 +19,7 @@ struct GalleryArgs {
 };
 
 int run_gallery(const GalleryArgs& a) {
+  if (a.out.empty()) throw Error("-o/--out: the output directory must not be empty");
   ProgressBar bar("gallery", a.quiet);
   const auto figures = gallery::write_gallery(a.out, bar.callback());
   bar.finish();

@@ -18,6 +18,8 @@
 namespace hydrolux::cli {
 
 namespace {
+constexpr double kMinSizeParameterForCheck = 1.0;  // any valid x: only m is checked by that call
+
 struct MieArgs {
   std::string m_text;
   std::optional<double> x;
@@ -37,6 +39,7 @@ int run_mie(const MieArgs& a) {
   scatter::Complex m;
   double x = 0;
   if (physical) {
+
     if (!a.radius_um || !a.wavelength_nm) throw Error("--radius-um and --wavelength-nm go together");
     const auto sphere = optics::find_medium(a.medium);
     const auto outside = optics::find_medium(a.surrounding);
@@ -52,6 +55,18 @@ int run_mie(const MieArgs& a) {
   std::vector<double> mu(angles.size());
   for (std::size_t i = 0; i < mu.size(); ++i) mu[i] = std::cos(deg_to_rad(angles[i]));
 
+  if (physical) {
+    // The solver's limits on x and m then come from the drop and the light: name those flags.
+    try {
+      (void)scatter::wiscombe_terms(x);
+      (void)scatter::mie_coefficients(m, kMinSizeParameterForCheck, 1);
+    } catch (const DomainError& e) {
+      const std::string flags = e.quantity() == "x" ? "--radius-um/--wavelength-nm (size parameter x)"
+                                                    : "--medium/--surrounding (relative index m)";
+      throw Error(fmt::format("{}: {} is {}", flags, fmt::format("{} = {:g}", e.quantity(), e.value()),
+                              e.range_text()));
+    }
+  }
   const auto start = std::chrono::steady_clock::now();
   const auto c = scatter::mie_coefficients(m, x);
   const auto q = scatter::mie_efficiencies(c);  // of the whole sphere, also with --debye
@@ -101,19 +116,23 @@ Command add_mie(CLI::App& app) {
       "Lorenz-Mie scattering by a homogeneous sphere: efficiencies and the amplitudes S1, S2 "
       "(Bohren & Huffman conventions). Give --m and --x, or the physical form --radius-um, "
       "--wavelength-nm, --medium.");
-  sub->add_option("--m", args->m_text,
-                  "Relative complex index n+ki (k >= 0 absorbing), e.g. 1.333+1e-8i");
-  sub->add_option("--x", args->x, "Size parameter 2 pi r / lambda")
-      ->check(number_in(1e-3, 1e5));
+  auto* m_opt = sub->add_option("--m", args->m_text,
+                                 "Relative complex index n+ki (k >= 0 absorbing), e.g. 1.333+1e-8i");
+  auto* x_opt = sub->add_option("--x", args->x, "Size parameter 2 pi r / lambda")->check(number_in(1e-3, 1e5));
   sub->add_option("--radius-um", args->radius_um, "Sphere radius, micrometres")
       ->check(positive_number(1e6, "um"));
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")
       ->check(positive_number(1e6, "nm"));
-  sub->add_option("--medium", args->medium, "Sphere medium (see hydrolux ior --list)")->capture_default_str();
-  sub->add_option("--surrounding", args->surrounding, "Surrounding medium (air, or const:1 for vacuum)")
-      ->capture_default_str();
-  sub->add_option("--temperature-c", args->temperature_c, "Temperature of the media that model it, Celsius")
-      ->check(number_in(-273.15, 1000, "C"));
+  auto* medium_opt =
+      sub->add_option("--medium", args->medium, "Sphere medium (see hydrolux ior --list)")->capture_default_str();
+  auto* surrounding_opt =
+      sub->add_option("--surrounding", args->surrounding, "Surrounding medium (air, or const:1 for vacuum)")
+          ->capture_default_str();
+  auto* temperature_opt =
+      sub->add_option("--temperature-c", args->temperature_c, "Temperature of the media that model it, Celsius")
+          ->check(number_in(-273.15, 1000, "C"));
+  // The dimensionless form takes m and x as they are: media flags would be silently ignored.
+  for (auto* o : {m_opt, x_opt}) o->excludes(medium_opt)->excludes(surrounding_opt)->excludes(temperature_opt);
   sub->add_option("--angles-deg", args->angles,
                   "Scattering angles, degrees (0 = forward): A:B:N for N angles from A to B, or a list 0,10,90")
       ->capture_default_str();

@@ -71,10 +71,10 @@ std::pair<scatter::RadiusQuadrature, std::string> size_quadrature(const PhaseArg
     if (!(value > 0 && value <= 1)) throw fail("W must be in (0, 1]");
     const auto d = name == "gamma" ? scatter::SizeDistribution::gamma(r, value)
                                    : scatter::SizeDistribution::log_normal(r, value);
-    // Gauss-Legendre on a range that holds all but a negligible tail: Mie intensities oscillate in
-    // r, which a range rule with enough nodes resolves (a Gaussian rule of n(r) would alias).
-    const double lo = r * std::max(0.01, 1 - 5 * value), hi = r * (1 + 8 * value);
-    return {d.quadrature(a.nodes, lo, hi),
+    // Gauss-Legendre over a range holding the number and r^4-weighted tails: Mie intensities
+    // oscillate in r, which a range rule with enough nodes resolves (a Gaussian rule of n(r) would
+    // alias).
+    return {scatter::intensity_quadrature(d, a.nodes),
             fmt::format("{} distribution, mean radius {:g} um, relative width {:g}, {} radii", name, *a.radius_um,
                         value, a.nodes)};
   }
@@ -168,6 +168,10 @@ Command add_phase(CLI::App& app) {
   return {sub,
           [args] { return run_phase(*args); },
           {{"x", "--radius-um (size parameter x)"},
+           {"m_real", "--medium/--surrounding (relative index, real part)"},
+           {"m_imag", "--medium/--surrounding (relative index, imaginary part)"},
+           {"r_max_m", "--radius-um (largest radius of the distribution, m)"},
+           {"r_min_m", "--radius-um (smallest radius of the distribution, m)"},
            {"radius_um", "--radius-um"},
            {"wavelength_nm", "--wavelength-nm"},
            {"temperature_c", "--temperature-c"},

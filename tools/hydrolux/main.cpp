@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <iostream>
 #include <vector>
 
 #include "common.hpp"
@@ -44,7 +45,13 @@ int main(int argc, char** argv) {
     for (auto* p = cmd.app->get_parent(); p && p != &app; p = p->get_parent()) prog = p->get_name() + " " + prog;
     prog = "hydrolux " + prog;
     try {
-      return cmd.run();
+      const int code = cmd.run();
+      std::cout.flush();
+      if (std::fflush(stdout) != 0 || std::ferror(stdout) || std::cout.fail()) {
+        fmt::print(stderr, "{}: cannot write to standard output\n", prog);
+        return cli::kExitInternal;
+      }
+      return code;
     } catch (const DomainError& e) {
       const auto it = cmd.flags_for_quantity.find(e.quantity());
       if (it != cmd.flags_for_quantity.end())

@@ -75,7 +75,7 @@ FresnelDielectric<Float> fresnel_dielectric(Float cos_i, Float n_i, Float n_t) n
   f.t_s = a.t_s;
   f.t_p = a.t_p;
   const Float sin2_i = std::max(Float(0), Float(1) - cos_i * cos_i);
-  f.tir = n_i * n_i * sin2_i >= n_t * n_t;
+  f.tir = n_i * n_i * sin2_i > n_t * n_t;  // at exactly the critical angle R = 1 all the same
   if (f.tir || cos_i <= 0) {  // all power reflected (at grazing incidence the flux is zero anyway)
     f.R_s = f.R_p = f.R = Float(1);
     f.T_s = f.T_p = f.T = Float(0);

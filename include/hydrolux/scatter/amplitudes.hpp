@@ -8,9 +8,10 @@
 //   tau_n(-mu) = (-1)^n tau_n(mu) (Bohren & Huffman eq. 4.48): even and odd n are summed apart,
 //   so a grid symmetric about 90 degrees costs half. |mu| values closer than 1e-15 (cos(theta)
 //   and -cos(pi - theta) in floating point) are evaluated once: the change in S is below
-//   x * 1e-15 relative, 1e-10 at x = 1e5;
-// - keeps the Legendre recurrence (B&H eq. 4.47) in registers, with one FMA on its dependency
-//   chain;
+//   x * 1e-15 relative, 1e-10 at x = 1e5. The parity sums are folded into S(+mu) and S(-mu)
+//   every 16 terms, so they stay small even near backscatter (where pi_n keeps its sign);
+// - keeps the Legendre recurrence in registers, in Wiscombe's form (exact at mu = +-1, accurate
+//   near it, where B&H's eq. 4.47 form loses x * 1e-16);
 // - runs blocks of angles in parallel with oneTBB.
 // mie_amplitudes_reference (mie.hpp) is the scalar reference it is tested against.
 #include <span>
@@ -22,7 +23,8 @@
 namespace hydrolux::scatter {
 
 // S1, S2 at the given mu = cos(theta) (any order, duplicates allowed). threads: 0 = all cores,
-// otherwise at most that many. Spans must have equal sizes (else std::invalid_argument).
+// otherwise at most that many. Spans must have equal sizes and mu must lie in [-1, 1] (else
+// std::invalid_argument).
 void mie_amplitudes(const MieCoefficients& c, std::span<const double> mu, std::span<Complex> s1,
                     std::span<Complex> s2, int threads = 0);
 

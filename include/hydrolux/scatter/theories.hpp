@@ -36,6 +36,15 @@ std::string theory_name(const Theory& t);
 void amplitudes(const Theory& t, Complex m, double x, std::span<const double> theta_rad,
                 std::span<Complex> s1, std::span<Complex> s2, int threads = 0);
 
+// A Gauss-Legendre quadrature in ln r over the radii of a gamma or log-normal distribution that
+// holds its r^2- to r^4-weighted mass (intensities grow like r^2 to r^4) to 1e-6: gamma from 1e-3
+// of the mean (drops that small scatter ~ (1e-3)^6 as much; for relative width 1 they are 1e-3 of
+// the number) to beta (alpha + 4 + 10 sqrt(alpha + 4)), log-normal from exp(mu - 8 s) to
+// exp(mu + 4 s^2 + 8 s).
+// Monodisperse gives its one radius. (Marshall-Palmer rain is usually cut to physical radii: use
+// SizeDistribution::quadrature(nodes, r_min, r_max).)
+RadiusQuadrature intensity_quadrature(const SizeDistribution& d, int nodes);
+
 // Intensities i1 = |S1|^2 and i2 = |S2|^2 averaged over the drops of a size distribution: the
 // number-weighted mean over the quadrature's radii, each drop solved at its own size parameter
 // (B&H normalisation, so i / k^2 is the intensity per drop per unit incident irradiance at unit
