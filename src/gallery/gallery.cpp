@@ -206,14 +206,14 @@ std::vector<Entry> entries() {
                                io::LegendCorner::TopRight);
                  p.y_log = true;
                  const auto air = optics::find_medium("air");
+                 std::vector<double> theta, mu;
+                 for (int i = 0; i <= 1800; ++i) {
+                   theta.push_back(0.1 * i);
+                   mu.push_back(std::cos(deg_to_rad(0.1 * i)));
+                 }
                  const std::pair<double, const char*> drops[] = {{1, kGreen}, {10, kBlue}, {100, kRed}};
                  for (const auto& [radius_um, colour] : drops) {
                    const auto sp = scatter::sphere_problem(radius_um, 550.0, *water, *air);
-                   std::vector<double> theta, mu;
-                   for (int i = 0; i <= 1800; ++i) {
-                     theta.push_back(0.1 * i);
-                     mu.push_back(std::cos(deg_to_rad(0.1 * i)));
-                   }
                    PlotSeries s{fmt::format("r = {:g} um (x = {:.0f})", radius_um, sp.x), theta,
                                 scatter::mie_phase_function(scatter::mie_coefficients(sp.m, sp.x), mu), colour};
                    p.series.push_back(s);

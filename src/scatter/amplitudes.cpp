@@ -22,7 +22,7 @@ namespace hydrolux::scatter::detail {
 // Per-term constants: c_n a_n, c_n b_n with c_n = (2n+1)/(n(n+1)), n, and r_n = (n+1)/n for
 // Wiscombe's form of the Legendre recurrence (see SumAmplitudes).
 struct Term {
-  double a_re, a_im, b_re, b_im, n, r, pad0, pad1;
+  double a_re, a_im, b_re, b_im, n, r;
 };
 }  // namespace hydrolux::scatter::detail
 #endif
@@ -94,7 +94,6 @@ void SumAmplitudes(const double* HWY_RESTRICT mu, std::size_t count, const Term*
       pi_prev = pi;
       pi = next_pi;
     };
-    // terms has n_terms + 1 entries (the last one unused here).
     std::size_t n = 1;
     for (; n + 1 <= n_terms; n += 2) {
       term(terms[n - 1], Por, Poi, Qor, Qoi, Ror, Roi, Uor, Uoi);  // odd n
@@ -140,15 +139,15 @@ void mie_amplitudes(const MieCoefficients& c, std::span<const double> mu, std::s
   if (mu.empty()) return;
   const std::size_t n_terms = c.a.size();
 
-  // Per-term constants (+1 sentinel entry for the last recurrence step).
+  // Per-term constants.
   std::vector<detail::Term> terms;
-  terms.reserve(n_terms + 1);
-  for (std::size_t k = 0; k <= n_terms; ++k) {
+  terms.reserve(n_terms);
+  for (std::size_t k = 0; k < n_terms; ++k) {
     const double n = double(k + 1);
     const double cn = (2 * n + 1) / (n * (n + 1));
-    const Complex a = k < n_terms ? cn * c.a[k] : Complex(0);
-    const Complex b = k < n_terms ? cn * c.b[k] : Complex(0);
-    terms.push_back({a.real(), a.imag(), b.real(), b.imag(), n, (n + 1) / n, 0.0, 0.0});
+    const Complex a = cn * c.a[k];
+    const Complex b = cn * c.b[k];
+    terms.push_back({a.real(), a.imag(), b.real(), b.imag(), n, (n + 1) / n});
   }
 
   // Evaluation keys |mu| (one pass gives S at +mu and -mu), merged within kMergeMu (see the

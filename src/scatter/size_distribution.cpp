@@ -266,7 +266,7 @@ RadiusQuadrature SizeDistribution::quadrature(int nodes) const {
   return q;
 }
 
-RadiusQuadrature SizeDistribution::quadrature(int nodes, double r_min, double r_max) const {
+RadiusQuadrature SizeDistribution::quadrature(int nodes, double r_min, double r_max, bool log_spaced) const {
   check_nodes(nodes);
   require_in_range("r_min_m", r_min, 0.0, kMaxRadius);
   require_in_range("r_max_m", r_max, std::nextafter(r_min, 2 * kMaxRadius), 2 * kMaxRadius);
@@ -280,10 +280,19 @@ RadiusQuadrature SizeDistribution::quadrature(int nodes, double r_min, double r_
   }
   std::vector<double> t, w;
   gauss_legendre(nodes, t, w);
-  const double half = 0.5 * (r_max - r_min), mid = 0.5 * (r_max + r_min);
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    t[i] = mid + half * t[i];
-    w[i] *= half * number_density(t[i]);
+  if (log_spaced) {
+    require_in_range("r_min_m", r_min, std::numeric_limits<double>::min(), kMaxRadius);
+    const double l0 = std::log(r_min), half = 0.5 * (std::log(r_max) - l0);
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      t[i] = std::exp(l0 + half * (t[i] + 1));
+      w[i] *= half * number_density(t[i]) * t[i];
+    }
+  } else {
+    const double half = 0.5 * (r_max - r_min), mid = 0.5 * (r_max + r_min);
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      t[i] = mid + half * t[i];
+      w[i] *= half * number_density(t[i]);
+    }
   }
   q.radius_m = std::move(t);
   q.weight = std::move(w);

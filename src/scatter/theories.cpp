@@ -76,37 +76,16 @@ void amplitudes(const Theory& t, Complex m, double x, std::span<const double> th
   }
 }
 
-namespace {
-// Gauss-Legendre in ln r on [lo, hi]: weights w_i n(r_i) r_i. Wide distributions span decades of
-// radius, which a rule linear in r cannot resolve at the small end.
-RadiusQuadrature log_quadrature(const SizeDistribution& d, int nodes, double lo, double hi) {
-  require_in_range("nodes", nodes, 1, 4096);
-  // Legendre's Jacobi matrix: a_k = 0, b_k = k / sqrt(4 k^2 - 1); mu0 = 2 (Golub & Welsch 1969).
-  std::vector<double> a(std::size_t(nodes), 0.0), b(std::size_t(nodes - 1));
-  for (int k = 1; k < nodes; ++k) b[std::size_t(k - 1)] = k / std::sqrt(4.0 * k * k - 1);
-  std::vector<double> u, w;
-  gauss_from_jacobi(a, b, 2.0, u, w);
-  const double l0 = std::log(lo), l1 = std::log(hi), half = (l1 - l0) / 2;
-  RadiusQuadrature q;
-  for (std::size_t i = 0; i < u.size(); ++i) {
-    const double r = std::exp(l0 + half * (u[i] + 1));
-    q.radius_m.push_back(r);
-    q.weight.push_back(w[i] * half * d.number_density(r) * r);
-  }
-  return q;
-}
-}  // namespace
-
 RadiusQuadrature intensity_quadrature(const SizeDistribution& d, int nodes) {
   switch (d.kind()) {
     case SizeDistributionKind::monodisperse: return d.quadrature(1);
     case SizeDistributionKind::gamma: {
       const double a = d.alpha(), b = d.beta();
-      return log_quadrature(d, nodes, 1e-3 * d.mean_radius(), b * (a + 4 + 10 * std::sqrt(a + 4)));
+      return d.quadrature(nodes, 1e-3 * d.mean_radius(), b * (a + 4 + 10 * std::sqrt(a + 4)), true);
     }
     case SizeDistributionKind::log_normal: {
       const double mu = d.mu(), s = d.sigma();
-      return log_quadrature(d, nodes, std::exp(mu - 8 * s), std::exp(mu + 4 * s * s + 8 * s));
+      return d.quadrature(nodes, std::exp(mu - 8 * s), std::exp(mu + 4 * s * s + 8 * s), true);
     }
     case SizeDistributionKind::marshall_palmer: break;
   }

@@ -18,8 +18,6 @@
 namespace hydrolux::cli {
 
 namespace {
-constexpr double kMinSizeParameterForCheck = 1.0;  // any valid x: only m is checked by that call
-
 struct MieArgs {
   std::string m_text;
   std::optional<double> x;
@@ -55,20 +53,17 @@ int run_mie(const MieArgs& a) {
   std::vector<double> mu(angles.size());
   for (std::size_t i = 0; i < mu.size(); ++i) mu[i] = std::cos(deg_to_rad(angles[i]));
 
-  if (physical) {
-    // The solver's limits on x and m then come from the drop and the light: name those flags.
-    try {
-      (void)scatter::wiscombe_terms(x);
-      (void)scatter::mie_coefficients(m, kMinSizeParameterForCheck, 1);
-    } catch (const DomainError& e) {
-      const std::string flags = e.quantity() == "x" ? "--radius-um/--wavelength-nm (size parameter x)"
-                                                    : "--medium/--surrounding (relative index m)";
-      throw Error(fmt::format("{}: {} is {}", flags, fmt::format("{} = {:g}", e.quantity(), e.value()),
-                              e.range_text()));
-    }
-  }
   const auto start = std::chrono::steady_clock::now();
-  const auto c = scatter::mie_coefficients(m, x);
+  scatter::MieCoefficients c;
+  try {
+    c = scatter::mie_coefficients(m, x);
+  } catch (const DomainError& e) {
+    if (!physical) throw;
+    // In the physical form the solver's limits on x and m come from the drop and the light.
+    const std::string flags = e.quantity() == "x" ? "--radius-um/--wavelength-nm (size parameter x)"
+                                                  : "--medium/--surrounding (relative index m)";
+    throw Error(fmt::format("{}: {} = {:g} is {}", flags, e.quantity(), e.value(), e.range_text()));
+  }
   const auto q = scatter::mie_efficiencies(c);  // of the whole sphere, also with --debye
   std::vector<scatter::Complex> s1(mu.size()), s2(mu.size());
   scatter::mie_amplitudes(a.debye ? scatter::debye_coefficients(m, x, *a.debye) : c, mu, s1, s2, a.threads);

@@ -71,7 +71,9 @@ class SizeDistribution {
   double effective_radius() const { return moment(3) / moment(2); }  // Hansen & Travis r_eff
 
   RadiusQuadrature quadrature(int nodes) const;
-  RadiusQuadrature quadrature(int nodes, double r_min, double r_max) const;
+  // log_spaced: Gauss-Legendre in ln r (weights w_i n(r_i) r_i; needs r_min > 0), for ranges that
+  // span decades, where a rule linear in r cannot resolve the small end.
+  RadiusQuadrature quadrature(int nodes, double r_min, double r_max, bool log_spaced = false) const;
 
   // Parameters: gamma alpha and beta (m); log-normal mu (ln m) and s; Marshall-Palmer Lambda (m^-1)
   // and N0 (m^-4); monodisperse r0 (m). Those of other kinds are 0.
