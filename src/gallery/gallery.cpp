@@ -1,10 +1,13 @@
 #include "hydrolux/gallery/gallery.hpp"
 
+#include "entries.hpp"
+
 #include <fmt/format.h>
 
 #include <functional>
 #include <tuple>
 
+#include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/model.hpp"
 #include "hydrolux/io/files.hpp"
@@ -36,10 +39,7 @@ constexpr const char* kRed = "#d62728";
 constexpr const char* kPurple = "#9467bd";
 constexpr const char* kBrown = "#8c564b";
 
-struct Entry {
-  Figure figure;
-  std::function<std::string()> render;  // SVG text
-};
+using detail::Entry;
 
 struct Axis {
   double min, max, tick;
@@ -329,6 +329,7 @@ std::vector<Entry> entries() {
                                             [&](double t) { return water->n(l, t); }));
                  return io::render_svg(p);
                }});
+  for (auto& d : detail::drop_entries()) e.push_back(std::move(d));
   return e;
 }
 
@@ -363,11 +364,18 @@ figcaption {{ font-size: 0.92em; line-height: 1.4; }}
 }  // namespace
 
 std::vector<Figure> write_gallery(const std::filesystem::path& dir, const ProgressFn& progress) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir))
+    throw IoError(fmt::format("cannot create directory '{}'{}", dir.string(), ec ? ": " + ec.message() : ""));
   const auto all = entries();
   std::vector<Figure> figures;
   for (std::size_t i = 0; i < all.size(); ++i) {
     if (progress) progress(double(i) / double(all.size() + 1), all[i].figure.file);
-    io::write_text_file(dir / all[i].figure.file, all[i].render());
+    if (all[i].write)
+      all[i].write(dir / all[i].figure.file);
+    else
+      io::write_text_file(dir / all[i].figure.file, all[i].render());
     figures.push_back(all[i].figure);
   }
   if (progress) progress(double(all.size()) / double(all.size() + 1), "index.html");

@@ -7,6 +7,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/gallery/gallery.hpp"
+#include "hydrolux/io/image_io.hpp"
 #include "hydrolux/io/svg_plot.hpp"
 
 namespace hydrolux {
@@ -83,6 +84,15 @@ TEST(Gallery, WritesEveryFigureAndAnIndexThatShowsThem) {
   for (const char* f : {"fresnel_air_water.svg", "fresnel_air_glass.svg", "fresnel_air_gold.svg"})
     EXPECT_TRUE(std::any_of(figures.begin(), figures.end(), [&](const auto& g) { return g.file == f; })) << f;
   for (const auto& f : figures) {
+    if (f.file.ends_with(".png")) {  // a rendered picture: readable, finite, not blank
+      const auto img = io::read_image(dir / f.file);
+      EXPECT_GE(img.width, 64) << f.file;
+      float lo = 1e9f, hi = -1e9f;
+      for (float v : img.pixels) lo = std::min(lo, v), hi = std::max(hi, v);
+      EXPECT_LT(lo + 0.05f, hi) << f.file;
+      EXPECT_NE(index.find("src=\"" + f.file + "\""), std::string::npos) << f.file;
+      continue;
+    }
     const std::string svg = slurp(dir / f.file);
     EXPECT_EQ(svg.rfind("<svg", 0), 0u) << f.file;
     EXPECT_NE(svg.find("</svg>"), std::string::npos) << f.file;

@@ -41,11 +41,15 @@ int run_profile(const ProfileArgs& a) {
 }
 }  // namespace
 
-Command add_drop_profile(CLI::App& app) {
-  auto* drop = app.add_subcommand("drop", "Garg & Nayar's rain drop model");
+std::vector<Command> add_drop(CLI::App& app) {
+  auto* drop = app.add_subcommand("drop", "Garg & Nayar's rain drop model: profile, render, undistort");
   drop->require_subcommand(1);
+  return {add_drop_profile(*drop), add_drop_render(*drop), add_drop_undistort(*drop)};
+}
+
+Command add_drop_profile(CLI::App& drop) {
   auto args = std::make_shared<ProfileArgs>();
-  auto* sub = drop->add_subcommand(
+  auto* sub = drop.add_subcommand(
       "profile",
       "Figure 4 of Garg & Nayar: the radiance of the refracted, reflected and internally reflected "
       "paths across the drop's image (rho = 0 centre to 1 rim) for a uniform environment Le = 1, "

@@ -4,7 +4,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <filesystem>
 #include <cmath>
 #include <optional>
 
@@ -114,6 +117,19 @@ std::vector<double> parse_angles_deg(const std::string& text, const std::string&
     start = pos + 1;
   }
   return out;
+}
+
+std::string output_image_extension(const std::string& path, const std::string& flag) {
+  const std::filesystem::path p(path);
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext != ".png" && ext != ".exr")
+    throw Error(fmt::format("{} {}: the output must be a .png or .exr file", flag, path));
+  const auto parent = p.parent_path();
+  std::error_code ec;
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+    throw Error(fmt::format("{} {}: directory {} does not exist", flag, path, parent.string()));
+  return ext;
 }
 
 }  // namespace hydrolux::cli

@@ -30,7 +30,12 @@ Command add_ior(CLI::App& app);
 Command add_gallery(CLI::App& app);
 Command add_mie(CLI::App& app);
 Command add_phase(CLI::App& app);
-Command add_drop_profile(CLI::App& app);
+// `hydrolux drop ...`: the drop subcommand and its own subcommands (profile, render, undistort).
+std::vector<Command> add_drop(CLI::App& app);
+Command add_drop_profile(CLI::App& drop);
+Command add_drop_render(CLI::App& drop);
+Command add_drop_undistort(CLI::App& drop);
+Command add_rainphys(CLI::App& app);
 
 // A finite number in [lo, hi] (unit printed in help and errors, e.g. "deg"). Rejects NaN, inf and
 // non-numeric text with the valid range in the message.
@@ -45,5 +50,9 @@ std::complex<double> parse_complex(const std::string& text, const std::string& f
 // comma-separated list "0,10,90"; each in [0, 180], N in [1, 1e6]. Throws hydrolux::Error
 // naming `flag`.
 std::vector<double> parse_angles_deg(const std::string& text, const std::string& flag);
+
+// Checks an output image path before any work is done: the extension must be .png or .exr (returned
+// lower-case, with the dot) and the parent directory must exist. Throws hydrolux::Error naming `flag`.
+std::string output_image_extension(const std::string& path, const std::string& flag);
 
 }  // namespace hydrolux::cli

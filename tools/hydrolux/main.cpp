@@ -22,8 +22,10 @@ int main(int argc, char** argv) {
   app.get_formatter()->column_width(34);
 
   std::vector<cli::Command> commands = {cli::add_fresnel(app), cli::add_ior(app), cli::add_mie(app),
-                                        cli::add_phase(app), cli::add_drop_profile(app),
-                                        cli::add_gallery(app)};
+                                        cli::add_phase(app)};
+  for (auto& c : cli::add_drop(app)) commands.push_back(std::move(c));
+  commands.push_back(cli::add_rainphys(app));
+  commands.push_back(cli::add_gallery(app));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
