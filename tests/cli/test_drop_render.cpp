@@ -14,11 +14,7 @@ namespace fs = std::filesystem;
 using hydrolux::testing::expect_usage_errors;
 using hydrolux::testing::run;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("hydrolux_render_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return hydrolux::testing::temp_dir("hydrolux_render"); }
 
 TEST(DropRenderCli, BuiltinEnvironmentToPngAndExr) {
   const auto dir = temp_dir();
@@ -76,12 +72,7 @@ TEST(DropRenderCli, UsageErrors) {
       {"drop render --env sky.jpg" + out, "--env"},
       {"drop render" + missing_env + out, "nope.exr"},
   };
-  for (const auto& [args, flag] : more) {
-    const auto r = run(args);
-    EXPECT_EQ(r.code, 2) << args;
-    EXPECT_EQ(hydrolux::testing::lines(r.err), 1u) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
-  }
+  expect_usage_errors(more);
   EXPECT_FALSE(fs::exists(dir / "x.png"));  // nothing written on any error
   fs::remove_all(dir);
 }

@@ -16,11 +16,7 @@ namespace fs = std::filesystem;
 using hydrolux::testing::lines;
 using hydrolux::testing::run;
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("hydrolux_undistort_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir() { return hydrolux::testing::temp_dir("hydrolux_undistort"); }
 
 // A 64 x 48 PNG with a uniform grey disk (linear 0.25) of radius 20 px centred at (30, 24) on black.
 fs::path write_drop_png(const fs::path& dir) {
@@ -105,13 +101,7 @@ TEST(DropUndistortCli, UsageErrors) {
       {"drop undistort --image " + (dir / "nope.png").string() + " --drop-center 30,24 --drop-radius-px 20" + o,
        "--image"},
   };
-  for (const auto& [args, flag] : cases) {
-    const auto r = run(args);
-    EXPECT_EQ(r.code, 2) << args;
-    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
-    EXPECT_TRUE(r.out.empty()) << args;
-  }
+  hydrolux::testing::expect_usage_errors(cases);
   EXPECT_FALSE(fs::exists(out));  // nothing written on any error
   EXPECT_FALSE(fs::exists(dir / "x.jpg"));
   fs::remove_all(dir);

@@ -1,64 +1,22 @@
 // hydrolux rainphys end to end: the JSON contract (keys, order, values against the library), the
 // text form, the null Gunn & Kinzer velocity outside their measurements, and bad input.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "hydrolux/drop/physics.hpp"
 #include "hydrolux/drop/shape.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
+#include "support/cli.hpp"
 
 namespace {
 
-namespace fs = std::filesystem;
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-Result run(const std::string& args) {
-  const fs::path err_file = fs::temp_directory_path() / ("hydrolux_rainphys_err_" + std::to_string(::getpid()));
-  const std::string cmd = std::string(HYDROLUX_CLI_PATH) + " " + args + " 2>" + err_file.string();
-  Result r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
-  const int status = ::pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream in(err_file);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  r.err = ss.str();
-  fs::remove(err_file);
-  return r;
-}
-
-std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
-
-// Bad input: exit code 2, exactly one line on stderr that names the flag, nothing on stdout.
-template <std::size_t N>
-void expect_usage_errors(const std::pair<const char*, const char*> (&cases)[N]) {
-  for (const auto& [args, flag] : cases) {
-    const auto r = run(args);
-    EXPECT_EQ(r.code, 2) << args;
-    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
-    EXPECT_TRUE(r.out.empty()) << args;
-  }
-}
+using hydrolux::testing::expect_usage_errors;
+using hydrolux::testing::run;
 
 // Defaults (a = 1 mm, h = 30 mm/h): the five keys of the issue first and in order, then the rest;
 // every value as the library computes it. The paper's numbers: v = 200 sqrt(1e-3) = 6.3246 m/s;

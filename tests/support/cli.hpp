@@ -45,9 +45,10 @@ inline Result run(const std::string& args) {
 
 inline std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
 
-// Bad input: exit code 2, exactly one line on stderr that names the flag, nothing on stdout.
-template <std::size_t N>
-void expect_usage_errors(const std::pair<const char*, const char*> (&cases)[N]) {
+// Bad input: exit code 2, exactly one line on stderr that names the flag, nothing on stdout. `cases`
+// is any range of (arguments, text the error must contain) pairs.
+template <typename Cases>
+void expect_usage_errors(const Cases& cases) {
   for (const auto& [args, flag] : cases) {
     const auto r = run(args);
     EXPECT_EQ(r.code, 2) << args;
@@ -55,6 +56,13 @@ void expect_usage_errors(const std::pair<const char*, const char*> (&cases)[N]) 
     EXPECT_NE(r.err.find(flag), std::string::npos) << args << "\n" << r.err;
     EXPECT_TRUE(r.out.empty()) << args;
   }
+}
+
+// A fresh directory under the system's temporary directory, unique to this process.
+inline fs::path temp_dir(const std::string& prefix) {
+  const fs::path d = fs::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
 }
 
 }  // namespace hydrolux::testing
