@@ -192,8 +192,8 @@ std::vector<Entry> drop_entries() {
     p.x_label = "horizontal (mm)";
     p.y_label = "vertical (mm)";
     p.x_min = -4.5, p.x_max = 4.5, p.x_tick = 1;
-    p.y_min = -3.5, p.y_max = 3.5, p.y_tick = 1;
-    p.width = 720, p.height = 560;
+    p.y_min = -3, p.y_max = 5, p.y_tick = 1;  // room above the drops for the legend
+    p.width = 720, p.height = 620;             // about the same mm per pixel on both axes
     p.legend = io::LegendCorner::TopRight;
     const char* colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b"};
     int k = 0;
