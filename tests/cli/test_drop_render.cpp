@@ -78,3 +78,33 @@ TEST(DropRenderCli, UsageErrors) {
 }
 
 }  // namespace
+
+namespace {
+
+// The tool loads image support (OpenImageIO) from the plugin beside it only when a command needs
+// it: without the plugin, commands without images still work and image commands fail in one line.
+TEST(DropRenderCli, ImagePluginIsLoadedOnlyWhenNeeded) {
+  const auto dir = hydrolux::testing::temp_dir("hydrolux_noplugin");
+  const auto exe = dir / "hydrolux";
+  fs::copy_file(HYDROLUX_CLI_PATH, exe, fs::copy_options::overwrite_existing);
+  const auto run_copy = [&](const std::string& args) {
+    const std::string cmd = exe.string() + " " + args + " 2>&1";
+    std::string out;
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
+    const int status = ::pclose(pipe);
+    return std::pair{WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  };
+  const auto [fresnel_code, fresnel_out] = run_copy("fresnel --n2 1.333 --theta-deg 10 --json");
+  EXPECT_EQ(fresnel_code, 0) << fresnel_out;
+  const auto [render_code, render_out] = run_copy("drop render --size 8 -q -o " + (dir / "x.png").string());
+  EXPECT_EQ(render_code, 2);
+  EXPECT_EQ(std::count(render_out.begin(), render_out.end(), '\n'), 1) << render_out;
+  EXPECT_NE(render_out.find("libhydrolux_image_plugin.so"), std::string::npos) << render_out;
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
+  fs::remove_all(dir);
+}
+
+}  // namespace

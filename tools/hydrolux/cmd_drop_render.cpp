@@ -10,7 +10,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/render.hpp"
 #include "hydrolux/drop/trace.hpp"
-#include "hydrolux/io/image_io.hpp"
+#include "image_plugin.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scene/environment.hpp"
 #include "progress.hpp"
@@ -60,7 +60,7 @@ int run_render(const RenderArgs& a) {
     const auto e = p.extension().string();
     if (e != ".exr" && e != ".hdr" && e != ".EXR" && e != ".HDR")
       throw Error(fmt::format("--env {}: expected an equirectangular .exr or .hdr file, or 'builtin'", a.env));
-    env = std::make_unique<scene::EquirectEnvironment>(io::read_image(p));
+    env = std::make_unique<scene::EquirectEnvironment>(image_api().read_image(p));
   }
 
   // The drop's index relative to the air around it, at one wavelength or per channel.
@@ -111,7 +111,7 @@ int run_render(const RenderArgs& a) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
       for (int c = 0; c < 3; ++c) img.at(x, y, c) *= gain;
-  io::write_image(a.output, img);
+  image_api().write_image(a.output, img, {});
   if (!a.quiet)
     fmt::print(stderr, "drop render: wrote {} ({}x{}, drop radius {:.1f} px, mu {:.5f}{})\n", a.output, img.width,
                img.height, cam.drop_radius_px(), mu[1], a.dispersion ? " (green channel)" : "");

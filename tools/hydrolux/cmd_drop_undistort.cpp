@@ -12,7 +12,7 @@
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/undistort.hpp"
-#include "hydrolux/io/image_io.hpp"
+#include "image_plugin.hpp"
 
 namespace hydrolux::cli {
 
@@ -105,13 +105,13 @@ int run_undistort(const UndistortArgs& a) {
 
   Image drop_image;
   try {
-    drop_image = io::read_image(a.image);
+    drop_image = image_api().read_image(a.image);
   } catch (const IoError& e) {
     throw IoError(fmt::format("--image: {}", e.what()));
   }
   const Image out = drop::undistort(drop_image, (*centre)[0], (*centre)[1], a.drop_radius_px, a.mu, view,
                                     !a.no_transmission_correction);
-  io::write_image(a.output, out);
+  image_api().write_image(a.output, out, {});
 
   if (!a.quiet) {
     std::size_t seen = 0;

@@ -8,6 +8,7 @@
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/gallery/gallery.hpp"
+#include "image_plugin.hpp"
 #include "progress.hpp"
 
 namespace hydrolux::cli {
@@ -21,7 +22,7 @@ struct GalleryArgs {
 int run_gallery(const GalleryArgs& a) {
   if (a.out.empty()) throw Error("-o/--out: the output directory must not be empty");
   ProgressBar bar("gallery", a.quiet);
-  const auto figures = gallery::write_gallery(a.out, bar.callback());
+  const auto figures = image_api().write_gallery(a.out, bar.callback());
   bar.finish();
   for (const auto& f : figures) fmt::print("{}/{}\n", a.out, f.file);
   fmt::print("{}/index.html  ({} figures)\n", a.out, figures.size());

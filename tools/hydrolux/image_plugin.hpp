@@ -1,0 +1,33 @@
+#pragma once
+// Image files and the gallery for the CLI, through a plugin loaded on first use.
+//
+// OpenImageIO brings ~260 shared libraries that take ~0.35 s to load. Linked into the tool, every
+// command would pay that at start-up, `hydrolux fresnel` included; loaded with dlopen from
+// libhydrolux_image_plugin.so (built beside the executable) only the commands that read or write
+// images, or render the gallery, pay it, once. The plugin is built from the same sources and
+// compiler as the tool, so C++ types and exceptions cross the boundary unchanged.
+#include <filesystem>
+#include <vector>
+
+#include "hydrolux/core/image.hpp"
+#include "hydrolux/core/progress.hpp"
+#include "hydrolux/gallery/gallery.hpp"
+#include "hydrolux/io/image_io.hpp"
+
+namespace hydrolux::cli {
+
+struct ImageApi {
+  Image (*read_image)(const std::filesystem::path& path);
+  void (*write_image)(const std::filesystem::path& path, const Image& image, io::PngOptions png);
+  std::vector<gallery::Figure> (*write_gallery)(const std::filesystem::path& dir, const ProgressFn& progress);
+};
+
+// The plugin's entry point, `extern "C"` so that its name is not mangled.
+inline constexpr const char* kImagePluginSymbol = "hydrolux_image_api_v1";
+inline constexpr const char* kImagePluginFile = "libhydrolux_image_plugin.so";
+
+// Loads the plugin (once; thread-safe) from the directory of the running executable. Throws
+// hydrolux::Error naming the file and the loader's reason if it cannot.
+const ImageApi& image_api();
+
+}  // namespace hydrolux::cli
