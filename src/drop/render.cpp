@@ -48,6 +48,16 @@ void validate(const DropCamera& c) {
 
 // The image plane is the plane z = distance_m through the drop's centre, with pixels frame_m /
 // width wide on it; a pixel's ray runs from the pinhole through its point on that plane.
+double defocus_blur_radius_rad(double focal_m, double f_number, double focus_distance_m) {
+  require_in_range("focal_m", focal_m, 1e-6, 10.0, "a thin lens");
+  require_in_range("f_number", f_number, 0.1, 1e3, "a thin lens");
+  require_in_range("focus_distance_m", focus_distance_m, focal_m * (1 + 1e-9), 1e9, "a thin lens");
+  // Image of the focus plane at v = f D / (D - f); a point at infinity focuses at f, so its blur
+  // circle on the sensor has diameter A (v - f) / f = A f / (D - f), which subtends A f / ((D - f) v)
+  // = A / D from the lens: radius A / (2 D).
+  return 0.5 * (focal_m / f_number) / focus_distance_m;
+}
+
 Ray DropCamera::ray(double px, double py) const {
   const double s = pixel_m(*this);
   const Vec3 p{(px - 0.5 * width) * s, (0.5 * height - py) * s, distance_m};
@@ -81,6 +91,7 @@ Image render(const DropCamera& camera, const scene::Environment& env, const Rend
   Image img(camera.width, camera.height, 4);
   std::atomic<int> rows_done{0};
   std::mutex progress_mutex;
+  int reported = 0;  // rows reported to options.progress, under progress_mutex
 
   const auto background = [&](const Ray& ray, std::uint64_t seed) -> scene::Rgb {
     Vec3 u, v;
@@ -128,24 +139,36 @@ Image render(const DropCamera& camera, const scene::Environment& env, const Rend
       }
       const int done = ++rows_done;
       if (options.progress && (done % 16 == 0 || done == camera.height)) {
+        // Rows finish out of order: report under the lock, and never less than already reported.
         std::lock_guard lock(progress_mutex);
-        options.progress(double(done) / camera.height, "rendering");
+        const int now = rows_done.load();
+        if (now > reported) {
+          reported = now;
+          options.progress(double(now) / camera.height, "rendering");
+        }
       }
     }
   });
   return img;
 }
 
-std::optional<double> intersect_sphere(const Ray& ray, const Vec3& centre, double radius) {
-  // |o + t d - c|^2 = r^2 with |d| = 1: t^2 + 2 b t + c = 0, b = d.(o - c), c = |o - c|^2 - r^2.
-  // The nearer root in the cancellation-free form t = c / (-b + sqrt(b^2 - c)).
+std::optional<SphereHit> intersect_sphere(const Ray& ray, const Vec3& centre, double radius) {
+  // With d the unit direction and oc = o - c: b = d . oc is the distance along the ray to the closest
+  // approach, perp = oc - b d the centre-to-line vector (|perp| <= radius for a hit). The hit is at
+  // t = -b - h, h = sqrt(r^2 - |perp|^2), and lies at perp - h d from the centre. Forming
+  // b^2 - (|oc|^2 - r^2) instead would cancel away the digits of a small, distant sphere.
   const Vec3 oc = ray.origin - centre;
   const double b = glm::dot(ray.direction, oc);
-  const double c = glm::dot(oc, oc) - radius * radius;
-  const double disc = b * b - c;
-  if (disc < 0 || b > 0) return std::nullopt;  // missed, or the sphere is behind
-  const double q = -b + std::sqrt(disc);
-  return c / q;
+  if (b > 0) return std::nullopt;  // the sphere is behind the ray (or the origin is past it)
+  const Vec3 perp = oc - b * ray.direction;
+  const double h2 = (radius - glm::length(perp)) * (radius + glm::length(perp));
+  if (h2 < 0) return std::nullopt;
+  const double h = std::sqrt(h2);
+  Vec3 normal = (perp - h * ray.direction) / radius;
+  // Rounding may leave a grazing normal facing slightly away from the camera: make it perpendicular.
+  const double facing = glm::dot(normal, ray.direction);
+  if (facing > 0) normal -= facing * ray.direction;
+  return SphereHit{-b - h, glm::normalize(normal)};
 }
 
 Image render_model(const DropCamera& camera, const scene::Environment& env, const ChannelIndex& mu,
@@ -155,9 +178,9 @@ Image render_model(const DropCamera& camera, const scene::Environment& env, cons
   const Vec3 centre{0, 0, camera.distance_m};
   const bool dispersive = !(mu[0] == mu[1] && mu[1] == mu[2]);
   const RayShader shade = [&](const Ray& ray) -> std::optional<scene::Rgb> {
-    const auto t = intersect_sphere(ray, centre, camera.radius_m);
-    if (!t) return std::nullopt;
-    const Vec3 normal = glm::normalize(ray.origin + *t * ray.direction - centre);
+    const auto hit = intersect_sphere(ray, centre, camera.radius_m);
+    if (!hit) return std::nullopt;
+    const Vec3& normal = hit->normal;
     scene::Rgb out{0, 0, 0};
     // Eq. 19: L = R Le(r) + S Le(s) + sum_N P_N Le(p_N), each channel with its own index when the
     // drop is dispersive (the paths of the three channels then part: colour fringes).

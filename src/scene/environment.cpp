@@ -27,7 +27,7 @@ EquirectEnvironment::EquirectEnvironment(Image image) : image_(std::move(image))
   if (image_.width < 2 || image_.height < 1 || image_.channels < 3)
     throw IoError(fmt::format("environment map: need an RGB image of at least 2x1 pixels, got {}x{} with {} channels",
                               image_.width, image_.height, image_.channels));
-  if (std::abs(image_.width - 2 * image_.height) > 2)
+  if (std::abs(image_.width - 2 * image_.height) > 1)
     throw IoError(fmt::format("environment map: an equirectangular map is twice as wide as it is high, got {}x{}",
                               image_.width, image_.height));
 }
@@ -96,7 +96,7 @@ Vec3 sun_direction() {
   return {std::cos(e) * std::sin(l), std::sin(e), std::cos(e) * std::cos(l)};
 }
 
-Rgb sky(const Vec3& d, const Vec3& sun) {
+Rgb sky(const Vec3& d, const Vec3& sun, bool sun_disk) {
   const double y = std::max(d.y, 0.0);
   const Rgb zenith{0.10, 0.22, 0.55}, horizon{0.75, 0.85, 0.95};
   const double t = sqr(sqr(1 - y));  // (1 - y)^4
@@ -105,7 +105,7 @@ Rgb sky(const Vec3& d, const Vec3& sun) {
   // Aureole: a forward-scattering glow around the sun, 0.6 cos^64 + 0.15 cos^8 (by squaring).
   const double c8 = sqr(sqr(sqr(std::max(cos_sun, 0.0))));
   c += Rgb{1.0, 0.9, 0.7} * (0.6 * sqr(sqr(sqr(c8))) + 0.15 * c8);
-  if (cos_sun > std::cos(kSunAngularRadius)) c += Rgb{1.0, 0.95, 0.88} * kSunRadiance;
+  if (sun_disk && cos_sun > std::cos(kSunAngularRadius)) c += Rgb{1.0, 0.95, 0.88} * kSunRadiance;
   return c;
 }
 
@@ -163,7 +163,7 @@ Rgb BuiltinSky::radiance(const Vec3& dir_in) const {
       const double facing = 0.6 + 0.4 * std::cos(deg_to_rad(lon_deg - kSunLongitudeDeg));
       return m->colour * facing;
     }
-    return sky(d, sun);
+    return sky(d, sun, sun_disk_);
   }
   return ground(d, sun);
 }

@@ -55,6 +55,7 @@ TEST(DropRenderCli, UsageErrors) {
   const auto dir = temp_dir();
   const std::string out = " -o " + (dir / "x.png").string();
   const std::string missing_env = " --env " + (dir / "nope.exr").string();
+  hydrolux::io::write_image(dir / "square.exr", hydrolux::Image(16, 16, 3));  // not 2:1
   const std::pair<const char*, const char*> cases[] = {
       {"drop render", "--output"},
       {"drop render -o /tmp/x.jpg", "-o"},
@@ -71,6 +72,12 @@ TEST(DropRenderCli, UsageErrors) {
       {"drop render --medium unobtainium" + out, "unobtainium"},
       {"drop render --env sky.jpg" + out, "--env"},
       {"drop render" + missing_env + out, "nope.exr"},
+      {"drop render --method exact --shape beard-chuang --radius-mm 0.3" + out, "--radius-mm"},
+      {"drop render --shape beard-chuang" + out, "--method exact"},
+      {"drop render --background-blur --focal-mm 2000 --f-number 0.5 --distance-m 0.5" + out, "--focal-mm"},
+      {"drop render --background-blur --focal-mm 200 --f-number 0.5 --distance-m 0.3" + out, "--background-blur"},
+      {"drop render --medium const:0.9" + out, "--medium"},
+      {"drop render --env " + (dir / "square.exr").string() + out, "--env"},
   };
   expect_usage_errors(more);
   EXPECT_FALSE(fs::exists(dir / "x.png"));  // nothing written on any error

@@ -125,7 +125,7 @@ TEST(Rainphys, BadInputIsOneLineAndExitCodeTwo) {
   // The value and the valid range are in the message.
   const auto r = run("rainphys --radius-mm 5");
   EXPECT_NE(r.err.find("[0.5, 4.5] mm"), std::string::npos) << r.err;
-  EXPECT_NE(run("rainphys --rain-rate-mmh 0").err.find("(0, 1000] mm/h"), std::string::npos);
+  EXPECT_NE(run("rainphys --rain-rate-mmh 0").err.find("[0.01, 1000] mm/h"), std::string::npos);
 }
 
 }  // namespace

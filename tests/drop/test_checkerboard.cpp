@@ -177,19 +177,18 @@ TEST(Checkerboard, PaperExperiment) {
 namespace hydrolux::drop {
 namespace {
 
-// The issue's check, "the model's corner positions against the exact tracer's: RMS error under 1%
-// of the ball's diameter", holds once the model's refraction direction is sent from the point where
-// the model's own geometry (seed 000, Figure 3) has the ray leave the ball, instead of from the
-// centre. For a sphere that geometry is exact, so what remains is rounding in the two traces and the
-// Newton inversion (1e-9 px): asserted below 1e-6 of the diameter, far inside the paper's 1%. The
-// paper attributes its measured 1% to the distant-background and orthographic assumptions; the
-// test above shows those alone cost 2.9-3.2% at this board distance.
-TEST(Checkerboard, ModelWithItsExitPointMeetsThePapersOnePercent) {
+// A consistency check, not the paper's claim: the model's refraction direction sent from the point
+// where the model's own geometry (seed 000, Figure 3: entry point, chord 2 a cos q) has the ray
+// leave the ball. For a sphere that geometry is exact, so the corners must agree with the tracer's
+// to rounding in the two traces and the Newton inversion (1e-9 px): asserted below 1e-6 of the
+// diameter. It isolates the 2.9% of the test above as the cost of the distant-background
+// assumption alone, which the paper names as the source of its error ("3.5 px, under 1%"); at its
+// stated geometry that assumption costs about three times what it measured.
+TEST(Checkerboard, ModelDirectionsFromTheirExitPointsAreExact) {
   const CheckerboardSetup s;
   const auto model = compare_corners(s, BoardMapping::ModelExitPoint, 0.9);
   EXPECT_EQ(model.unmatched, 0);
   EXPECT_EQ(model.corners.size(), 145u);
-  EXPECT_LT(model.rms_fraction, 0.01);
   EXPECT_LT(model.rms_fraction, 1e-6);
 }
 

@@ -9,6 +9,7 @@
 #include "hydrolux/drop/model.hpp"
 #include "hydrolux/drop/render.hpp"
 #include "hydrolux/optics/fresnel.hpp"
+#include "hydrolux/optics/media.hpp"
 #include "hydrolux/scene/environment.hpp"
 
 namespace hydrolux::drop {
@@ -54,18 +55,37 @@ TEST(DropCamera, RayAndProjectionInvert) {
 }
 
 // The silhouette: a ray through the drop's apparent rim grazes the sphere (the discriminant of the
-// ray-sphere equation vanishes), one a little inside hits and one a little outside misses.
+// ray-sphere equation vanishes), one a little inside hits and one a little outside misses; also
+// for a 1 mm drop kilometres away, where the textbook discriminant b^2 - c cancels to noise.
 TEST(DropCamera, ApparentRadiusIsTheSilhouette) {
-  for (double d : {0.005, 0.05, 2.0}) {
+  for (double d : {0.005, 0.05, 2.0, 1e3, 1e4}) {
     auto c = small_camera();
     c.distance_m = d;
     c.frame_m = 4 * c.radius_m;
     const auto centre = c.drop_center_px();
     const double r = c.drop_radius_px();
     const Vec3 sphere{0, 0, d};
-    EXPECT_TRUE(intersect_sphere(c.ray(centre[0] + r * (1 - 1e-6), centre[1]), sphere, c.radius_m).has_value());
-    EXPECT_FALSE(intersect_sphere(c.ray(centre[0] + r * (1 + 1e-6), centre[1]), sphere, c.radius_m).has_value());
+    const auto inside = intersect_sphere(c.ray(centre[0] + r * (1 - 1e-6), centre[1]), sphere, c.radius_m);
+    ASSERT_TRUE(inside.has_value()) << d;
+    EXPECT_NEAR(glm::length(inside->normal), 1.0, 1e-12);
+    EXPECT_LE(glm::dot(inside->normal, c.ray(centre[0] + r * (1 - 1e-6), centre[1]).direction), 0.0);
+    EXPECT_FALSE(intersect_sphere(c.ray(centre[0] + r * (1 + 1e-6), centre[1]), sphere, c.radius_m).has_value()) << d;
   }
+}
+
+// A drop far away renders (no grazing normal facing away from the camera) with the right coverage:
+// the disk-area check of the test below, at 10 km.
+TEST(Render, FarAwayDrop) {
+  auto c = small_camera();
+  c.distance_m = 1e4;
+  RenderOptions opt;
+  opt.samples_per_axis = 8;
+  opt.background = false;
+  const Image img = render_model(c, Uniform{}, {1.333, 1.333, 1.333}, opt);
+  double area = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) area += img.at(x, y, 3);
+  EXPECT_NEAR(area / (kPi<> * sqr(c.drop_radius_px())), 1.0, 2e-3);
 }
 
 // Anti-aliasing: with the background off, alpha is the fraction of each pixel covered by the drop,
@@ -197,6 +217,36 @@ TEST(Environment, BuiltinSkyIsSane) {
   EXPECT_LT(sky.radiance(glm::normalize(sun + Vec3{0, 0.02, 0}))[0], 10);
   const Vec3 up_ahead = glm::normalize(Vec3{0.3, 0.8, 0.5}), down = glm::normalize(Vec3{0.3, -0.8, 0.5});
   EXPECT_GT(sky.radiance(up_ahead)[2], sky.radiance(down)[2]);
+}
+
+}  // namespace
+}  // namespace hydrolux::drop
+
+namespace hydrolux::drop {
+namespace {
+
+// The dispersive render's channel wavelengths run red to blue, so water's index rises from the red
+// channel to the blue one (normal dispersion: 1.3320, 1.3334, 1.3365 at 20 C relative to vacuum,
+// IAPWS R9-97), and the red channel's rays bend least.
+TEST(Render, ChannelWavelengthsRunRedToBlue) {
+  EXPECT_GT(kChannelWavelengthsNm[0], 590.0);  // red: beyond orange
+  EXPECT_GT(kChannelWavelengthsNm[1], 500.0);  // green
+  EXPECT_LT(kChannelWavelengthsNm[1], 570.0);
+  EXPECT_LT(kChannelWavelengthsNm[2], 490.0);  // blue
+  const auto water = optics::find_medium("water");
+  EXPECT_LT(water->n(kChannelWavelengthsNm[0]), water->n(kChannelWavelengthsNm[1]));
+  EXPECT_LT(water->n(kChannelWavelengthsNm[1]), water->n(kChannelWavelengthsNm[2]));
+}
+
+// Thin-lens defocus of the background: a 50 mm f/2.8 lens focused at 2 m spreads a point at
+// infinity over a disk of angular radius A / (2 D) = (50 mm / 2.8) / 4 m = 4.46 mrad. Check against
+// the sensor-side derivation: blur diameter A f / (D - f) on the sensor at v = f D / (D - f).
+TEST(Render, DefocusBlurOfTheBackground) {
+  const double f = 0.05, n = 2.8, d = 2.0;
+  EXPECT_NEAR(defocus_blur_radius_rad(f, n, d), 0.05 / 2.8 / 4.0, 1e-15);
+  const double a = f / n, v = f * d / (d - f), blur_diameter = a * f / (d - f);
+  EXPECT_NEAR(defocus_blur_radius_rad(f, n, d), 0.5 * blur_diameter / v, 1e-15);
+  EXPECT_THROW((void)defocus_blur_radius_rad(f, n, 0.04), DomainError);  // focused inside the focal length
 }
 
 }  // namespace

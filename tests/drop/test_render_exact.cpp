@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/render.hpp"
@@ -48,36 +49,45 @@ ZoneError compare(const Image& model, const Image& exact, const DropCamera& cam)
   return {std::sqrt(sq[0] / n[0]) / (sum[0] / n[0]), std::sqrt(sq[1] / n[1]) / (sum[1] / n[1])};
 }
 
-// The model against the exact tracer for a sphere, on the builtin environment (sky, sun, road,
+// The model against the exact tracer for a sphere, on the builtin environment (sky, road,
 // landmarks). For a sphere and a scene at infinity the model's directions are exact (tested in
 // test_model.cpp against a vector trace), so what separates the pictures is photometric:
 // - the model multiplies unpolarised reflectances, k^N (1 - k)^2, where the exact transfer is
-//   (R_s^N T_s^2 + R_p^N T_p^2) / 2: equal at normal incidence, 0.1% apart in (1-k)^2 at
-//   i = 40 deg (rho 0.64), 1% at 60 deg (rho 0.87), tens of percent towards grazing incidence,
-//   where the s and p reflectances part;
+//   (R_s^N T_s^2 + R_p^N T_p^2) / 2: the refraction weight is low by ((T_s - T_p) / 2)^2, 9e-5 at
+//   rho 0.5, 1.5e-3 at 0.8, 4.5e-3 at 0.9 and 1.1e-2 at 0.99 (test_trace.cpp);
 // - it stops at N = 2 internal reflections, which at small i carry < k^3 ~ 1e-5 of the light.
-// Measured (128 px, 3 x 3 samples): 0.06% RMS of the mean radiance for rho <= 0.9, 8% on the rim
-// (0.9 < rho < 1), where it also includes sun glints that polarisation makes differ most. The
-// bounds, 0.25% and 15%, leave room for sampling differences but would catch any error in a
-// mapping (a path pointing a pixel's worth wrong moves the road's edges: several % RMS inside).
-TEST(ModelVsExact, BuiltinEnvironmentByZone) {
+// Measured (128 px, 3 x 3 samples, printed by the test): 0.147% RMS of the mean radiance for
+// rho <= 0.9, as the polarisation deficit averaged over the zone predicts, and 0.86% on the rim
+// (0.9 < rho < 1). Bounds: 0.3% and 2%, twice the measured values. With the sun's disk (radiance
+// 2000, smaller than a pixel where the drop images it) the rim's figure is 2.2%: it depends on
+// whether jittered samples land on the sun's sub-pixel image, so it is reported, bounded only
+// loosely (5%), and the pixel-by-pixel bounds use the scene without the disk. A model with its
+// index 1% off fails the inner bound by more than tenfold (its mapping moves the road's edges).
+ZoneError model_vs_exact(bool sun_disk, double mu_scale = 1) {
   const auto cam = camera();
   RenderOptions opt;
   opt.samples_per_axis = 3;
   opt.background = false;
   const double mu = 1.333;
-  const scene::BuiltinSky sky;
-  const Image model = render_model(cam, sky, {mu, mu, mu}, opt);
+  const scene::BuiltinSky sky(sun_disk);
   const auto sphere = make_drop_surface(cam, DropShapeKind::sphere);
   const Image exact = render_exact(cam, sky, {mu, mu, mu}, *sphere, opt, TraceOptions{});
-  const auto err = compare(model, exact, cam);
-  RecordProperty("rms_inner", std::to_string(err.inner));
-  RecordProperty("rms_rim", std::to_string(err.rim));
-  EXPECT_LT(err.inner, 2.5e-3);
-  EXPECT_LT(err.rim, 0.15);
-  // And the comparison is sensitive: the model with a wrong index (1% off) fails it by far.
-  const Image wrong = render_model(cam, sky, {1.01 * mu, 1.01 * mu, 1.01 * mu}, opt);
-  EXPECT_GT(compare(wrong, exact, cam).inner, 10 * 2.5e-3);
+  const double m = mu * mu_scale;
+  const Image model = render_model(cam, sky, {m, m, m}, opt);
+  return compare(model, exact, cam);
+}
+
+TEST(ModelVsExact, BuiltinEnvironmentByZone) {
+  const auto err = model_vs_exact(false);
+  const auto sun = model_vs_exact(true);
+  std::printf("model vs exact, RMS / mean radiance: no sun disk: inner %.4g%%, rim %.4g%%; "
+              "with the sun disk: inner %.4g%%, rim %.4g%%\n",
+              100 * err.inner, 100 * err.rim, 100 * sun.inner, 100 * sun.rim);
+  EXPECT_LT(err.inner, 3e-3);
+  EXPECT_LT(err.rim, 0.02);
+  EXPECT_LT(sun.inner, 3e-3);
+  EXPECT_LT(sun.rim, 0.05);
+  EXPECT_GT(model_vs_exact(false, 1.01).inner, 10 * 3e-3);
 }
 
 // Energy at the image level: in a uniform environment (Le = 1) every exact pixel inside the drop

@@ -1,6 +1,8 @@
 // hydrolux drop render: a rain drop's picture from an environment (Garg & Nayar Figure 8).
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -8,7 +10,9 @@
 
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/render.hpp"
+#include "hydrolux/drop/shape.hpp"
 #include "hydrolux/drop/trace.hpp"
 #include "image_plugin.hpp"
 #include "hydrolux/optics/media.hpp"
@@ -43,24 +47,45 @@ struct RenderArgs {
   bool quiet = false;
 };
 
-// Representative wavelengths of the sRGB primaries' channels for the dispersive render.
-constexpr double kChannelWavelengthNm[3] = {610.0, 550.0, 465.0};
-
 int run_render(const RenderArgs& a) {
+  // Everything that can be checked is checked before the work starts.
   (void)output_image_extension(a.output, "-o");
   if (a.distance_m <= 1.01 * a.radius_mm * 1e-3)
     throw Error(fmt::format("--distance-m {:g} must exceed the drop radius ({:g} m) by at least 1%", a.distance_m,
                             a.radius_mm * 1e-3));
+  if (a.shape == "beard-chuang") {
+    const auto range = drop::drop_shape_radius_range_m();
+    if (a.radius_mm < range[0] * 1e3 || a.radius_mm > range[1] * 1e3)
+      throw Error(fmt::format("--radius-mm {:g} is outside the valid range [{:g}, {:g}] mm of the Beard & Chuang shape",
+                              a.radius_mm, range[0] * 1e3, range[1] * 1e3));
+  }
+  double blur_rad = 0;
+  if (a.background_blur) {
+    if (a.distance_m <= 1.01 * a.focal_mm * 1e-3)
+      throw Error(fmt::format("--distance-m {:g} must exceed the focal length (--focal-mm {:g}) to focus on the drop",
+                              a.distance_m, a.focal_mm));
+    blur_rad = drop::defocus_blur_radius_rad(a.focal_mm * 1e-3, a.f_number, a.distance_m);
+    if (blur_rad > kPi<> / 6)
+      throw Error(fmt::format("--background-blur: --focal-mm {:g} at --f-number {:g} focused at --distance-m {:g} "
+                              "gives a defocus disk {:.1f} degrees wide; at most 60 degrees is supported",
+                              a.focal_mm, a.f_number, a.distance_m, 2 * rad_to_deg(blur_rad)));
+  }
+  const ImageApi& images = image_api();  // image support loads now, not after the render
 
   std::unique_ptr<scene::Environment> env;
   if (a.env == "builtin") {
     env = std::make_unique<scene::BuiltinSky>();
   } else {
     const std::filesystem::path p(a.env);
-    const auto e = p.extension().string();
-    if (e != ".exr" && e != ".hdr" && e != ".EXR" && e != ".HDR")
+    std::string e = p.extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    if (e != ".exr" && e != ".hdr")
       throw Error(fmt::format("--env {}: expected an equirectangular .exr or .hdr file, or 'builtin'", a.env));
-    env = std::make_unique<scene::EquirectEnvironment>(image_api().read_image(p));
+    try {
+      env = std::make_unique<scene::EquirectEnvironment>(images.read_image(p));
+    } catch (const IoError& err) {
+      throw Error(fmt::format("--env: {}", err.what()));
+    }
   }
 
   // The drop's index relative to the air around it, at one wavelength or per channel.
@@ -69,7 +94,7 @@ int run_render(const RenderArgs& a) {
   const auto relative = [&](double nm) { return water->n(nm, a.temperature_c) / air->n(nm); };
   drop::ChannelIndex mu;
   if (a.dispersion) {
-    for (int c = 0; c < 3; ++c) mu[std::size_t(c)] = relative(kChannelWavelengthNm[c]);
+    for (std::size_t c = 0; c < 3; ++c) mu[c] = relative(drop::kChannelWavelengthsNm[c]);
   } else {
     mu.fill(relative(a.wavelength_nm));
   }
@@ -85,12 +110,7 @@ int run_render(const RenderArgs& a) {
   opt.samples_per_axis = a.samples;
   opt.n_internal = a.internal;
   opt.background = !a.no_background;
-  if (a.background_blur) {
-    // A thin lens focused on the drop blurs the scene at infinity into a disk of angular diameter
-    // A / D (A = focal / f-number the aperture, D the focus distance).
-    const double aperture_m = a.focal_mm * 1e-3 / a.f_number;
-    opt.background_blur_rad = 0.5 * aperture_m / a.distance_m;
-  }
+  opt.background_blur_rad = blur_rad;  // the lens is focused on the drop, the scene is at infinity
   ProgressBar bar("drop render", a.quiet);
   opt.progress = bar.callback();
   Image img;
@@ -111,7 +131,7 @@ int run_render(const RenderArgs& a) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
       for (int c = 0; c < 3; ++c) img.at(x, y, c) *= gain;
-  image_api().write_image(a.output, img, {});
+  images.write_image(a.output, img, {});
   if (!a.quiet)
     fmt::print(stderr, "drop render: wrote {} ({}x{}, drop radius {:.1f} px, mu {:.5f}{})\n", a.output, img.width,
                img.height, cam.drop_radius_px(), mu[1], a.dispersion ? " (green channel)" : "");
@@ -183,7 +203,7 @@ Command add_drop_render(CLI::App& drop) {
   return {sub,
           [args] { return run_render(*args); },
           {{"wavelength_nm", "--wavelength-nm"},
-           {"radius_m", "--radius-mm (in metres) with --shape beard-chuang"},
+           {"mu", "--medium (index relative to air)"},
            {"temperature_c", "--temperature-c"},
            {"distance_m", "--distance-m"}}};
 }

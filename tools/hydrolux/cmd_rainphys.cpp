@@ -123,7 +123,7 @@ Command add_rainphys(CLI::App& app) {
       ->check(number_in(0.5, 4.5, "mm"))
       ->capture_default_str();
   sub->add_option("--rain-rate-mmh", args->rain_rate_mmh, "Rain rate h, millimetres per hour")
-      ->check(positive_number(1000, "mm/h"))
+      ->check(number_in(0.01, 1000, "mm/h"))
       ->capture_default_str();
   sub->add_flag("--json", args->json,
                 "Print one JSON object: terminal_velocity_mps, terminal_velocity_gunn_kinzer_mps (null outside "

@@ -47,11 +47,28 @@ struct DropCamera {
 // "frame_m", "width" or "height".
 void validate(const DropCamera& camera);
 
-// Distance along the ray to its first hit on a sphere in front of its origin, or nullopt.
-std::optional<double> intersect_sphere(const Ray& ray, const Vec3& centre, double radius);
+// The first hit of a ray on a sphere in front of its origin: distance and outward unit normal, or
+// nullopt. Computed without cancellation (the ray's closest approach to the centre first), so a
+// millimetre drop kilometres away keeps its digits; a grazing hit's normal is made exactly
+// perpendicular to the ray rather than turned a rounding error towards it.
+struct SphereHit {
+  double t = 0;
+  Vec3 normal;
+};
+std::optional<SphereHit> intersect_sphere(const Ray& ray, const Vec3& centre, double radius);
 
 // Relative refractive index per RGB channel; all three equal without dispersion.
 using ChannelIndex = std::array<double, 3>;
+
+// The vacuum wavelengths that stand for the R, G and B channels in a dispersive render: near the
+// dominant wavelengths of the sRGB primaries (red 610, green 550, blue 465 nm).
+inline constexpr std::array<double, 3> kChannelWavelengthsNm{610.0, 550.0, 465.0};
+
+// The angular radius (radians) of the disk into which a thin lens of focal length f and f-number N,
+// focused at distance D, spreads a point at infinity: the aperture A = f / N is seen from the focus
+// plane under the angle A / D, and a point at infinity lights that cone of directions (to first order
+// in A / D). DomainError for non-positive arguments or D <= f.
+double defocus_blur_radius_rad(double focal_m, double f_number, double focus_distance_m);
 
 struct RenderOptions {
   int samples_per_axis = 4;   // stratified supersamples per pixel along each axis (anti-aliasing)

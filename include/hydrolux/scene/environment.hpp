@@ -46,12 +46,18 @@ class EquirectEnvironment final : public Environment {
 
 // The builtin environment: an analytic sky, sun and ground, deterministic and resolution-free, so
 // that `hydrolux drop render --env builtin` needs no input file. A clear blue sky that brightens to
-// the horizon, a sun disk (0.53 degrees) 35 degrees up, to the left behind the viewer's right
-// shoulder...; see environment.cpp for the layout. Bright coloured landmarks on the horizon make the
-// drop's inversion and distortion readable.
+// the horizon, a sun disk (0.53 degrees, radiance 2000) 35 degrees up and 40 degrees to the left
+// of straight ahead, a road running ahead, grass, and coloured landmarks on the horizon that make
+// the drop's inversion and distortion readable; environment.cpp has the layout. Without the sun
+// disk (its glow and the light on the ground stay) the scene has no sub-pixel highlight, which
+// comparisons of pictures pixel by pixel need.
 class BuiltinSky final : public Environment {
  public:
+  explicit BuiltinSky(bool sun_disk = true) : sun_disk_(sun_disk) {}
   Rgb radiance(const Vec3& dir) const override;
+
+ private:
+  bool sun_disk_;
 };
 
 // Samples an environment into an equirectangular image `width` x `width / 2` (RGB), averaging
