@@ -11,6 +11,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/model.hpp"
+#include "hydrolux/drop/trace.hpp"
 
 namespace hydrolux::drop {
 
@@ -152,35 +153,20 @@ Image render(const DropCamera& camera, const scene::Environment& env, const Rend
   return img;
 }
 
-std::optional<SphereHit> intersect_sphere(const Ray& ray, const Vec3& centre, double radius) {
-  // With d the unit direction and oc = o - c: b = d . oc is the distance along the ray to the closest
-  // approach, perp = oc - b d the centre-to-line vector (|perp| <= radius for a hit). The hit is at
-  // t = -b - h, h = sqrt(r^2 - |perp|^2), and lies at perp - h d from the centre. Forming
-  // b^2 - (|oc|^2 - r^2) instead would cancel away the digits of a small, distant sphere.
-  const Vec3 oc = ray.origin - centre;
-  const double b = glm::dot(ray.direction, oc);
-  if (b > 0) return std::nullopt;  // the sphere is behind the ray (or the origin is past it)
-  const Vec3 perp = oc - b * ray.direction;
-  const double h2 = (radius - glm::length(perp)) * (radius + glm::length(perp));
-  if (h2 < 0) return std::nullopt;
-  const double h = std::sqrt(h2);
-  Vec3 normal = (perp - h * ray.direction) / radius;
-  // Rounding may leave a grazing normal facing slightly away from the camera: make it perpendicular.
-  const double facing = glm::dot(normal, ray.direction);
-  if (facing > 0) normal -= facing * ray.direction;
-  return SphereHit{-b - h, glm::normalize(normal)};
-}
-
 Image render_model(const DropCamera& camera, const scene::Environment& env, const ChannelIndex& mu,
                    const RenderOptions& options) {
   validate(camera);
   for (double m : mu) require_in_range("mu", m, 1.0 + 1e-9, 10.0, "the Garg & Nayar drop model");
-  const Vec3 centre{0, 0, camera.distance_m};
+  const SphereSurface sphere({0, 0, camera.distance_m}, camera.radius_m);
   const bool dispersive = !(mu[0] == mu[1] && mu[1] == mu[2]);
   const RayShader shade = [&](const Ray& ray) -> std::optional<scene::Rgb> {
-    const auto hit = intersect_sphere(ray, centre, camera.radius_m);
+    const auto hit = sphere.intersect(ray, 0.0);
     if (!hit) return std::nullopt;
-    const Vec3& normal = hit->normal;
+    // Rounding can leave a grazing hit's normal turned a hair away from the camera (a millimetre
+    // drop kilometres away): make it perpendicular to the view instead.
+    Vec3 normal = hit->normal;
+    if (const double facing = glm::dot(normal, ray.direction); facing > 0)
+      normal = glm::normalize(normal - facing * ray.direction);
     scene::Rgb out{0, 0, 0};
     // Eq. 19: L = R Le(r) + S Le(s) + sum_N P_N Le(p_N), each channel with its own index when the
     // drop is dispersive (the paths of the three channels then part: colour fringes).

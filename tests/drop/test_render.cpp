@@ -8,6 +8,7 @@
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/model.hpp"
 #include "hydrolux/drop/render.hpp"
+#include "hydrolux/drop/trace.hpp"
 #include "hydrolux/optics/fresnel.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scene/environment.hpp"
@@ -64,12 +65,11 @@ TEST(DropCamera, ApparentRadiusIsTheSilhouette) {
     c.frame_m = 4 * c.radius_m;
     const auto centre = c.drop_center_px();
     const double r = c.drop_radius_px();
-    const Vec3 sphere{0, 0, d};
-    const auto inside = intersect_sphere(c.ray(centre[0] + r * (1 - 1e-6), centre[1]), sphere, c.radius_m);
+    const SphereSurface sphere({0, 0, d}, c.radius_m);
+    const auto inside = sphere.intersect(c.ray(centre[0] + r * (1 - 1e-6), centre[1]), 0.0);
     ASSERT_TRUE(inside.has_value()) << d;
     EXPECT_NEAR(glm::length(inside->normal), 1.0, 1e-12);
-    EXPECT_LE(glm::dot(inside->normal, c.ray(centre[0] + r * (1 - 1e-6), centre[1]).direction), 0.0);
-    EXPECT_FALSE(intersect_sphere(c.ray(centre[0] + r * (1 + 1e-6), centre[1]), sphere, c.radius_m).has_value()) << d;
+    EXPECT_FALSE(sphere.intersect(c.ray(centre[0] + r * (1 + 1e-6), centre[1]), 0.0).has_value()) << d;
   }
 }
 

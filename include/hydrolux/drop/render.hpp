@@ -47,16 +47,6 @@ struct DropCamera {
 // "frame_m", "width" or "height".
 void validate(const DropCamera& camera);
 
-// The first hit of a ray on a sphere in front of its origin: distance and outward unit normal, or
-// nullopt. Computed without cancellation (the ray's closest approach to the centre first), so a
-// millimetre drop kilometres away keeps its digits; a grazing hit's normal is made exactly
-// perpendicular to the ray rather than turned a rounding error towards it.
-struct SphereHit {
-  double t = 0;
-  Vec3 normal;
-};
-std::optional<SphereHit> intersect_sphere(const Ray& ray, const Vec3& centre, double radius);
-
 // Relative refractive index per RGB channel; all three equal without dispersion.
 using ChannelIndex = std::array<double, 3>;
 
