@@ -153,6 +153,26 @@ Image render(const DropCamera& camera, const scene::Environment& env, const Rend
   return img;
 }
 
+ZoneDifference compare_by_zone(const Image& image, const Image& reference, const DropCamera& camera) {
+  const auto c = camera.drop_center_px();
+  const double r = camera.drop_radius_px();
+  double sq[2] = {}, sum[2] = {};
+  int n[2] = {};
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
+      const double rho = std::hypot(x + 0.5 - c[0], y + 0.5 - c[1]) / r;
+      if (rho > 1 - 1.5 / r) continue;
+      const int zone = rho <= 0.9 ? 0 : 1;
+      for (int ch = 0; ch < 3; ++ch) {
+        sq[zone] += sqr(double(image.at(x, y, ch)) - reference.at(x, y, ch));
+        sum[zone] += reference.at(x, y, ch);
+        ++n[zone];
+      }
+    }
+  const auto rel = [&](int z) { return n[z] > 0 ? std::sqrt(sq[z] / n[z]) / (sum[z] / n[z]) : 0.0; };
+  return {rel(0), rel(1)};
+}
+
 Image render_model(const DropCamera& camera, const scene::Environment& env, const ChannelIndex& mu,
                    const RenderOptions& options) {
   validate(camera);

@@ -49,25 +49,9 @@ const DropRenders& renders() {
     d.model = drop::render_model(d.camera, d.sky, mu, opt);
     const auto sphere = drop::make_drop_surface(d.camera, drop::DropShapeKind::sphere);
     d.exact = drop::render_exact(d.camera, d.sky, mu, *sphere, opt, drop::TraceOptions{});
-    // Compare over pixels wholly inside the drop (the rim's partly covered pixels mix in the
-    // background identically in both), by zone of the image radius rho.
-    const auto c = d.camera.drop_center_px();
-    const double radius_px = d.camera.drop_radius_px();
-    double sq[2] = {}, sum[2] = {};
-    int n[2] = {};
-    for (int y = 0; y < kSize; ++y)
-      for (int x = 0; x < kSize; ++x) {
-        const double rho = std::hypot(x + 0.5 - c[0], y + 0.5 - c[1]) / radius_px;
-        if (rho > 1 - 1.5 / radius_px) continue;
-        const int zone = rho <= 0.9 ? 0 : 1;
-        for (int ch = 0; ch < 3; ++ch) {
-          sq[zone] += sqr(double(d.model.at(x, y, ch)) - d.exact.at(x, y, ch));
-          sum[zone] += d.exact.at(x, y, ch);
-          ++n[zone];
-        }
-      }
-    d.rms_inner = std::sqrt(sq[0] / n[0]) / (sum[0] / n[0]);
-    d.rms_rim = std::sqrt(sq[1] / n[1]) / (sum[1] / n[1]);
+    const auto diff = drop::compare_by_zone(d.model, d.exact, d.camera);
+    d.rms_inner = diff.inner;
+    d.rms_rim = diff.rim;
     return d;
   }();
   return r;

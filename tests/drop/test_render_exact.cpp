@@ -25,30 +25,6 @@ DropCamera camera() {
   return c;
 }
 
-struct ZoneError {
-  double inner = 0;  // RMS of (model - exact) / mean exact radiance over rho <= 0.9
-  double rim = 0;    // the same over 0.9 < rho < 1 (pixels wholly inside the drop)
-};
-
-ZoneError compare(const Image& model, const Image& exact, const DropCamera& cam) {
-  const auto c = cam.drop_center_px();
-  const double r = cam.drop_radius_px();
-  double sq[2] = {}, sum[2] = {};
-  int n[2] = {};
-  for (int y = 0; y < cam.height; ++y)
-    for (int x = 0; x < cam.width; ++x) {
-      const double rho = std::hypot(x + 0.5 - c[0], y + 0.5 - c[1]) / r;
-      if (rho > 1 - 1.5 / r) continue;  // pixels on the rim mix in the background
-      const int zone = rho <= 0.9 ? 0 : 1;
-      for (int ch = 0; ch < 3; ++ch) {
-        sq[zone] += sqr(double(model.at(x, y, ch)) - exact.at(x, y, ch));
-        sum[zone] += exact.at(x, y, ch);
-        ++n[zone];
-      }
-    }
-  return {std::sqrt(sq[0] / n[0]) / (sum[0] / n[0]), std::sqrt(sq[1] / n[1]) / (sum[1] / n[1])};
-}
-
 // The model against the exact tracer for a sphere, on the builtin environment (sky, road,
 // landmarks). For a sphere and a scene at infinity the model's directions are exact (tested in
 // test_model.cpp against a vector trace), so what separates the pictures is photometric:
@@ -63,7 +39,7 @@ ZoneError compare(const Image& model, const Image& exact, const DropCamera& cam)
 // whether jittered samples land on the sun's sub-pixel image, so it is reported, bounded only
 // loosely (5%), and the pixel-by-pixel bounds use the scene without the disk. A model with its
 // index 1% off fails the inner bound by more than tenfold (its mapping moves the road's edges).
-ZoneError model_vs_exact(bool sun_disk, double mu_scale = 1) {
+ZoneDifference model_vs_exact(bool sun_disk, double mu_scale = 1) {
   const auto cam = camera();
   RenderOptions opt;
   opt.samples_per_axis = 3;
@@ -74,7 +50,7 @@ ZoneError model_vs_exact(bool sun_disk, double mu_scale = 1) {
   const Image exact = render_exact(cam, sky, {mu, mu, mu}, *sphere, opt, TraceOptions{});
   const double m = mu * mu_scale;
   const Image model = render_model(cam, sky, {m, m, m}, opt);
-  return compare(model, exact, cam);
+  return compare_by_zone(model, exact, cam);
 }
 
 TEST(ModelVsExact, BuiltinEnvironmentByZone) {

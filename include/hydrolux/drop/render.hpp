@@ -82,6 +82,15 @@ Image render(const DropCamera& camera, const scene::Environment& env, const Rend
 Image render_model(const DropCamera& camera, const scene::Environment& env, const ChannelIndex& mu,
                    const RenderOptions& options);
 
+// Two renders of the same drop compared by zone of the drop's image radius rho (0 centre, 1 rim):
+// the RMS of (image - reference) over RGB, as a fraction of the reference's mean radiance, for
+// rho <= 0.9 (inner) and 0.9 < rho < 1 (rim). Pixels within 1.5 px of the rim are left out: they mix
+// in the background. Both images are camera.width x camera.height with >= 3 channels.
+struct ZoneDifference {
+  double inner = 0, rim = 0;
+};
+ZoneDifference compare_by_zone(const Image& image, const Image& reference, const DropCamera& camera);
+
 // The exact reference (trace.hpp): every Fresnel-split path through `surface` followed to
 // trace.max_depth, per channel with its own index when `mu` differs between channels. The surface
 // is placed by its own centre (normally the camera's drop centre, (0, 0, distance_m)).
