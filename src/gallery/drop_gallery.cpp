@@ -68,7 +68,7 @@ Image rgb_only(const Image& in) {
 Entry image_entry(std::string file, std::string title, std::string caption, std::function<Image()> make) {
   Entry e;
   e.figure = {std::move(file), std::move(title), std::move(caption)};
-  e.write = [make = std::move(make)](const std::filesystem::path& path) { io::write_image(path, make()); };
+  e.render = [make = std::move(make)] { return io::encode_image(make(), io::ImageFormat::png); };
   return e;
 }
 

@@ -1,6 +1,5 @@
 #pragma once
 // The gallery's figures, shared between the files that define them (internal to the gallery).
-#include <filesystem>
 #include <functional>
 #include <string>
 #include <utility>
@@ -12,11 +11,10 @@ namespace hydrolux::gallery::detail {
 
 struct Entry {
   Entry() = default;
-  Entry(Figure f, std::function<std::string()> svg) : figure(std::move(f)), render(std::move(svg)) {}
+  Entry(Figure f, std::function<std::string()> make) : figure(std::move(f)), render(std::move(make)) {}
 
   Figure figure;
-  std::function<std::string()> render;                          // SVG text, or
-  std::function<void(const std::filesystem::path& file)> write;  // writes the file itself (images)
+  std::function<std::string()> render;  // the file's bytes: SVG text, or an encoded PNG
 };
 
 // The rain drop's figures (issue #4): rendered pictures, the exact tracer beside the model, the

@@ -363,24 +363,25 @@ figcaption {{ font-size: 0.92em; line-height: 1.4; }}
 
 }  // namespace
 
-std::vector<Figure> write_gallery(const std::filesystem::path& dir, const ProgressFn& progress) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir))
-    throw IoError(fmt::format("cannot create directory '{}'{}", dir.string(), ec ? ": " + ec.message() : ""));
+std::vector<Figure> render_gallery(const FigureSink& sink, const ProgressFn& progress) {
   const auto all = entries();
   std::vector<Figure> figures;
   for (std::size_t i = 0; i < all.size(); ++i) {
     if (progress) progress(double(i) / double(all.size() + 1), all[i].figure.file);
-    if (all[i].write)
-      all[i].write(dir / all[i].figure.file);
-    else
-      io::write_text_file(dir / all[i].figure.file, all[i].render());
+    sink(all[i].figure.file, all[i].render());
     figures.push_back(all[i].figure);
   }
   if (progress) progress(double(all.size()) / double(all.size() + 1), "index.html");
-  io::write_text_file(dir / "index.html", index_html(figures));
+  sink("index.html", index_html(figures));
   if (progress) progress(1.0, "done");
+  return figures;
+}
+
+std::vector<Figure> write_gallery(const std::filesystem::path& dir, const ProgressFn& progress) {
+  io::OutputDirectory out(dir);
+  const auto figures =
+      render_gallery([&](const std::string& name, std::string_view bytes) { out.write(name, bytes); }, progress);
+  out.commit();
   return figures;
 }
 

@@ -1,12 +1,18 @@
 #include "hydrolux/io/files.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
+#include <mutex>
+#include <optional>
+#include <system_error>
+#include <utility>
 
 #include "hydrolux/core/error.hpp"
 
@@ -14,47 +20,517 @@ namespace hydrolux::io {
 
 namespace fs = std::filesystem;
 
-fs::path temporary_path_for(const fs::path& target) {
+namespace {
+
+// ---- small helpers ----
+
+std::string os_error(int err) { return std::generic_category().message(err); }
+
+// How an error names a file: "-o out.png" with a label, "'out.png'" without.
+std::string describe(std::string_view label, const fs::path& path) {
+  return label.empty() ? fmt::format("'{}'", path.string()) : fmt::format("{} {}", label, path.string());
+}
+
+std::string file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a folder";
+  if (S_ISFIFO(mode)) return "a named pipe (FIFO)";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISLNK(mode)) return "a symbolic link";
+  return "not a regular file";
+}
+
+fs::path folder_of(const fs::path& p) { return p.has_parent_path() ? p.parent_path() : fs::path("."); }
+
+// A hidden name beside `target` that no other writer uses: .<name>.tmp-<pid>-<n>. Long names are
+// shortened so the temporary name stays within the 255-byte limit of common file systems.
+fs::path temporary_sibling(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
-  const auto dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  return dir / fmt::format(".{}.tmp-{}-{}{}", target.stem().string(), ::getpid(), counter++,
-                           target.extension().string());
+  std::string name = target.filename().string();
+  if (name.size() > 200) name.resize(200);
+  return folder_of(target) / fmt::format(".{}.tmp-{}-{}", name, ::getpid(), counter++);
 }
 
-void write_atomically(const fs::path& target, const std::function<void(const fs::path&)>& write) {
+int open_exclusive(const fs::path& p) {
+  int fd;
+  do fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOCTTY, 0666);
+  while (fd < 0 && errno == EINTR);
+  return fd;
+}
+
+// write(2) until every byte is out; returns 0 or the errno of the failure.
+int write_all(int fd, std::string_view bytes) {
+  const char* p = bytes.data();
+  std::size_t left = bytes.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, std::min<std::size_t>(left, std::size_t(1) << 30));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    if (n == 0) return EIO;
+    p += n;
+    left -= std::size_t(n);
+  }
+  return 0;
+}
+
+// fsync, tolerating file systems that cannot sync (EINVAL, EROFS on special files).
+int sync_fd(int fd) {
+  if (::fsync(fd) == 0) return 0;
+  return (errno == EINVAL || errno == EROFS) ? 0 : errno;
+}
+
+void sync_folder(const fs::path& folder) {
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  (void)::fsync(fd);  // durability of the rename; a failure here cannot undo it
+  ::close(fd);
+}
+
+// ---- the registry of pending temporary files and folders ----
+
+struct Registry {
+  std::mutex mutex;
+  std::vector<std::pair<fs::path, bool /*folder*/>> pending;
+  bool cancelled = false;
+};
+
+Registry& registry() {
+  static Registry* r = new Registry;  // never destroyed: a cancelling thread may run during exit
+  return *r;
+}
+
+void track(const fs::path& p, bool folder) {
+  auto& r = registry();
+  std::lock_guard lock(r.mutex);
+  r.pending.emplace_back(p, folder);
+}
+
+void untrack_locked(Registry& r, const fs::path& p) {
+  r.pending.erase(std::remove_if(r.pending.begin(), r.pending.end(), [&](const auto& e) { return e.first == p; }),
+                  r.pending.end());
+}
+
+void untrack(const fs::path& p) {
+  auto& r = registry();
+  std::lock_guard lock(r.mutex);
+  untrack_locked(r, p);
+}
+
+// Checks the folder an output goes into: it exists, is a folder, and takes a new file (probed by
+// creating and removing one, the only test that knows about read-only mounts, quotas and ACLs).
+void probe_folder(const fs::path& target, std::string_view label) {
+  const fs::path folder = folder_of(target);
+  struct stat st {};
+  if (::stat(folder.c_str(), &st) != 0)
+    throw IoError(fmt::format("{}: the folder '{}' {}", describe(label, target), folder.string(),
+                              errno == ENOENT ? std::string("does not exist") : os_error(errno)));
+  if (!S_ISDIR(st.st_mode))
+    throw IoError(fmt::format("{}: '{}' is not a folder", describe(label, target), folder.string()));
+  const fs::path probe = temporary_sibling(target);
+  const int fd = open_exclusive(probe);
+  if (fd < 0)
+    throw IoError(fmt::format("{}: cannot create a file in the folder '{}': {}", describe(label, target),
+                              folder.string(), os_error(errno)));
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
+}  // namespace
+
+// ---- inputs ----
+
+std::uint64_t check_input_file(const fs::path& path, std::string_view label) {
+  if (path.empty()) throw IoError(fmt::format("{}: no file name given", label.empty() ? "input" : label));
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw IoError(fmt::format("{}: {}", describe(label, path),
+                              errno == ENOENT ? std::string("no such file") : os_error(errno)));
+  if (!S_ISREG(st.st_mode))
+    throw IoError(fmt::format("{}: {}, not a regular file; give a file", describe(label, path), file_kind(st.st_mode)));
+  return std::uint64_t(st.st_size);
+}
+
+std::string read_file(const fs::path& path, std::uint64_t max_bytes, std::string_view label) {
+  const std::uint64_t size = check_input_file(path, label);
+  if (size > max_bytes)
+    throw IoError(fmt::format("{}: the file has {} bytes, more than the limit of {} bytes", describe(label, path),
+                              size, max_bytes));
+  // Non-blocking, so that a FIFO swapped in after the check cannot stall the open.
+  int fd;
+  do fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  while (fd < 0 && errno == EINTR);
+  if (fd < 0) throw IoError(fmt::format("{}: cannot open: {}", describe(label, path), os_error(errno)));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode) || std::uint64_t(st.st_size) > max_bytes) {
+    ::close(fd);
+    throw IoError(fmt::format("{}: changed while being opened; not a regular file of at most {} bytes",
+                              describe(label, path), max_bytes));
+  }
+  std::string bytes(std::size_t(st.st_size), '\0');
+  std::size_t got = 0;
+  while (got < bytes.size()) {
+    const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const int err = errno;
+      ::close(fd);
+      throw IoFailure(fmt::format("{}: read failed: {}", describe(label, path), os_error(err)));
+    }
+    if (n == 0) break;  // the file shrank while being read: keep what is there
+    got += std::size_t(n);
+  }
+  ::close(fd);
+  bytes.resize(got);
+  return bytes;
+}
+
+bool same_file(const fs::path& a, const fs::path& b) {
+  struct stat sa {}, sb {};
+  if (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0)
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  std::error_code ea, eb;
+  const auto ca = fs::weakly_canonical(fs::absolute(a, ea), ea);
+  const auto cb = fs::weakly_canonical(fs::absolute(b, eb), eb);
+  return !ea && !eb && ca == cb;
+}
+
+// ---- OutputFile ----
+
+struct OutputFile::State {
+  fs::path target, destination, temporary;
+  std::string label;
+  std::optional<mode_t> keep_mode;  // the replaced file's permissions
+  int fd = -1;
+  bool failed = false, committed = false;
+
+  std::string name() const { return describe(label, target); }
+  std::string outcome() const {
+    return keep_mode ? fmt::format("{} is unchanged", destination.string()) : std::string("nothing was written");
+  }
+  // Removes the temporary file and throws IoFailure for an OS error `err` during `step`.
+  [[noreturn]] void fail(const char* step, int err) {
+    discard();
+    failed = true;
+    throw IoFailure(fmt::format("{}: {} failed: {}; {}, no partial file was left", name(), step, os_error(err),
+                                outcome()));
+  }
+  void discard() noexcept {
+    if (fd >= 0) ::close(fd);
+    fd = -1;
+    if (!temporary.empty()) {
+      ::unlink(temporary.c_str());
+      untrack(temporary);
+      temporary.clear();
+    }
+  }
+  void open_temporary() {
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      temporary = temporary_sibling(destination);
+      track(temporary, false);
+      fd = open_exclusive(temporary);
+      if (fd >= 0) break;
+      const int err = errno;
+      untrack(temporary);
+      temporary.clear();
+      if (err != EEXIST) fail("creating the temporary file", err);
+    }
+    if (fd < 0) fail("creating the temporary file", EEXIST);
+    if (keep_mode && ::fchmod(fd, *keep_mode) != 0) fail("setting permissions", errno);
+  }
+};
+
+OutputFile::OutputFile(fs::path target, std::string label) : s_(std::make_unique<State>()) {
+  s_->target = std::move(target);
+  s_->label = std::move(label);
+  if (s_->target.empty()) throw IoError(fmt::format("{}: no file name given", s_->label.empty() ? "output" : s_->label));
+  s_->destination = s_->target;
+  struct stat st {};
+  if (::lstat(s_->target.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
+    std::error_code ec;
+    s_->destination = fs::weakly_canonical(fs::absolute(s_->target), ec);
+    if (ec) throw IoError(fmt::format("{}: cannot resolve the symbolic link: {}", s_->name(), ec.message()));
+  }
+  if (::stat(s_->destination.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) throw IoError(fmt::format("{}: is a folder; give a file name", s_->name()));
+    if (!S_ISREG(st.st_mode))
+      throw IoError(fmt::format("{}: is {}, not a regular file; refusing to replace it", s_->name(),
+                                file_kind(st.st_mode)));
+    s_->keep_mode = st.st_mode & 07777;
+  } else if (errno != ENOENT) {
+    throw IoError(fmt::format("{}: {}", s_->name(), os_error(errno)));
+  }
+  probe_folder(s_->destination, s_->label.empty() ? std::string_view{} : std::string_view(s_->label));
+}
+
+OutputFile::~OutputFile() {
+  if (s_ && !s_->committed) s_->discard();
+}
+OutputFile::OutputFile(OutputFile&&) noexcept = default;
+OutputFile& OutputFile::operator=(OutputFile&& other) noexcept {
+  if (this != &other) {
+    if (s_ && !s_->committed) s_->discard();
+    s_ = std::move(other.s_);
+  }
+  return *this;
+}
+
+const fs::path& OutputFile::target() const { return s_->target; }
+const fs::path& OutputFile::destination() const { return s_->destination; }
+bool OutputFile::committed() const { return s_->committed; }
+
+void OutputFile::write(std::string_view bytes) {
+  if (s_->failed || s_->committed)
+    throw IoFailure(fmt::format("{}: the output was already {}", s_->name(), s_->committed ? "committed" : "abandoned"));
+  if (s_->fd < 0) s_->open_temporary();
+  if (const int err = write_all(s_->fd, bytes)) s_->fail("writing", err);
+}
+
+void OutputFile::commit() {
+  if (s_->committed) return;
+  write({});  // creates the (empty) temporary file if nothing was written
+  if (const int err = sync_fd(s_->fd)) s_->fail("syncing to disk", err);
+  const int fd = std::exchange(s_->fd, -1);
+  if (::close(fd) != 0) s_->fail("closing", errno);
+  {
+    auto& r = registry();
+    std::lock_guard lock(r.mutex);
+    if (r.cancelled) {
+      ::unlink(s_->temporary.c_str());
+      untrack_locked(r, s_->temporary);
+      s_->temporary.clear();
+      s_->failed = true;
+      throw IoFailure(fmt::format("{}: cancelled; {}", s_->name(), s_->outcome()));
+    }
+    if (::rename(s_->temporary.c_str(), s_->destination.c_str()) != 0) {
+      const int err = errno;
+      ::unlink(s_->temporary.c_str());
+      untrack_locked(r, s_->temporary);
+      s_->temporary.clear();
+      s_->failed = true;
+      throw IoFailure(fmt::format("{}: renaming into place failed: {}; {}, no partial file was left", s_->name(),
+                                  os_error(err), s_->outcome()));
+    }
+    untrack_locked(r, s_->temporary);
+    s_->temporary.clear();
+    s_->committed = true;
+  }
+  sync_folder(folder_of(s_->destination));
+}
+
+void write_file(const fs::path& target, std::string_view bytes, std::string_view label) {
+  OutputFile out(target, std::string(label));
+  out.write(bytes);
+  out.commit();
+}
+
+// ---- OutputDirectory ----
+
+struct OutputDirectory::State {
+  fs::path target, staging;
+  std::string label;
+  std::vector<std::string> files;
+  std::vector<fs::path> protected_inputs;
+  bool committed = false;
+
+  std::string name() const { return describe(label, target); }
+  void remove_staging() noexcept {
+    if (staging.empty()) return;
+    std::error_code ec;
+    fs::remove_all(staging, ec);
+    untrack(staging);
+    staging.clear();
+  }
+};
+
+OutputDirectory::OutputDirectory(fs::path target, std::string label) : s_(std::make_unique<State>()) {
+  s_->target = std::move(target);
+  s_->label = std::move(label);
+  if (s_->target.empty() || s_->target.filename().empty()) {
+    // "out/" names the folder "out": drop the trailing separator.
+    if (!s_->target.empty() && s_->target.has_parent_path()) s_->target = s_->target.parent_path();
+    if (s_->target.empty()) throw IoError(fmt::format("{}: no folder name given", s_->label.empty() ? "output" : s_->label));
+  }
+  struct stat st {};
+  if (::stat(s_->target.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
+    throw IoError(fmt::format("{}: is {}, not a folder", s_->name(), S_ISREG(st.st_mode) ? "a file" : file_kind(st.st_mode)));
+  const fs::path parent = folder_of(s_->target);
   std::error_code ec;
-  if (target.has_parent_path()) {
-    fs::create_directories(target.parent_path(), ec);
-    if (ec)
-      throw IoError(fmt::format("cannot create directory '{}': {}", target.parent_path().string(),
-                                ec.message()));
+  fs::create_directories(parent, ec);
+  if (ec) throw IoError(fmt::format("{}: cannot create the folder '{}': {}", s_->name(), parent.string(), ec.message()));
+  for (int attempt = 0; attempt < 100 && s_->staging.empty(); ++attempt) {
+    const fs::path staging = temporary_sibling(s_->target);
+    track(staging, true);
+    if (::mkdir(staging.c_str(), 0777) == 0) {
+      s_->staging = staging;
+    } else {
+      const int err = errno;
+      untrack(staging);
+      if (err != EEXIST)
+        throw IoError(fmt::format("{}: cannot create a folder in '{}': {}", s_->name(), parent.string(), os_error(err)));
+    }
   }
-  if (fs::is_directory(target, ec))
-    throw IoError(fmt::format("cannot write '{}': it is a directory", target.string()));
-  const fs::path tmp = temporary_path_for(target);
-  try {
-    write(tmp);
-  } catch (...) {
-    fs::remove(tmp, ec);
-    throw;
+  if (s_->staging.empty()) throw IoError(fmt::format("{}: cannot create a staging folder", s_->name()));
+}
+
+OutputDirectory::~OutputDirectory() {
+  if (s_ && !s_->committed) s_->remove_staging();
+}
+
+const fs::path& OutputDirectory::target() const { return s_->target; }
+const std::vector<std::string>& OutputDirectory::files() const { return s_->files; }
+bool OutputDirectory::committed() const { return s_->committed; }
+void OutputDirectory::protect(std::vector<fs::path> inputs) { s_->protected_inputs = std::move(inputs); }
+
+void OutputDirectory::write(const std::string& name, std::string_view bytes) {
+  if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos)
+    throw IoError(fmt::format("{}: '{}' is not a plain file name", s_->name(), name));
+  if (s_->committed || s_->staging.empty()) throw IoFailure(fmt::format("{}: the folder was already committed", s_->name()));
+  const fs::path file = s_->staging / name;
+  int fd;
+  do fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOCTTY, 0666);
+  while (fd < 0 && errno == EINTR);
+  int err = fd < 0 ? errno : write_all(fd, bytes);
+  if (!err) err = sync_fd(fd);
+  if (fd >= 0 && ::close(fd) != 0 && !err) err = errno;
+  if (err)
+    throw IoFailure(fmt::format("{}: writing {} failed: {}; {} is unchanged, no partial file was left", s_->name(),
+                                name, os_error(err), s_->target.string()));
+  if (std::find(s_->files.begin(), s_->files.end(), name) == s_->files.end()) s_->files.push_back(name);
+}
+
+void OutputDirectory::commit() {
+  if (s_->committed) return;
+  struct stat st {};
+  const bool exists = ::stat(s_->target.c_str(), &st) == 0;
+  if (exists && !S_ISDIR(st.st_mode)) throw IoError(fmt::format("{}: is no longer a folder", s_->name()));
+  if (exists)
+    for (const auto& f : s_->files)
+      for (const auto& in : s_->protected_inputs)
+        if (same_file(s_->target / f, in))
+          throw IoError(fmt::format("{}: {} would replace the input {}", s_->name(), f, in.string()));
+  auto& r = registry();
+  std::lock_guard lock(r.mutex);
+  if (r.cancelled) throw IoFailure(fmt::format("{}: cancelled; {} is unchanged", s_->name(), s_->target.string()));
+  if (!exists) {
+    if (::rename(s_->staging.c_str(), s_->target.c_str()) != 0)
+      throw IoFailure(fmt::format("{}: moving the finished folder into place failed: {}", s_->name(), os_error(errno)));
+  } else {
+    std::size_t moved = 0;
+    for (const auto& f : s_->files) {
+      if (::rename((s_->staging / f).c_str(), (s_->target / f).c_str()) != 0)
+        throw IoFailure(fmt::format("{}: moving {} into place failed: {} ({} of {} files replaced)", s_->name(), f,
+                                    os_error(errno), moved, s_->files.size()));
+      ++moved;
+    }
+    ::rmdir(s_->staging.c_str());
   }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw IoError(fmt::format("cannot write '{}': {}", target.string(), ec.message()));
+  untrack_locked(r, s_->staging);
+  s_->staging.clear();
+  s_->committed = true;
+  sync_folder(s_->target);
+  sync_folder(folder_of(s_->target));
+}
+
+// ---- FileSet ----
+
+struct FileSet::State {
+  struct Named {
+    std::string label;
+    fs::path path;
+  };
+  std::vector<Named> inputs;
+  std::vector<Named> output_names;
+  std::vector<std::unique_ptr<OutputFile>> files;
+  std::vector<std::unique_ptr<OutputDirectory>> folders;
+  std::vector<std::pair<bool /*folder*/, std::size_t>> order;
+
+  void refuse_clash(const std::string& label, const fs::path& path, bool is_output) const {
+    for (const auto& in : inputs)
+      if (same_file(in.path, path)) {
+        if (is_output)
+          throw IoError(fmt::format("{} {}: is the same file as the input {} {}; refusing to overwrite an input",
+                                    label, path.string(), in.label, in.path.string()));
+        throw IoError(fmt::format("{} {}: is the same file as the input {} {}", label, path.string(), in.label,
+                                  in.path.string()));
+      }
+    for (const auto& out : output_names)
+      if (same_file(out.path, path))
+        throw IoError(fmt::format("{} {}: is the same file as the output {} {}", label, path.string(), out.label,
+                                  out.path.string()));
+  }
+};
+
+FileSet::FileSet() : s_(std::make_unique<State>()) {}
+FileSet::~FileSet() = default;
+
+std::uint64_t FileSet::input(std::string label, fs::path path) {
+  const auto size = check_input_file(path, label);
+  for (const auto& out : s_->output_names)
+    if (same_file(out.path, path))
+      throw IoError(fmt::format("{} {}: is the same file as the output {} {}; refusing to overwrite an input", label,
+                                path.string(), out.label, out.path.string()));
+  s_->inputs.push_back({std::move(label), std::move(path)});
+  return size;
+}
+
+OutputFile& FileSet::output(std::string label, fs::path path) {
+  s_->refuse_clash(label, path, true);
+  auto out = std::make_unique<OutputFile>(path, label);
+  s_->output_names.push_back({std::move(label), std::move(path)});
+  s_->files.push_back(std::move(out));
+  s_->order.emplace_back(false, s_->files.size() - 1);
+  return *s_->files.back();
+}
+
+OutputDirectory& FileSet::output_directory(std::string label, fs::path path) {
+  for (const auto& in : s_->inputs)
+    if (same_file(in.path, path))
+      throw IoError(fmt::format("{} {}: is the input {}", label, path.string(), in.label));
+  auto out = std::make_unique<OutputDirectory>(path, label);
+  std::vector<fs::path> inputs;
+  for (const auto& in : s_->inputs) inputs.push_back(in.path);
+  out->protect(std::move(inputs));
+  s_->output_names.push_back({std::move(label), std::move(path)});
+  s_->folders.push_back(std::move(out));
+  s_->order.emplace_back(true, s_->folders.size() - 1);
+  return *s_->folders.back();
+}
+
+void FileSet::commit() {
+  for (const auto& [folder, i] : s_->order) {
+    if (folder)
+      s_->folders[i]->commit();
+    else
+      s_->files[i]->commit();
   }
 }
 
-void write_text_file(const fs::path& target, std::string_view text) {
-  write_atomically(target, [&](const fs::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw IoError(fmt::format("cannot write '{}': {}", target.string(), std::strerror(errno)));
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    if (!out) throw IoError(fmt::format("cannot write '{}': write failed", target.string()));
-  });
+// ---- cancellation ----
+
+std::size_t cancel_pending_outputs() noexcept {
+  auto& r = registry();
+  std::lock_guard lock(r.mutex);
+  r.cancelled = true;
+  std::size_t n = 0;
+  for (const auto& [path, folder] : r.pending) {
+    std::error_code ec;
+    if (folder)
+      fs::remove_all(path, ec);
+    else
+      ::unlink(path.c_str());
+    ++n;
+  }
+  r.pending.clear();
+  return n;
+}
+
+std::size_t pending_output_count() noexcept {
+  auto& r = registry();
+  std::lock_guard lock(r.mutex);
+  return r.pending.size();
 }
 
 }  // namespace hydrolux::io

@@ -1,6 +1,8 @@
 // Drop size distributions and their quadratures; the equations are in the header.
 #include "hydrolux/scatter/size_distribution.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,6 +10,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/parse.hpp"
 
 namespace hydrolux::scatter {
 
@@ -20,7 +23,7 @@ constexpr double kMaxN0 = 1e12;             // m^-4
 constexpr double kTiny = std::numeric_limits<double>::min();
 
 void check_radius(const char* name, double r) { require_in_range(name, r, kTiny, kMaxRadius); }
-void check_width(double w) { require_in_range("relative_width", w, kTiny, 1.0); }
+void check_width(double w) { require_in_range("relative_width", w, kMinRelativeWidth, 1.0); }
 void check_number(double n) { require_in_range("number_per_m3", n, kTiny, kMaxConcentration); }
 void check_nodes(int nodes) { require_in_range("quadrature_nodes", nodes, 1, kMaxQuadratureNodes); }
 
@@ -297,6 +300,40 @@ RadiusQuadrature SizeDistribution::quadrature(int nodes, double r_min, double r_
   q.radius_m = std::move(t);
   q.weight = std::move(w);
   return q;
+}
+
+SizeDistributionSpec parse_size_distribution(std::string_view text) {
+  const auto colon = text.find(':');
+  const std::string_view name = text.substr(0, colon);
+  const auto fail = [&](const std::string& why) {
+    return Error(fmt::format("'{}': {}; valid: mono, gamma:W, lognormal:W (W the relative width in [{:g}, 1]), "
+                             "marshall-palmer:H (H the rain rate in [{:g}, {:g}] mm/h)",
+                             text, why, kMinRelativeWidth, kMinSpecRainRateMmh, kMaxSpecRainRateMmh));
+  };
+  if (name == "mono") {
+    if (colon != std::string_view::npos) throw fail("mono takes no parameter");
+    return {SizeDistributionKind::monodisperse, 0};
+  }
+  SizeDistributionSpec spec;
+  if (name == "gamma")
+    spec.kind = SizeDistributionKind::gamma;
+  else if (name == "lognormal" || name == "log-normal")
+    spec.kind = SizeDistributionKind::log_normal;
+  else if (name == "marshall-palmer")
+    spec.kind = SizeDistributionKind::marshall_palmer;
+  else
+    throw fail("unknown distribution");
+  const bool rain = spec.kind == SizeDistributionKind::marshall_palmer;
+  if (colon == std::string_view::npos) throw fail(rain ? "give the rain rate H" : "give the relative width W");
+  const auto value = parse::number(text.substr(colon + 1));
+  if (!value) throw fail(fmt::format("'{}' is not a number", text.substr(colon + 1)));
+  spec.parameter = *value;
+  if (rain && !(*value >= kMinSpecRainRateMmh && *value <= kMaxSpecRainRateMmh))
+    throw fail(fmt::format("H = {:g} is outside [{:g}, {:g}] mm/h", *value, kMinSpecRainRateMmh, kMaxSpecRainRateMmh));
+  if (!rain && !(*value >= kMinRelativeWidth && *value <= 1))
+    throw fail(fmt::format("W = {:g} is outside [{:g}, 1]{}", *value, kMinRelativeWidth,
+                           *value < kMinRelativeWidth && *value > 0 ? " (use mono for narrower)" : ""));
+  return spec;
 }
 
 }  // namespace hydrolux::scatter

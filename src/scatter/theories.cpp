@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include <charconv>
 #include <cmath>
 #include <vector>
@@ -80,8 +82,13 @@ RadiusQuadrature intensity_quadrature(const SizeDistribution& d, int nodes) {
   switch (d.kind()) {
     case SizeDistributionKind::monodisperse: return d.quadrature(1);
     case SizeDistributionKind::gamma: {
+      // Ten standard deviations (sqrt(a) b) either side of the mean a b, the lower end kept above
+      // a thousandth of the mean for wide distributions. A fixed lower end at 1e-3 of the mean put
+      // every node outside the peak of a narrow distribution (relative width 1e-3: 64 nodes 1.6%
+      // apart across a peak 0.1% wide).
       const double a = d.alpha(), b = d.beta();
-      return d.quadrature(nodes, 1e-3 * d.mean_radius(), b * (a + 4 + 10 * std::sqrt(a + 4)), true);
+      const double lo = std::max(1e-3 * d.mean_radius(), b * (a - 10 * std::sqrt(a)));
+      return d.quadrature(nodes, lo, b * (a + 4 + 10 * std::sqrt(a + 4)), true);
     }
     case SizeDistributionKind::log_normal: {
       const double mu = d.mu(), s = d.sigma();

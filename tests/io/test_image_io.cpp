@@ -1,13 +1,36 @@
-// Image files: EXR round trip, PNG through the sRGB curve, errors, atomic writes.
+// Image files: EXR round trip, PNG through the sRGB curve, errors; headers never trusted (limits and
+// file-size bounds checked before any pixel memory), codec messages captured into one line, and the
+// same image encoded to the same bytes.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <sstream>
+#include <thread>
 
 #include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/image_io.hpp"
+#include "support/crafted_images.hpp"
+#include "support/sandbox.hpp"
+
+#if defined(__SANITIZE_ADDRESS__)
+#define HYDROLUX_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define HYDROLUX_TEST_ASAN 1
+#endif
+#endif
+#ifndef HYDROLUX_TEST_ASAN
+#define HYDROLUX_TEST_ASAN 0
+#endif
 
 namespace hydrolux::io {
 namespace {
@@ -99,33 +122,136 @@ TEST_F(ImageIo, ErrorsNameTheFile) {
   EXPECT_FALSE(fs::exists(dir_ / "bad.exr"));
 }
 
-// A failed write leaves an existing file untouched and no temporary file behind.
-TEST_F(ImageIo, FailedWriteNeverClobbers) {
-  const Image img = gradient(4, 4, 3);
-  write_image(dir_ / "keep.exr", img);
-  const auto size_before = fs::file_size(dir_ / "keep.exr");
-  EXPECT_THROW(write_atomically(dir_ / "keep.exr",
-                                [](const fs::path& tmp) {
-                                  std::ofstream(tmp) << "partial";
-                                  throw IoError("simulated failure mid-write");
-                                }),
-               IoError);
-  EXPECT_EQ(fs::file_size(dir_ / "keep.exr"), size_before);
-  EXPECT_EQ(read_image(dir_ / "keep.exr").pixels, img.pixels);
-  EXPECT_EQ(file_count(), 1u);
-  // A directory in the way is an error, not a crash.
-  fs::create_directories(dir_ / "adir");
-  EXPECT_THROW(write_text_file(dir_ / "adir", "x"), IoError);
+std::string message_of(const std::function<void()>& call) {
+  try {
+    call();
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "no IoError";
 }
 
-TEST_F(ImageIo, TextFilesAndDirectories) {
-  write_text_file(dir_ / "sub" / "deeper" / "t.txt", "hello\n");
-  std::ifstream in(dir_ / "sub" / "deeper" / "t.txt");
-  std::string s;
-  std::getline(in, s);
-  EXPECT_EQ(s, "hello");
-  EXPECT_EQ(temporary_path_for(dir_ / "a.png").extension(), ".png");
-  EXPECT_EQ(temporary_path_for(dir_ / "a.png").parent_path(), dir_);
+// A header claiming more than the limits (or more than the file can hold) is refused before any
+// pixel memory is allocated: with a 2 GiB address-space limit in a child, decoding a 100 000 x
+// 100 000 PNG (30 GB of pixels) must end in IoError, not bad_alloc. The limit is set in a child
+// without AddressSanitizer, whose shadow memory needs far more address space.
+TEST_F(ImageIo, HugeHeadersAreRefusedBeforeAllocating) {
+  const std::string png = testing::png_claiming(100000, 100000);
+  const std::string m = message_of([&] { (void)decode_image(png, "--image huge.png"); });
+  EXPECT_NE(m.find("--image huge.png: the header claims 100000 x 100000 pixels x 3 channels"), std::string::npos) << m;
+  EXPECT_NE(m.find("limit"), std::string::npos) << m;
+  EXPECT_EQ(m.find('\n'), std::string::npos);
+  const std::string hdr = testing::hdr_claiming(200000, 200000);
+  EXPECT_NE(message_of([&] { (void)decode_image(hdr, "env.hdr"); }).find("claims 200000 x 200000"), std::string::npos);
+#if !HYDROLUX_TEST_ASAN
+  const int code = testing::run_in_child([&] {
+    const rlimit lim{std::uint64_t(2) << 30, std::uint64_t(2) << 30};
+    if (::setrlimit(RLIMIT_AS, &lim) != 0) return testing::kChildCannotSetUp;
+    try {
+      (void)decode_image(png, "huge.png");
+    } catch (const IoError&) {
+      return 0;
+    } catch (const std::bad_alloc&) {
+      return 2;
+    }
+    return 1;
+  });
+  EXPECT_EQ(code, 0);
+#endif
+}
+
+// Within the limits, a header claiming more pixels than the file's bytes can encode at the format's
+// best compression is refused too: PNG (deflate at most 1032:1), HDR (run-length), binary PPM (none).
+TEST_F(ImageIo, HeadersAreCheckedAgainstTheFileSize) {
+  const std::string png = testing::png_claiming(10000, 10000);  // 300 MB of pixels in ~100 bytes
+  std::string m = message_of([&] { (void)decode_image(png, "a.png"); });
+  EXPECT_NE(m.find("needs at least 290707 bytes of PNG data, but the file has"), std::string::npos) << m;
+  m = message_of([&] { (void)decode_image(testing::hdr_claiming(10000, 10000), "a.hdr"); });
+  EXPECT_NE(m.find("bytes of Radiance HDR data"), std::string::npos) << m;
+  m = message_of([&] { (void)decode_image(testing::ppm_claiming(10000, 10000), "a.ppm"); });
+  EXPECT_NE(m.find("needs at least 300000000 bytes of PNM data"), std::string::npos) << m;
+  // Real files meet the bounds: a noise image (incompressible) and a flat one (compresses best).
+  for (const bool flat : {false, true}) {
+    Image img(300, 200, 3);
+    std::uint32_t state = 12345;
+    for (auto& v : img.pixels) v = flat ? 0.25f : float((state = state * 1664525u + 1013904223u) >> 8) / 16777216.f;
+    const std::string bytes = encode_image(img, ImageFormat::png);
+    EXPECT_GE(bytes.size(), min_encoded_bytes(ImageFormat::png, 300, 200, 3, 8));
+    EXPECT_EQ(decode_image(bytes, "ok.png").image.width, 300);
+  }
+}
+
+// Truncated and corrupt files fail with one line naming the file; what libpng prints on stderr is
+// captured into that line instead of reaching the terminal.
+TEST_F(ImageIo, TruncatedFilesFailInOneLineWithCodecMessagesCaptured) {
+  Image img(64, 64, 3);
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = float(i % 97) / 97.f;
+  const std::string png = encode_image(img, ImageFormat::png);
+  const std::string exr = encode_image(img, ImageFormat::exr);
+  // Point our own stderr at a file, as a terminal would show it.
+  const fs::path err_file = dir_ / "stderr.txt";
+  std::fflush(stderr);
+  const int saved = ::dup(2);
+  FILE* f = std::fopen(err_file.c_str(), "w");
+  ::dup2(::fileno(f), 2);
+  std::vector<std::string> messages;
+  for (const auto& [bytes, name] : {std::pair{png.substr(0, png.size() / 2), "half.png"},
+                                    std::pair{png.substr(0, 60), "header-only.png"},
+                                    std::pair{exr.substr(0, exr.size() / 2), "half.exr"},
+                                    std::pair{std::string("\x89PNG\r\n\x1a\n") + "garbage", "garbage.png"},
+                                    std::pair{std::string("P3\n2 2\n255\n") + "x x x x x x x x x x x x ", "letters.ppm"}})
+    messages.push_back(message_of([&] { (void)decode_image(bytes, name); }));
+  std::fflush(stderr);
+  ::dup2(saved, 2);
+  ::close(saved);
+  std::fclose(f);
+  std::ifstream in(err_file);
+  std::stringstream printed;
+  printed << in.rdbuf();
+  EXPECT_EQ(printed.str(), "") << "a codec printed on stderr";
+  for (const auto& m : messages) {
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_NE(m.find("cannot read the"), std::string::npos) << m;
+  }
+  EXPECT_NE(messages[0].find("half.png: cannot read the PNG data"), std::string::npos) << messages[0];
+  EXPECT_NE(message_of([] { (void)decode_image("hello, world", "t.png"); }).find("not an image hydrolux reads"),
+            std::string::npos);
+}
+
+TEST(ImageFormats, SniffedFromTheFirstBytes) {
+  EXPECT_EQ(sniff_image_format("\x89PNG\r\n\x1a\nrest"), ImageFormat::png);
+  EXPECT_EQ(sniff_image_format(std::string("\x76\x2f\x31\x01", 4)), ImageFormat::exr);
+  EXPECT_EQ(sniff_image_format("#?RADIANCE\n"), ImageFormat::hdr);
+  EXPECT_EQ(sniff_image_format("#?RGBE\n"), ImageFormat::hdr);
+  EXPECT_EQ(sniff_image_format("P6\n1 1\n255\n"), ImageFormat::pnm);
+  EXPECT_EQ(sniff_image_format("Pf\n"), ImageFormat::pnm);
+  EXPECT_EQ(sniff_image_format("\xff\xd8\xff\xe0"), ImageFormat::jpeg);
+  EXPECT_EQ(sniff_image_format(std::string("II*\0", 4)), ImageFormat::tiff);
+  EXPECT_EQ(sniff_image_format("P7 not pnm"), std::nullopt);
+  EXPECT_EQ(sniff_image_format(""), std::nullopt);
+  EXPECT_EQ(sniff_image_format("BM"), std::nullopt);  // BMP is not read
+  EXPECT_EQ(output_image_format("a.PNG"), ImageFormat::png);
+  EXPECT_EQ(output_image_format("dir/a.exr"), ImageFormat::exr);
+  EXPECT_THROW(output_image_format("a.jpg", "-o"), IoError);
+  EXPECT_THROW(output_image_format("noext", "-o"), IoError);
+}
+
+// Same image, same bytes: EXR carries no time stamp (OpenImageIO would write DateTime/capDate with
+// the time of writing), PNG none either. Encoded more than a second apart, as the stamp has
+// one-second resolution.
+TEST(ImageFormats, EncodingIsDeterministic) {
+  Image img(16, 8, 4);
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = float(i) / 512.f;
+  const std::string exr1 = encode_image(img, ImageFormat::exr), png1 = encode_image(img, ImageFormat::png);
+  const std::string png16 = encode_image(img, ImageFormat::png, {16});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+  EXPECT_EQ(encode_image(img, ImageFormat::exr), exr1);
+  EXPECT_EQ(encode_image(img, ImageFormat::png), png1);
+  EXPECT_EQ(encode_image(img, ImageFormat::png, {16}), png16);
+  const auto now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  char year[8];
+  std::strftime(year, sizeof year, "%Y:", std::gmtime(&now));
+  EXPECT_EQ(exr1.find(year), std::string::npos) << "the EXR carries a date";
 }
 
 }  // namespace

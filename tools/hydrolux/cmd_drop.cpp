@@ -58,7 +58,7 @@ Command add_drop_profile(CLI::App& drop) {
       ->check(number_in(1.0001, 10))
       ->capture_default_str();
   sub->add_option("--samples", args->samples, "Number of rho values from 0 to 1")
-      ->check(number_in(2, 1000000))
+      ->transform(integer_in(2, 1000000))
       ->capture_default_str();
   sub->add_flag("--json", args->json,
                 "Print one JSON object: rho, refraction, reflection, internal1, internal2 (arrays), fov_deg");

@@ -48,8 +48,21 @@ struct RenderArgs {
 };
 
 int run_render(const RenderArgs& a) {
-  // Everything that can be checked is checked before the work starts.
-  (void)output_image_extension(a.output, "-o");
+  // Every file and flag is checked before the work starts: the environment is a regular file, the
+  // output's folder takes a new file and the output is not the environment.
+  io::FileSet files;
+  if (a.env != "builtin") {
+    const std::filesystem::path p(a.env);
+    std::string e = p.extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
+    if (e != ".exr" && e != ".hdr")
+      throw Error(fmt::format("--env {}: expected an equirectangular .exr or .hdr file, or 'builtin'", a.env));
+    files.input("--env", a.env);
+  }
+  const ImageOutput output = declare_output_image(files, "-o", a.output);
+  const auto water = medium_flag("--medium", a.medium);
+  const auto air = optics::find_medium("air");
+  check_temperature_flag(a.temperature_c, {water.get()});
   if (a.distance_m <= 1.01 * a.radius_mm * 1e-3)
     throw Error(fmt::format("--distance-m {:g} must exceed the drop radius ({:g} m) by at least 1%", a.distance_m,
                             a.radius_mm * 1e-3));
@@ -59,6 +72,8 @@ int run_render(const RenderArgs& a) {
       throw Error(fmt::format("--radius-mm {:g} is outside the valid range [{:g}, {:g}] mm of the Beard & Chuang shape",
                               a.radius_mm, range[0] * 1e3, range[1] * 1e3));
   }
+  if (a.method == "model" && a.shape != "sphere")
+    throw Error("--shape " + a.shape + ": the model is for a sphere; use --method exact for other shapes");
   double blur_rad = 0;
   if (a.background_blur) {
     if (a.distance_m <= 1.01 * a.focal_mm * 1e-3)
@@ -70,33 +85,26 @@ int run_render(const RenderArgs& a) {
                               "gives a defocus disk {:.1f} degrees wide; at most 60 degrees is supported",
                               a.focal_mm, a.f_number, a.distance_m, 2 * rad_to_deg(blur_rad)));
   }
-  const ImageApi& images = image_api();  // image support loads now, not after the render
-
-  std::unique_ptr<scene::Environment> env;
-  if (a.env == "builtin") {
-    env = std::make_unique<scene::BuiltinSky>();
-  } else {
-    const std::filesystem::path p(a.env);
-    std::string e = p.extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char ch) { return char(std::tolower(ch)); });
-    if (e != ".exr" && e != ".hdr")
-      throw Error(fmt::format("--env {}: expected an equirectangular .exr or .hdr file, or 'builtin'", a.env));
-    try {
-      env = std::make_unique<scene::EquirectEnvironment>(images.read_image(p));
-    } catch (const IoError& err) {
-      throw Error(fmt::format("--env: {}", err.what()));
-    }
-  }
-
   // The drop's index relative to the air around it, at one wavelength or per channel.
-  const auto water = optics::find_medium(a.medium);
-  const auto air = optics::find_medium("air");
   const auto relative = [&](double nm) { return water->n(nm, a.temperature_c) / air->n(nm); };
   drop::ChannelIndex mu;
   if (a.dispersion) {
     for (std::size_t c = 0; c < 3; ++c) mu[c] = relative(drop::kChannelWavelengthsNm[c]);
   } else {
     mu.fill(relative(a.wavelength_nm));
+  }
+  (void)image_api();  // image support loads now, not after the render
+
+  std::unique_ptr<scene::Environment> env;
+  if (a.env == "builtin") {
+    env = std::make_unique<scene::BuiltinSky>();
+  } else {
+    Image map = read_input_image("--env", a.env);
+    try {
+      env = std::make_unique<scene::EquirectEnvironment>(std::move(map));
+    } catch (const IoError& err) {
+      throw IoError(fmt::format("--env {}: {}", a.env, err.what()));
+    }
   }
 
   drop::DropCamera cam;
@@ -115,8 +123,6 @@ int run_render(const RenderArgs& a) {
   opt.progress = bar.callback();
   Image img;
   if (a.method == "model") {
-    if (a.shape != "sphere")
-      throw Error("--shape " + a.shape + ": the model is for a sphere; use --method exact for other shapes");
     img = drop::render_model(cam, *env, mu, opt);
   } else {
     const auto surface = drop::make_drop_surface(
@@ -131,7 +137,8 @@ int run_render(const RenderArgs& a) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
       for (int c = 0; c < 3; ++c) img.at(x, y, c) *= gain;
-  images.write_image(a.output, img, {});
+  write_output_image(output, img);
+  files.commit();
   if (!a.quiet)
     fmt::print(stderr, "drop render: wrote {} ({}x{}, drop radius {:.1f} px, mu {:.5f}{})\n", a.output, img.width,
                img.height, cam.drop_radius_px(), mu[1], a.dispersion ? " (green channel)" : "");
@@ -165,16 +172,19 @@ Command add_drop_render(CLI::App& drop) {
   sub->add_option("--frame-mm", args->frame_mm,
                   "Width of the field at the drop's distance in mm [default: 5 x the drop radius]")
       ->check(number_in(1e-6, 1e6));
-  sub->add_option("--size", args->size, "Image width and height in pixels")->check(number_in(8, 16384))->capture_default_str();
+  sub->add_option("--size", args->size, "Image width and height in pixels")->transform(integer_in(8, 16384, "px"))->capture_default_str();
   sub->add_option("--samples", args->samples, "Supersamples per pixel along each axis (anti-aliasing)")
-      ->check(number_in(1, 64))
+      ->transform(integer_in(1, 64))
       ->capture_default_str();
   sub->add_option("--internal", args->internal, "Internal reflections added by the model (eq. 19)")
-      ->check(number_in(0, 20))
+      ->transform(integer_in(0, 20))
       ->capture_default_str();
   sub->add_option("--medium", args->medium, "Drop medium (see hydrolux ior --list; const:1.49 for acrylic)")
       ->capture_default_str();
-  sub->add_option("--temperature-c", args->temperature_c, "Drop temperature in Celsius [medium's default]");
+  sub->add_option("--temperature-c", args->temperature_c,
+                  "Drop temperature in Celsius, for media with a temperature model (water: 0 to 100) "
+                  "[medium's default]")
+      ->check(number_in(-273.15, 1000, "C"));
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength of the index without --dispersion")
       ->check(number_in(200, 2500))
       ->capture_default_str();
@@ -196,7 +206,7 @@ Command add_drop_render(CLI::App& drop) {
       ->check(CLI::IsMember({"sphere", "beard-chuang"}))
       ->capture_default_str();
   sub->add_option("--depth", args->depth, "Surface interactions the exact tracer follows per path")
-      ->check(number_in(6, 64))
+      ->transform(integer_in(6, 64))
       ->capture_default_str();
   sub->add_option("-o,--output", args->output, "Output image (.exr linear float, or .png sRGB)")->required();
   sub->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");

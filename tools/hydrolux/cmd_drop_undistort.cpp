@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -12,7 +11,7 @@
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/undistort.hpp"
-#include "image_plugin.hpp"
+#include "hydrolux/core/parse.hpp"
 
 namespace hydrolux::cli {
 
@@ -33,30 +32,11 @@ struct UndistortArgs {
   bool quiet = false;
 };
 
-std::optional<double> parse_finite(const std::string& s) {
-  double v = 0;
-  const char* first = s.data();
-  const char* last = s.data() + s.size();
-  if (first != last && *first == '+') ++first;
-  const auto [ptr, ec] = std::from_chars(first, last, v);
-  if (ec != std::errc() || ptr != last || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
-
-// "A<sep>B" as two numbers, or nullopt.
-std::optional<std::array<double, 2>> parse_pair(const std::string& text, char sep) {
-  const auto pos = text.find(sep);
-  if (pos == std::string::npos) return std::nullopt;
-  const auto a = parse_finite(text.substr(0, pos)), b = parse_finite(text.substr(pos + 1));
-  if (!a || !b) return std::nullopt;
-  return std::array<double, 2>{*a, *b};
-}
-
 // --drop-center "X,Y": the drop's image centre in pixels (pixel centres at half-integers, y down).
 CLI::Validator drop_center_validator() {
   return CLI::Validator(
       [](std::string& s) -> std::string {
-        if (!parse_pair(s, ',')) return fmt::format("'{}' is not X,Y (two numbers in pixels, e.g. 256,240.5)", s);
+        if (!parse::pair(s, ',')) return fmt::format("'{}' is not X,Y (two numbers in pixels, e.g. 256,240.5)", s);
         return {};
       },
       "X,Y");
@@ -64,8 +44,7 @@ CLI::Validator drop_center_validator() {
 
 // --size "WxH": whole numbers in [1, 16384].
 std::optional<std::array<int, 2>> parse_size(const std::string& text) {
-  auto p = parse_pair(text, 'x');
-  if (!p) p = parse_pair(text, 'X');
+  const auto p = parse::pair(text, 'x');
   if (!p) return std::nullopt;
   for (double v : *p)
     if (v != std::floor(v) || v < 1 || v > 16384) return std::nullopt;
@@ -82,9 +61,12 @@ CLI::Validator size_validator() {
 }
 
 int run_undistort(const UndistortArgs& a) {
-  // Everything that can be checked without reading or computing, first.
-  (void)output_image_extension(a.output, "-o/--output");
-  const auto centre = parse_pair(a.drop_center, ',');
+  // Everything that can be checked without reading or computing, first: the input is a regular
+  // file, the output's folder takes a new file and the output is not the input.
+  io::FileSet files;
+  files.input("--image", a.image);
+  const ImageOutput output = declare_output_image(files, "-o", a.output);
+  const auto centre = parse::pair(a.drop_center, ',');
   if (!centre) throw Error(fmt::format("--drop-center '{}': expected X,Y in pixels", a.drop_center));
 
   drop::UndistortView view;
@@ -103,15 +85,11 @@ int run_undistort(const UndistortArgs& a) {
   }
   drop::validate(view);
 
-  Image drop_image;
-  try {
-    drop_image = image_api().read_image(a.image);
-  } catch (const IoError& e) {
-    throw IoError(fmt::format("--image: {}", e.what()));
-  }
+  const Image drop_image = read_input_image("--image", a.image);
   const Image out = drop::undistort(drop_image, (*centre)[0], (*centre)[1], a.drop_radius_px, a.mu, view,
                                     !a.no_transmission_correction);
-  image_api().write_image(a.output, out, {});
+  write_output_image(output, out);
+  files.commit();
 
   if (!a.quiet) {
     std::size_t seen = 0;
@@ -162,10 +140,10 @@ Command add_drop_undistort(CLI::App& drop) {
   auto* size_opt = sub->add_option("--size", args->size, "Output size WxH in pixels [default: 512x512]")
                        ->check(size_validator());
   auto* width_opt = sub->add_option("--width", args->width, "Output width in pixels (height = width if not given)")
-                        ->check(number_in(1, 16384));
+                        ->transform(integer_in(1, 16384, "px"));
   auto* height_opt =
       sub->add_option("--height", args->height, "Output height in pixels (width = height if not given)")
-          ->check(number_in(1, 16384));
+          ->transform(integer_in(1, 16384, "px"));
   size_opt->excludes(width_opt)->excludes(height_opt);
   sub->add_flag("--no-transmission-correction", args->no_transmission_correction,
                 "Keep the drop's brightness: do not divide by the refraction transmission (1 - k)^2");

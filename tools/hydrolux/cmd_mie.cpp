@@ -39,8 +39,9 @@ int run_mie(const MieArgs& a) {
   if (physical) {
 
     if (!a.radius_um || !a.wavelength_nm) throw Error("--radius-um and --wavelength-nm go together");
-    const auto sphere = optics::find_medium(a.medium);
-    const auto outside = optics::find_medium(a.surrounding);
+    const auto sphere = medium_flag("--medium", a.medium);
+    const auto outside = medium_flag("--surrounding", a.surrounding);
+    check_temperature_flag(a.temperature_c, {sphere.get(), outside.get()});
     const auto p = scatter::sphere_problem(*a.radius_um, *a.wavelength_nm, *sphere, *outside, a.temperature_c);
     m = p.m;
     x = p.x;
@@ -124,7 +125,8 @@ Command add_mie(CLI::App& app) {
       sub->add_option("--surrounding", args->surrounding, "Surrounding medium (air, or const:1 for vacuum)")
           ->capture_default_str();
   auto* temperature_opt =
-      sub->add_option("--temperature-c", args->temperature_c, "Temperature of the media that model it, Celsius")
+      sub->add_option("--temperature-c", args->temperature_c, "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither "
+                        "medium does")
           ->check(number_in(-273.15, 1000, "C"));
   // The dimensionless form takes m and x as they are: media flags would be silently ignored.
   for (auto* o : {m_opt, x_opt}) o->excludes(medium_opt)->excludes(surrounding_opt)->excludes(temperature_opt);
@@ -134,9 +136,9 @@ Command add_mie(CLI::App& app) {
   sub->add_option("--debye", args->debye,
                   "Restrict S1, S2 to Debye order P (0 diffraction + external reflection, 1 direct "
                   "transmission, 2 primary rainbow, 3 secondary, ...); efficiencies stay the whole sphere's")
-      ->check(number_in(0, 1000));
+      ->transform(integer_in(0, 1000));
   sub->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
-      ->check(number_in(0, 1024))
+      ->transform(integer_in(0, 1024))
       ->capture_default_str();
   sub->add_flag("--json", args->json,
                 "Print one JSON object: x, m, n_terms, qext, qsca, qabs, qback, g, [debye_p,] angles_deg, "

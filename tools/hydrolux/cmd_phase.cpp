@@ -38,47 +38,32 @@ constexpr double kRainMinRadiusUm = 50, kRainMaxRadiusUm = 3000;
 // --size-distribution: mono | gamma:W | lognormal:W | marshall-palmer:H. Returns the quadrature
 // over radius and a description.
 std::pair<scatter::RadiusQuadrature, std::string> size_quadrature(const PhaseArgs& a) {
-  const std::string& spec = a.distribution;
-  const auto colon = spec.find(':');
-  const std::string name = spec.substr(0, colon);
-  const auto fail = [&](const std::string& why) {
-    return Error(fmt::format("--size-distribution '{}': {}; valid: mono, gamma:W, lognormal:W (W the "
-                             "relative width in (0, 1]), marshall-palmer:H (H the rain rate in mm/h)",
-                             spec, why));
-  };
-  double value = 0;
-  if (colon != std::string::npos) {
-    try {
-      std::size_t used = 0;
-      value = std::stod(spec.substr(colon + 1), &used);
-      if (used != spec.size() - colon - 1 || !std::isfinite(value)) throw fail("not a number");
-    } catch (const std::logic_error&) {
-      throw fail("not a number");
-    }
+  using scatter::SizeDistributionKind;
+  scatter::SizeDistributionSpec spec;
+  try {
+    spec = scatter::parse_size_distribution(a.distribution);
+  } catch (const Error& e) {
+    throw Error(fmt::format("--size-distribution {}", e.what()));
   }
-  if (name == "marshall-palmer") {
-    if (colon == std::string::npos || !(value > 0 && value <= 1000)) throw fail("H must be in (0, 1000] mm/h");
-    const auto d = scatter::SizeDistribution::marshall_palmer(value);
+  if (spec.kind == SizeDistributionKind::marshall_palmer) {
+    const auto d = scatter::SizeDistribution::marshall_palmer(spec.parameter);
     return {d.quadrature(a.nodes, kRainMinRadiusUm * 1e-6, kRainMaxRadiusUm * 1e-6),
-            fmt::format("Marshall-Palmer rain, {:g} mm/h, radii {:g}-{:g} um", value, kRainMinRadiusUm,
+            fmt::format("Marshall-Palmer rain, {:g} mm/h, radii {:g}-{:g} um", spec.parameter, kRainMinRadiusUm,
                         kRainMaxRadiusUm)};
   }
   if (!a.radius_um) throw Error("--radius-um is required (the mean radius for gamma and lognormal)");
   const double r = *a.radius_um * 1e-6;
-  if (name == "mono" && colon == std::string::npos)
+  if (spec.kind == SizeDistributionKind::monodisperse)
     return {scatter::SizeDistribution::monodisperse(r).quadrature(1), fmt::format("radius {:g} um", *a.radius_um)};
-  if ((name == "gamma" || name == "lognormal") && colon != std::string::npos) {
-    if (!(value > 0 && value <= 1)) throw fail("W must be in (0, 1]");
-    const auto d = name == "gamma" ? scatter::SizeDistribution::gamma(r, value)
-                                   : scatter::SizeDistribution::log_normal(r, value);
-    // Gauss-Legendre over a range holding the number and r^4-weighted tails: Mie intensities
-    // oscillate in r, which a range rule with enough nodes resolves (a Gaussian rule of n(r) would
-    // alias).
-    return {scatter::intensity_quadrature(d, a.nodes),
-            fmt::format("{} distribution, mean radius {:g} um, relative width {:g}, {} radii", name, *a.radius_um,
-                        value, a.nodes)};
-  }
-  throw fail("unknown distribution");
+  const bool gamma = spec.kind == SizeDistributionKind::gamma;
+  const auto d = gamma ? scatter::SizeDistribution::gamma(r, spec.parameter)
+                       : scatter::SizeDistribution::log_normal(r, spec.parameter);
+  // Gauss-Legendre over a range holding the number and r^4-weighted tails: Mie intensities
+  // oscillate in r, which a range rule with enough nodes resolves (a Gaussian rule of n(r) would
+  // alias).
+  return {scatter::intensity_quadrature(d, a.nodes),
+          fmt::format("{} distribution, mean radius {:g} um, relative width {:g}, {} radii",
+                      gamma ? "gamma" : "lognormal", *a.radius_um, spec.parameter, a.nodes)};
 }
 int run_phase(const PhaseArgs& a) {
   scatter::Theory theory;
@@ -87,8 +72,9 @@ int run_phase(const PhaseArgs& a) {
   } catch (const UnknownNameError& e) {
     throw UnknownNameError(fmt::format("--theory: {}", e.what()));
   }
-  const auto sphere = optics::find_medium(a.medium);
-  const auto outside = optics::find_medium(a.surrounding);
+  const auto sphere = medium_flag("--medium", a.medium);
+  const auto outside = medium_flag("--surrounding", a.surrounding);
+  check_temperature_flag(a.temperature_c, {sphere.get(), outside.get()});
   const auto angles = parse_angles_deg(a.angles, "--angles-deg");
   std::vector<double> theta(angles.size());
   for (std::size_t i = 0; i < theta.size(); ++i) theta[i] = deg_to_rad(angles[i]);
@@ -144,24 +130,26 @@ Command add_phase(CLI::App& app) {
                   "Drop radius (the mean radius with gamma or lognormal), micrometres")
       ->check(positive_number(1e6, "um"));
   sub->add_option("--size-distribution", args->distribution,
-                  "mono, gamma:W or lognormal:W (relative width W in (0, 1] around --radius-um), or "
-                  "marshall-palmer:H (rain of H mm/h, radii 50-3000 um)")
+                  "mono, gamma:W or lognormal:W (relative width W in [0.0001, 1] around --radius-um), or "
+                  "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um)")
       ->capture_default_str();
   sub->add_option("--nodes", args->nodes,
                   "Radii in the size average (Gauss-Legendre); Mie ripple needs them about lambda/10 apart")
-      ->check(number_in(1, 4096))
+      ->transform(integer_in(1, 4096))
       ->capture_default_str();
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")
       ->required()
       ->check(positive_number(1e6, "nm"));
   sub->add_option("--medium", args->medium, "Drop medium (see hydrolux ior --list)")->capture_default_str();
   sub->add_option("--surrounding", args->surrounding, "Surrounding medium")->capture_default_str();
-  sub->add_option("--temperature-c", args->temperature_c, "Temperature, Celsius")->check(number_in(-273.15, 1000, "C"));
+  sub->add_option("--temperature-c", args->temperature_c,
+                  "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither "
+                  "medium does")->check(number_in(-273.15, 1000, "C"));
   sub->add_option("--angles-deg", args->angles,
                   "Scattering angles, degrees (0 = forward): A:B:N or a list 0,10,90")
       ->capture_default_str();
   sub->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
-      ->check(number_in(0, 1024))
+      ->transform(integer_in(0, 1024))
       ->capture_default_str();
   sub->add_flag("--csv", args->csv, "Comma-separated output with a header row: theta_deg,i1,i2,i");
   sub->add_flag("-q,--quiet", args->quiet, "No progress on stderr");

@@ -1,18 +1,29 @@
 #pragma once
-// Shared pieces of the hydrolux CLI: how subcommands register, input validators that produce the
-// one-line "flag, value, valid range" errors, and how library errors become exit code 2.
+// Shared pieces of the hydrolux CLI: how subcommands register, the validators that give the
+// one-line "flag, value, valid range" errors, the media and temperature flags, and image files
+// read and written through the library's one safe path (io/files.hpp).
 #include <CLI/CLI.hpp>
 
 #include <complex>
 #include <functional>
-#include <vector>
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
+
+#include "hydrolux/core/image.hpp"
+#include "hydrolux/io/files.hpp"
+#include "hydrolux/io/image_io.hpp"
+
+namespace hydrolux::optics {
+class Medium;
+}
 
 namespace hydrolux::cli {
 
-inline constexpr int kExitUsage = 2;     // bad input: flag, value or file
-inline constexpr int kExitInternal = 1;  // a bug or an unexpected failure
+inline constexpr int kExitUsage = 2;     // bad input: a flag, a value or a file; nothing written
+inline constexpr int kExitFailure = 1;   // the system failed midway (full disk), or a bug
 
 // A subcommand's action, run after parsing. Returns the exit code.
 using Action = std::function<int()>;
@@ -24,6 +35,11 @@ struct Command {
   // Library DomainError quantities ("wavelength_nm") -> the flag that set them ("--wavelength-nm").
   std::map<std::string, std::string> flags_for_quantity;
 };
+
+// Every subcommand, registered on `app` (main.cpp; tests walk the same tree).
+std::vector<Command> add_all_commands(CLI::App& app);
+// Runs the CLI: parse, dispatch, errors to exit codes. Installs the signal handling first.
+int run_cli(int argc, char** argv);
 
 Command add_fresnel(CLI::App& app);
 Command add_ior(CLI::App& app);
@@ -37,22 +53,52 @@ Command add_drop_render(CLI::App& drop);
 Command add_drop_undistort(CLI::App& drop);
 Command add_rainphys(CLI::App& app);
 
-// A finite number in [lo, hi] (unit printed in help and errors, e.g. "deg"). Rejects NaN, inf and
-// non-numeric text with the valid range in the message.
+// ---- validators: each gives "'<value>' ... valid range [lo, hi] <unit>" ----
+
+// A finite number in [lo, hi]. Rejects NaN, inf and non-numeric text.
 CLI::Validator number_in(double lo, double hi, const std::string& unit = {});
 // A finite number > 0 (at most `hi`).
 CLI::Validator positive_number(double hi, const std::string& unit = {});
+// A whole number in [lo, hi]. Attach it with ->transform(), not ->check(): "1e3" is accepted and
+// rewritten to "1000" for CLI11's integer conversion, which only a transform may do.
+CLI::Validator integer_in(long long lo, long long hi, const std::string& unit = {});
 
-// "1.333", "1.333+1e-8i", "1.333-0i": a complex number; throws hydrolux::Error naming `flag`.
+// ---- text forms, naming the flag in their errors (hydrolux::Error) ----
+
+// "1.333", "1.333+1e-8i": a complex number.
 std::complex<double> parse_complex(const std::string& text, const std::string& flag);
-
-// Scattering angles in degrees: "A:B:N" (N evenly spaced values from A to B inclusive) or a
-// comma-separated list "0,10,90"; each in [0, 180], N in [1, 1e6]. Throws hydrolux::Error
-// naming `flag`.
+// Scattering angles in degrees: "A:B:N" or "0,10,90"; each in [0, 180], N in [1, 1e6].
 std::vector<double> parse_angles_deg(const std::string& text, const std::string& flag);
 
-// Checks an output image path before any work is done: the extension must be .png or .exr (returned
-// lower-case, with the dot) and the parent directory must exist. Throws hydrolux::Error naming `flag`.
-std::string output_image_extension(const std::string& path, const std::string& flag);
+// ---- media ----
+
+// The medium named on `flag`; an unknown name is an error naming the flag and the valid names.
+std::shared_ptr<const optics::Medium> medium_flag(const std::string& flag, const std::string& name);
+// A --temperature-c given for `media`: at least one of them must model temperature (the error
+// names those that do), and the value must lie in each such medium's range.
+void check_temperature_flag(const std::optional<double>& temperature_c,
+                            const std::vector<const optics::Medium*>& media);
+
+// ---- files ----
+
+// The name of the running command ("hydrolux drop render"), for warnings.
+void set_program_name(std::string name);
+const std::string& program_name();
+// One line on stderr: "<program>: warning: <text>".
+void warn(const std::string& text);
+
+// An image output declared in a FileSet: where it goes and in which format.
+struct ImageOutput {
+  io::OutputFile* file;
+  io::ImageFormat format;
+};
+// Declares an image output in `files`: the extension must be .png or .exr; the output is reserved
+// (its folder exists and takes a file; it is not an input).
+ImageOutput declare_output_image(io::FileSet& files, const std::string& flag, const std::string& path);
+// Reads an image declared as an input: the bytes through the library's checked reader, decoded by
+// the image plugin; the codec's warnings become one warning line each.
+Image read_input_image(const std::string& flag, const std::string& path);
+// Encodes an image (the plugin's encoder) into a declared output; committed with the FileSet.
+void write_output_image(const ImageOutput& out, const Image& image);
 
 }  // namespace hydrolux::cli

@@ -1,12 +1,18 @@
 #pragma once
-// Image files and the gallery for the CLI, through a plugin loaded on first use.
+// Image coding and the gallery for the CLI, through a plugin loaded on first use.
 //
 // OpenImageIO brings ~260 shared libraries that take ~0.35 s to load. Linked into the tool, every
 // command would pay that at start-up, `hydrolux fresnel` included; loaded with dlopen from
 // libhydrolux_image_plugin.so (built beside the executable) only the commands that read or write
 // images, or render the gallery, pay it, once. The plugin is built from the same sources and
 // compiler as the tool, so C++ types and exceptions cross the boundary unchanged.
-#include <filesystem>
+//
+// The plugin only encodes and decodes bytes in memory and renders figures: every file is read and
+// written by the tool itself through io/files.hpp, so the tool's one registry of pending outputs
+// sees them all and its Ctrl-C handler removes them (the plugin holds its own copy of the static
+// libraries, whose registry would be invisible to the tool).
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "hydrolux/core/image.hpp"
@@ -17,13 +23,13 @@
 namespace hydrolux::cli {
 
 struct ImageApi {
-  Image (*read_image)(const std::filesystem::path& path);
-  void (*write_image)(const std::filesystem::path& path, const Image& image, io::PngOptions png);
-  std::vector<gallery::Figure> (*write_gallery)(const std::filesystem::path& dir, const ProgressFn& progress);
+  io::DecodedImage (*decode_image)(std::string_view bytes, std::string_view origin, const io::ImageLimits& limits);
+  std::string (*encode_image)(const Image& image, io::ImageFormat format, io::PngOptions png);
+  std::vector<gallery::Figure> (*render_gallery)(const gallery::FigureSink& sink, const ProgressFn& progress);
 };
 
 // The plugin's entry point, `extern "C"` so that its name is not mangled.
-inline constexpr const char* kImagePluginSymbol = "hydrolux_image_api_v1";
+inline constexpr const char* kImagePluginSymbol = "hydrolux_image_api_v2";
 inline constexpr const char* kImagePluginFile = "libhydrolux_image_plugin.so";
 
 // Loads the plugin (once; thread-safe) from the directory of the running executable. Throws

@@ -39,8 +39,18 @@ class UnknownNameError : public Error {
   using Error::Error;
 };
 
-// A file that cannot be read or written, or whose content is malformed.
+// A file the caller named that cannot be used: missing, not a regular file, unreadable, malformed or
+// too large to read; an output whose folder does not exist or is not writable, or that is the same
+// file as an input. Found before any output is replaced; the CLI exits 2.
 class IoError : public Error {
+ public:
+  using Error::Error;
+};
+
+// The operating system failed an operation that should have worked: a full disk, a quota, a
+// file-size limit, an I/O error, a rename refused. The message names the path and the OS error;
+// no output was replaced and no temporary file is left. The CLI exits 1.
+class IoFailure : public Error {
  public:
   using Error::Error;
 };

@@ -1,23 +1,81 @@
 #pragma once
-// Image files through OpenImageIO. Two formats are written:
-//   .exr  linear float (scene-referred), written as 32-bit float
-//   .png  display-referred: the sRGB curve is applied and values are quantised to 8 or 16 bits
-// Reading returns linear values: EXR as stored; 8/16-bit formats (PNG, JPEG, TIFF, ...) are
-// assumed sRGB-encoded and decoded. Errors (missing or unreadable file, unknown extension) throw
-// IoError with the path in the message.
+// Image files through OpenImageIO, in memory: the bytes are read and written by io/files.hpp (only
+// regular files, atomic checked writes), and OpenImageIO only encodes and decodes.
+//
+// Written: .exr linear float (scene-referred), 32-bit float, zip-compressed; .png display-referred,
+// the sRGB curve applied and quantised to 8 or 16 bits. Both are deterministic: the same image gives
+// the same bytes (no time stamp: OpenImageIO's EXR DateTime/capDate is written empty).
+// Read: PNG, OpenEXR, Radiance HDR, PNM (PBM/PGM/PPM/PFM), JPEG and TIFF, told apart by their first
+// bytes (never by probing every reader). EXR, HDR and PFM are linear; 8- and 16-bit formats are
+// taken as sRGB-encoded and decoded to linear (alpha stays linear).
+//
+// A header is never trusted: width x height x channels is checked against ImageLimits, and for
+// the formats whose compression has a known maximum ratio (PNG, PNM, HDR, JPEG) against the size
+// of the file, before any pixel memory is allocated. Messages the codec libraries print on stderr
+// (libpng's "libpng error: ...") are captured during decoding: they become part of the one-line
+// error, or a warning returned with the image.
+#include <cstdint>
 #include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "hydrolux/core/image.hpp"
+#include "hydrolux/io/files.hpp"
 
 namespace hydrolux::io {
+
+enum class ImageFormat { png, exr, hdr, pnm, jpeg, tiff };
+
+std::string_view format_name(ImageFormat f);
 
 struct PngOptions {
   int bits = 8;  // 8 or 16
 };
 
-Image read_image(const std::filesystem::path& path);
+// What a decoded image may claim. The defaults take a 16384 x 16384 RGBA image (4 GiB as float),
+// about the largest a 24 GiB machine decodes comfortably with OpenImageIO's own buffers.
+struct ImageLimits {
+  std::int64_t max_side = 65536;                    // width or height, pixels
+  std::int64_t max_pixels = std::int64_t(1) << 28;  // width x height: 268 million
+  std::int64_t max_values = std::int64_t(1) << 30;  // width x height x channels: 4 GiB as float
+  int max_channels = 16;
+  std::uint64_t max_file_bytes = kMaxInputBytes;
+};
 
-// Writes by extension (.exr or .png), atomically (see files.hpp).
+struct DecodedImage {
+  Image image;
+  ImageFormat format = ImageFormat::png;
+  std::vector<std::string> warnings;  // what the codec said on a successful decode, one line each
+};
+
+// The format from the first bytes: PNG, EXR, Radiance HDR (#?RADIANCE / #?RGBE), PNM (P1-P6,
+// Pf/PF), JPEG, TIFF; nullopt otherwise.
+std::optional<ImageFormat> sniff_image_format(std::string_view bytes);
+
+// Decodes an image held in memory. `origin` names it in errors. Throws IoError for an unknown
+// format, a header claiming more than `limits` or more than the bytes can hold, or malformed or
+// truncated data; the message is one line.
+DecodedImage decode_image(std::string_view bytes, std::string_view origin, const ImageLimits& limits = {});
+
+// The smallest number of bytes a file of this format can encode width x height x channels values
+// of `bits` bits in (0 where the format's compression has no useful bound: EXR, TIFF). `pnm_magic`
+// is the PNM sub-format ('1'..'6', 'f', 'F').
+std::uint64_t min_encoded_bytes(ImageFormat f, std::int64_t width, std::int64_t height, int channels, int bits,
+                                char pnm_magic = '6');
+
+// Encodes to PNG or EXR bytes (IoError for other formats or an inconsistent image).
+std::string encode_image(const Image& image, ImageFormat format, PngOptions png = {});
+
+// The format an output file name asks for: .png or .exr (any case). Throws IoError naming
+// `label` and the path otherwise.
+ImageFormat output_image_format(const std::filesystem::path& path, std::string_view label = {});
+
+// read_file + decode_image; warnings are dropped (use decode_image to see them).
+Image read_image(const std::filesystem::path& path, const ImageLimits& limits = {}, std::string_view label = {});
+
+// encode_image + write_file: checked and atomic (files.hpp).
 void write_image(const std::filesystem::path& path, const Image& image, PngOptions png = {});
 
 }  // namespace hydrolux::io

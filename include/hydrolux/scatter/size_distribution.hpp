@@ -30,6 +30,7 @@
 //   a truncated range (physical drop sizes) and dense nodes for integrands that oscillate with r,
 //   as Mie intensities do.
 #include <cstddef>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -45,9 +46,11 @@ struct RadiusQuadrature {
 enum class SizeDistributionKind { monodisperse, gamma, log_normal, marshall_palmer };
 
 // Valid domain (DomainError outside): radii in (0, 1] m (mean_radius_m, radius_m), relative widths
-// in (0, 1], number concentrations in (0, 1e30] m^-3, rain rates in (0, 1000] mm/h, N0 in (0, 1e12]
-// m^-4, quadrature nodes in [1, 4096].
+// in [1e-4, 1] (narrower is monodisperse to 1e-8 in any average a drop's optics can resolve: use
+// monodisperse), number concentrations in (0, 1e30] m^-3, rain rates in (0, 1000] mm/h, N0 in
+// (0, 1e12] m^-4, quadrature nodes in [1, 4096].
 inline constexpr int kMaxQuadratureNodes = 4096;
+inline constexpr double kMinRelativeWidth = 1e-4;
 
 class SizeDistribution {
  public:
@@ -94,6 +97,17 @@ class SizeDistribution {
   double mu_ = 0, s_ = 0;        // log-normal
   double lambda_ = 0, n0_ = 0;   // Marshall-Palmer
 };
+
+// A distribution written as text: "mono", "gamma:W", "lognormal:W" (W the relative width,
+// sigma_r / <r>, in [1e-4, 1]) or "marshall-palmer:H" (H the rain rate in [0.01, 1000] mm/h; 0.01 is
+// a trace of drizzle). The mean radius comes separately.
+struct SizeDistributionSpec {
+  SizeDistributionKind kind = SizeDistributionKind::monodisperse;
+  double parameter = 0;  // W for gamma and log-normal, H for Marshall-Palmer
+};
+inline constexpr double kMinSpecRainRateMmh = 0.01, kMaxSpecRainRateMmh = 1000;
+// Throws hydrolux::Error with the reason and the valid forms (naming no flag).
+SizeDistributionSpec parse_size_distribution(std::string_view text);
 
 // Gauss quadrature from the three-term recurrence of the orthonormal polynomials: nodes are the
 // eigenvalues of the symmetric tridiagonal Jacobi matrix (diagonal a, off-diagonal b, b[k] joining

@@ -1,4 +1,5 @@
-// The CLI's image plugin (see ../image_plugin.hpp): OpenImageIO and the gallery behind one symbol.
+// The CLI's image plugin (see ../image_plugin.hpp): OpenImageIO's codecs and the gallery behind one
+// symbol.
 #include "../image_plugin.hpp"
 
 #include "hydrolux/gallery/gallery.hpp"
@@ -6,19 +7,23 @@
 
 namespace {
 
-hydrolux::Image read(const std::filesystem::path& path) { return hydrolux::io::read_image(path); }
-
-void write(const std::filesystem::path& path, const hydrolux::Image& image, hydrolux::io::PngOptions png) {
-  hydrolux::io::write_image(path, image, png);
+hydrolux::io::DecodedImage decode(std::string_view bytes, std::string_view origin,
+                                  const hydrolux::io::ImageLimits& limits) {
+  return hydrolux::io::decode_image(bytes, origin, limits);
 }
 
-std::vector<hydrolux::gallery::Figure> gallery(const std::filesystem::path& dir, const hydrolux::ProgressFn& progress) {
-  return hydrolux::gallery::write_gallery(dir, progress);
+std::string encode(const hydrolux::Image& image, hydrolux::io::ImageFormat format, hydrolux::io::PngOptions png) {
+  return hydrolux::io::encode_image(image, format, png);
+}
+
+std::vector<hydrolux::gallery::Figure> gallery(const hydrolux::gallery::FigureSink& sink,
+                                               const hydrolux::ProgressFn& progress) {
+  return hydrolux::gallery::render_gallery(sink, progress);
 }
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const hydrolux::cli::ImageApi* hydrolux_image_api_v1() {
-  static const hydrolux::cli::ImageApi api{&read, &write, &gallery};
+extern "C" __attribute__((visibility("default"))) const hydrolux::cli::ImageApi* hydrolux_image_api_v2() {
+  static const hydrolux::cli::ImageApi api{&decode, &encode, &gallery};
   return &api;
 }

@@ -1,0 +1,163 @@
+// The hydrolux CLI as a function: the command tree, parsing, dispatch, exit codes and signals.
+// Exit codes: 0 success; 2 bad input (one line on stderr naming the flag, the value and the valid
+// range; nothing written); 1 the system failed midway (a full disk: one line naming the path and the
+// OS error; no output replaced) or an internal error; 130 / 143 / 129 cancelled by SIGINT / SIGTERM /
+// SIGHUP (unfinished outputs removed, existing files unchanged).
+#include <fmt/format.h>
+#include <pthread.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <new>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "common.hpp"
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/io/files.hpp"
+#include "hydrolux/version.hpp"
+
+namespace hydrolux::cli {
+
+namespace {
+
+const char* signal_name(int sig) {
+  switch (sig) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+  }
+  return "a signal";
+}
+
+// Ctrl-C, SIGTERM and SIGHUP are blocked in every thread (the worker threads TBB and OpenImageIO
+// start later inherit the mask) and taken by one thread waiting in sigwait, which runs ordinary
+// code: it removes every pending temporary output through the library's registry and exits with
+// 128 + the signal. A signal the process was started with ignored (nohup, a background job)
+// stays ignored. SIGXFSZ is ignored so that a file-size limit is a write error (EFBIG) we report,
+// not a crash that leaves a temporary file.
+void install_signal_handling() {
+  std::signal(SIGXFSZ, SIG_IGN);
+  sigset_t set;
+  sigemptyset(&set);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction old {};
+    if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    sigaddset(&set, sig);
+  }
+  ::pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  std::thread([set] {
+    int sig = 0;
+    while (::sigwait(&set, &sig) != 0) {
+    }
+    const std::size_t removed = io::cancel_pending_outputs();
+    fmt::print(stderr, "{}{}: cancelled by {}; {}\n", ::isatty(STDERR_FILENO) ? "\n" : "", program_name(),
+               signal_name(sig),
+               removed ? "unfinished outputs removed, existing files unchanged" : "no output was written");
+    std::fflush(stderr);
+    std::_Exit(128 + sig);
+  }).detach();
+}
+
+// "hydrolux drop render" for the subcommands named at the start of argv (for parse errors, which
+// arrive before CLI11 says which subcommand was parsed).
+std::string program_from_argv(const CLI::App& app, int argc, char** argv) {
+  std::string prog = "hydrolux";
+  const CLI::App* current = &app;
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view arg = argv[i];
+    if (arg.empty() || arg.front() == '-') continue;
+    const CLI::App* next = nullptr;
+    for (const auto* sub : current->get_subcommands([](const CLI::App*) { return true; }))
+      if (sub->get_name() == arg) next = sub;
+    if (!next) break;
+    prog += " " + next->get_name();
+    current = next;
+  }
+  return prog;
+}
+
+}  // namespace
+
+std::vector<Command> add_all_commands(CLI::App& app) {
+  std::vector<Command> commands = {add_fresnel(app), add_ior(app), add_mie(app), add_phase(app)};
+  for (auto& c : add_drop(app)) commands.push_back(std::move(c));
+  commands.push_back(add_rainphys(app));
+  commands.push_back(add_gallery(app));
+  return commands;
+}
+
+int run_cli(int argc, char** argv) {
+  install_signal_handling();
+  CLI::App app{"hydrolux: physically based light transport through water drops.\n"
+               "Units: angles in degrees, wavelengths in vacuum nanometres, temperatures in Celsius.\n"
+               "Exit codes: 0 done; 2 bad input (nothing written); 1 a system failure such as a full disk "
+               "(no output replaced); 130/143 cancelled by Ctrl-C/SIGTERM (unfinished outputs removed).",
+               "hydrolux"};
+  app.set_version_flag("--version", fmt::format("hydrolux {}", kVersion));
+  app.require_subcommand(1);
+  app.allow_extras(false);
+  app.get_formatter()->column_width(34);
+
+  const std::vector<Command> commands = add_all_commands(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string msg = e.what();
+    if (msg.empty()) msg = "invalid arguments";
+    for (char& c : msg)
+      if (c == '\n') c = ' ';
+    const std::string prog = program_from_argv(app, argc, argv);
+    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, msg, prog);
+    return kExitUsage;
+  }
+
+  for (const auto& cmd : commands) {
+    if (!cmd.app->parsed()) continue;
+    std::string prog = cmd.app->get_name();
+    for (auto* p = cmd.app->get_parent(); p && p != &app; p = p->get_parent()) prog = p->get_name() + " " + prog;
+    prog = "hydrolux " + prog;
+    set_program_name(prog);
+    try {
+      const int code = cmd.run();
+      std::cout.flush();
+      if (std::fflush(stdout) != 0 || std::ferror(stdout) || std::cout.fail()) {
+        fmt::print(stderr, "{}: cannot write to standard output\n", prog);
+        return kExitFailure;
+      }
+      return code;
+    } catch (const DomainError& e) {
+      const auto it = cmd.flags_for_quantity.find(e.quantity());
+      if (it != cmd.flags_for_quantity.end())
+        fmt::print(stderr, "{}: {} {:g} is {}\n", prog, it->second, e.value(), e.range_text());
+      else
+        fmt::print(stderr, "{}: {}\n", prog, e.what());
+      return kExitUsage;
+    } catch (const IoFailure& e) {
+      fmt::print(stderr, "{}: {}\n", prog, e.what());
+      return kExitFailure;
+    } catch (const Error& e) {
+      fmt::print(stderr, "{}: {}\n", prog, e.what());
+      return kExitUsage;
+    } catch (const std::bad_alloc&) {
+      fmt::print(stderr, "{}: out of memory\n", prog);
+      return kExitFailure;
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "{}: internal error: {}\n", prog, e.what());
+      return kExitFailure;
+    }
+  }
+  return kExitFailure;  // unreachable: require_subcommand(1)
+}
+
+}  // namespace hydrolux::cli
