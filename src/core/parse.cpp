@@ -13,7 +13,8 @@ std::optional<double> number(std::string_view s) {
   const char* first = s.data();
   const char* last = s.data() + s.size();
   if (first != last && *first == '+') ++first;
-  if (first == last || *first == '+' || *first == ' ') return std::nullopt;
+  if (first != s.data() && first != last && *first == '-') return std::nullopt;  // "+-1"
+  if (first == last || *first == '+') return std::nullopt;
   double v = 0;
   const auto [ptr, ec] = std::from_chars(first, last, v, std::chars_format::general);
   if (ec != std::errc() || ptr != last || !std::isfinite(v)) return std::nullopt;

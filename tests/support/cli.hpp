@@ -2,9 +2,18 @@
 // Running the built hydrolux CLI from a test: its exit code, stdout and stderr; and the usage-error
 // contract (exit code 2, one line on stderr naming the flag, nothing on stdout). Header-only: the
 // CLI's path comes from each test executable's HYDROLUX_CLI_PATH definition.
+//   run("args")            through the shell (quoting as in a terminal)
+//   run_argv({...}, hook)  without a shell, each argument as given; `hook` runs in the child just
+//                          before exec (set a resource limit, ...): only async-signal-safe calls
+//   spawn / finish         the same, started in the background (to signal it meanwhile)
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <atomic>
+#include <functional>
+#include <vector>
 
 #include <algorithm>
 #include <array>
@@ -63,6 +72,63 @@ inline fs::path temp_dir(const std::string& prefix) {
   const fs::path d = fs::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()));
   fs::create_directories(d);
   return d;
+}
+
+// A CLI process started in the background; its stdout and stderr go to files.
+struct Process {
+  pid_t pid = -1;
+  fs::path out_file, err_file;
+};
+
+inline Process spawn(const std::vector<std::string>& args, const std::function<void()>& hook = {}) {
+  static std::atomic<unsigned> counter{0};
+  const auto stem = fs::temp_directory_path() /
+                    ("hydrolux_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  Process p{-1, stem.string() + ".out", stem.string() + ".err"};
+  std::vector<std::string> argv_text{HYDROLUX_CLI_PATH};
+  argv_text.insert(argv_text.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : argv_text) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string out = p.out_file.string(), err = p.err_file.string();
+  p.pid = ::fork();
+  if (p.pid == 0) {
+    const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    const int in = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+    if (o < 0 || e < 0 || in < 0) ::_exit(126);
+    ::dup2(in, 0);
+    ::dup2(o, 1);
+    ::dup2(e, 2);
+    if (hook) hook();
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  return p;
+}
+
+// Waits for the process; the exit code, or 128 + the signal that ended it.
+inline Result finish(const Process& p) {
+  Result r;
+  int status = 0;
+  while (::waitpid(p.pid, &status, 0) < 0) {
+  }
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  const auto slurp = [](const fs::path& f) {
+    std::ifstream in(f, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  r.out = slurp(p.out_file);
+  r.err = slurp(p.err_file);
+  fs::remove(p.out_file);
+  fs::remove(p.err_file);
+  return r;
+}
+
+inline Result run_argv(const std::vector<std::string>& args, const std::function<void()>& hook = {}) {
+  return finish(spawn(args, hook));
 }
 
 }  // namespace hydrolux::testing

@@ -65,7 +65,7 @@ void install_signal_handling() {
 
 // "hydrolux drop render" for the subcommands named at the start of argv (for parse errors, which
 // arrive before CLI11 says which subcommand was parsed).
-std::string program_from_argv(const CLI::App& app, int argc, char** argv) {
+std::string program_from_argv(const CLI::App& app, int argc, const char* const* argv) {
   std::string prog = "hydrolux";
   const CLI::App* current = &app;
   for (int i = 1; i < argc; ++i) {
@@ -104,20 +104,50 @@ int run_cli(int argc, char** argv) {
   app.get_formatter()->column_width(34);
 
   const std::vector<Command> commands = add_all_commands(app);
+  // "--flag=" (an empty value after '=') becomes "--flag" "": CLI11 would otherwise take the next
+  // argument, another flag, as the value and report a confusing error about something else.
+  std::vector<std::string> split_args;
+  std::vector<const char*> args{argv[0]};
+  split_args.reserve(2 * std::size_t(argc));
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a = argv[i];
+    if (a.size() > 3 && a.substr(0, 2) == "--" && a.find('=') == a.size() - 1) {
+      split_args.emplace_back(a.substr(0, a.size() - 1));
+      split_args.emplace_back();
+    } else {
+      split_args.emplace_back(a);
+    }
+  }
+  for (const auto& a : split_args) args.push_back(a.c_str());
   try {
-    app.parse(argc, argv);
+    app.parse(int(args.size()), args.data());
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::ConversionError& e) {
+    // CLI11's "Could not convert: --json = maybe": say what the option takes instead.
+    const std::string prog = program_from_argv(app, int(args.size()), args.data());
+    std::string msg = e.what();
+    const auto colon = msg.find(": "), eq = msg.find(" = ");
+    if (colon != std::string::npos && eq != std::string::npos && eq > colon) {
+      const std::string name = msg.substr(colon + 2, eq - colon - 2), value = msg.substr(eq + 3);
+      msg = fmt::format("{} '{}': not a value this option takes", name, value);
+      for (const auto& cmd : commands)
+        if (prog == "hydrolux " + cmd.app->get_name() || prog.ends_with(" " + cmd.app->get_name()))
+          if (const auto* opt = cmd.app->get_option_no_throw(name); opt && opt->get_expected_max() == 0)
+            msg = fmt::format("{} '{}': {} is a switch and takes no value; give {} alone", name, value, name, name);
+    }
+    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, msg, prog);
+    return kExitUsage;
   } catch (const CLI::ParseError& e) {
     std::string msg = e.what();
     if (msg.empty()) msg = "invalid arguments";
     for (char& c : msg)
       if (c == '\n') c = ' ';
-    const std::string prog = program_from_argv(app, argc, argv);
+    const std::string prog = program_from_argv(app, int(args.size()), args.data());
     fmt::print(stderr, "{}: {} (see {} --help)\n", prog, msg, prog);
     return kExitUsage;
   }

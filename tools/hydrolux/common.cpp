@@ -48,7 +48,9 @@ CLI::Validator integer_in(long long lo, long long hi, const std::string& unit) {
       [=](std::string& s) -> std::string {
         const auto v = parse::integer(s);
         if (!v) {
-          if (parse::number(s)) return fmt::format("{} is not a whole number; valid range {}", s, range);
+          const auto x = parse::number(s);
+          if (x && *x == std::floor(*x)) return fmt::format("{} is outside the valid range {}", s, range);
+          if (x) return fmt::format("{} is not a whole number; valid range {}", s, range);
           return fmt::format("'{}' is not a whole number; valid range {}", s, range);
         }
         if (*v < lo || *v > hi) return fmt::format("{} is outside the valid range {}", s, range);

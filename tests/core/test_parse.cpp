@@ -1,0 +1,63 @@
+// Strict text-to-number parsing (core/parse.hpp): the whole text or nothing, never NaN or infinity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/parse.hpp"
+
+namespace hydrolux::parse {
+namespace {
+
+TEST(Parse, Numbers) {
+  EXPECT_EQ(number("1.5"), 1.5);
+  EXPECT_EQ(number("+4"), 4.0);
+  EXPECT_EQ(number("-2e-3"), -2e-3);
+  EXPECT_EQ(number(".5"), 0.5);
+  EXPECT_EQ(number("1.5e+2"), 150.0);
+  for (const char* bad : {"", " ", " 1", "1 ", "1,5", "0x10", "inf", "-inf", "nan", "NaN", "infinity", "1e999",
+                          "-1e999", "++1", "+-1", "1.5.2", "abc", "1e", "e5", "\t2", "2\n"})
+    EXPECT_EQ(number(bad), std::nullopt) << "'" << bad << "'";
+  EXPECT_EQ(number("1e-320"), 1e-320);  // subnormal: finite, accepted
+}
+
+TEST(Parse, Integers) {
+  EXPECT_EQ(integer("1024"), 1024);
+  EXPECT_EQ(integer("1e3"), 1000);
+  EXPECT_EQ(integer("-7"), -7);
+  EXPECT_EQ(integer("9007199254740992"), 9007199254740992LL);  // 2^53
+  for (const char* bad : {"1.5", "1e-3", "9007199254740994", "1e30", "abc", "", "nan"})
+    EXPECT_EQ(integer(bad), std::nullopt) << bad;
+}
+
+TEST(Parse, ComplexNumbers) {
+  EXPECT_EQ(complex_number("1.333"), std::complex<double>(1.333, 0));
+  EXPECT_EQ(complex_number("1.333+1e-8i"), std::complex<double>(1.333, 1e-8));
+  EXPECT_EQ(complex_number("1.333-0.5i"), std::complex<double>(1.333, -0.5));
+  EXPECT_EQ(complex_number("1.5e+2+3e-2i"), std::complex<double>(150, 0.03));
+  EXPECT_EQ(complex_number("-1-2i"), std::complex<double>(-1, -2));
+  for (const char* bad : {"", "i", "1+i", "1.333+", "1.333i", "+i", "1+-2i", "1++2i", "1+2j", "nan+1i", "1+infi",
+                          "1e999+1i"})
+    EXPECT_EQ(complex_number(bad), std::nullopt) << bad;
+}
+
+TEST(Parse, Pairs) {
+  EXPECT_EQ(pair("256,240.5", ','), (std::array<double, 2>{256, 240.5}));
+  EXPECT_EQ(pair("640x480", 'x'), (std::array<double, 2>{640, 480}));
+  EXPECT_EQ(pair("640X480", 'x'), (std::array<double, 2>{640, 480}));
+  for (const char* bad : {"", "640", "640x", "x480", "640x480x2", "a,b", "1,,2"})
+    EXPECT_EQ(pair(bad, bad[0] && std::string(bad).find(',') != std::string::npos ? ',' : 'x'), std::nullopt) << bad;
+}
+
+TEST(Parse, RangesAndLists) {
+  EXPECT_EQ(range_or_list("0:180:3", 0, 180, 10), (std::vector<double>{0, 90, 180}));
+  EXPECT_EQ(range_or_list("5:5:1", 0, 180, 10), (std::vector<double>{5}));
+  EXPECT_EQ(range_or_list("0,10,90", 0, 180, 10), (std::vector<double>{0, 10, 90}));
+  EXPECT_EQ(range_or_list("1e3:0:2", 0, 1e3, 10), (std::vector<double>{1000, 0}));
+  for (const char* bad : {"", "0:180", "0:180:0", "0:180:11", "0:180:2.5", "0:200:3", "1,2,", ",1", "0:1:2:3",
+                          "a:b:3", "1,2,3,4,5,6,7,8,9,10,11", "-1,0"})
+    EXPECT_THROW((void)range_or_list(bad, 0, 180, 10), Error) << bad;
+}
+
+}  // namespace
+}  // namespace hydrolux::parse
