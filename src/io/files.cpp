@@ -102,10 +102,20 @@ Registry& registry() {
   return *r;
 }
 
-void track(const fs::path& p, bool folder) {
+// Creates a temporary file (or folder) and lists it, both under the registry's lock, so that a
+// cancellation either sees it listed or stops it being created: none can appear after a cancel.
+// Returns the new file's descriptor (0 for a folder), or -1 with errno set (ECANCELED once
+// cancelled).
+int create_tracked(const fs::path& p, bool folder) {
   auto& r = registry();
   std::lock_guard lock(r.mutex);
-  r.pending.emplace_back(p, folder);
+  if (r.cancelled) {
+    errno = ECANCELED;
+    return -1;
+  }
+  const int fd = folder ? ::mkdir(p.c_str(), 0777) : open_exclusive(p);
+  if (fd >= 0) r.pending.emplace_back(p, folder);
+  return fd;
 }
 
 void untrack_locked(Registry& r, const fs::path& p) {
@@ -130,12 +140,13 @@ void probe_folder(const fs::path& target, std::string_view label) {
   if (!S_ISDIR(st.st_mode))
     throw IoError(fmt::format("{}: '{}' is not a folder", describe(label, target), folder.string()));
   const fs::path probe = temporary_sibling(target);
-  const int fd = open_exclusive(probe);
+  const int fd = create_tracked(probe, false);
   if (fd < 0)
     throw IoError(fmt::format("{}: cannot create a file in the folder '{}': {}", describe(label, target),
                               folder.string(), os_error(errno)));
   ::close(fd);
   ::unlink(probe.c_str());
+  untrack(probe);
 }
 
 }  // namespace
@@ -229,11 +240,9 @@ struct OutputFile::State {
   void open_temporary() {
     for (int attempt = 0; attempt < 100; ++attempt) {
       temporary = temporary_sibling(destination);
-      track(temporary, false);
-      fd = open_exclusive(temporary);
+      fd = create_tracked(temporary, false);
       if (fd >= 0) break;
       const int err = errno;
-      untrack(temporary);
       temporary.clear();
       if (err != EEXIST) fail("creating the temporary file", err);
     }
@@ -362,12 +371,10 @@ OutputDirectory::OutputDirectory(fs::path target, std::string label) : s_(std::m
   if (ec) throw IoError(fmt::format("{}: cannot create the folder '{}': {}", s_->name(), parent.string(), ec.message()));
   for (int attempt = 0; attempt < 100 && s_->staging.empty(); ++attempt) {
     const fs::path staging = temporary_sibling(s_->target);
-    track(staging, true);
-    if (::mkdir(staging.c_str(), 0777) == 0) {
+    if (create_tracked(staging, true) == 0) {
       s_->staging = staging;
     } else {
       const int err = errno;
-      untrack(staging);
       if (err != EEXIST)
         throw IoError(fmt::format("{}: cannot create a folder in '{}': {}", s_->name(), parent.string(), os_error(err)));
     }
@@ -390,8 +397,19 @@ void OutputDirectory::write(const std::string& name, std::string_view bytes) {
   if (s_->committed || s_->staging.empty()) throw IoFailure(fmt::format("{}: the folder was already committed", s_->name()));
   const fs::path file = s_->staging / name;
   int fd;
-  do fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOCTTY, 0666);
-  while (fd < 0 && errno == EINTR);
+  {
+    // Under the registry's lock: a cancellation removing the staging folder never races a file
+    // being created in it.
+    auto& r = registry();
+    std::lock_guard lock(r.mutex);
+    if (r.cancelled) {
+      fd = -1;
+      errno = ECANCELED;
+    } else {
+      do fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOCTTY, 0666);
+      while (fd < 0 && errno == EINTR);
+    }
+  }
   int err = fd < 0 ? errno : write_all(fd, bytes);
   if (!err) err = sync_fd(fd);
   if (fd >= 0 && ::close(fd) != 0 && !err) err = errno;
