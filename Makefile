@@ -8,7 +8,20 @@ GALLERY_DIR ?= out/gallery
 # Warnings are errors in CI (CI=true), plain warnings elsewhere.
 WERROR ?= $(if $(CI),ON,OFF)
 
-.PHONY: all build deps configure demo test bench clean
+# The sanitizer build (clang, AddressSanitizer + UndefinedBehaviorSanitizer, libFuzzer coverage):
+# one build folder serves make test-sanitize and the fuzz targets (cmake/Sanitize.cmake).
+SAN_DIR ?= build-sanitize
+SAN_CC ?= clang-16
+SAN_CXX ?= clang++-16
+FUZZ_SECONDS ?= 300
+FUZZ_SMOKE_SECONDS ?= 10
+# Any sanitizer report fails the run; leaks too (fuzz/lsan.supp: known leaks in system libraries).
+SAN_ENV = ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+          LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp \
+          UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+          $(if $(wildcard /usr/bin/llvm-symbolizer),ASAN_SYMBOLIZER_PATH=/usr/bin/llvm-symbolizer)
+
+.PHONY: all build deps configure demo test bench clean sanitize-build fuzz-build fuzz-smoke test-sanitize fuzz
 
 all: build
 
@@ -27,13 +40,45 @@ demo: deps
 	@$(MAKE) --no-print-directory build
 	$(BUILD_DIR)/bin/hydrolux gallery -o $(GALLERY_DIR)
 
+# Every test through ctest, then a short run of each fuzz target (FUZZ_SMOKE_SECONDS each).
 test: deps
 	@$(MAKE) --no-print-directory build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	@$(MAKE) --no-print-directory fuzz-smoke
+
+$(SAN_DIR)/build.ninja:
+	CC=$(SAN_CC) CXX=$(SAN_CXX) cmake -S . -B $(SAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Sanitize \
+	  -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g" -DHYDROLUX_FUZZ=ON -DHYDROLUX_BUILD_BENCH=OFF \
+	  -DHYDROLUX_FUZZ_SMOKE_SECONDS=$(FUZZ_SMOKE_SECONDS)
+
+fuzz-build: $(SAN_DIR)/build.ninja
+	cmake --build $(SAN_DIR) -j $(JOBS) --target fuzzers
+
+fuzz-smoke: fuzz-build
+	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L fuzz
+
+sanitize-build: $(SAN_DIR)/build.ninja
+	cmake --build $(SAN_DIR) -j $(JOBS)
+
+# The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (the CLI it drives too).
+test-sanitize: deps
+	@$(MAKE) --no-print-directory sanitize-build
+	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -LE fuzz
+
+# Each fuzz target for FUZZ_SECONDS on a scratch copy of its seed corpus; findings go to
+# $(SAN_DIR)/fuzz-runs/<target>/findings/.
+fuzz: deps
+	@$(MAKE) --no-print-directory fuzz-build
+	@mkdir -p $(SAN_DIR)/fuzz-runs; for b in $(SAN_DIR)/bin/fuzz_*; do \
+	  n=$$(basename $$b); echo "== $$n for $(FUZZ_SECONDS) s"; \
+	  if $(SAN_ENV) fuzz/run_fuzzer.sh $$b fuzz/corpus/$${n#fuzz_} $(FUZZ_SECONDS) $(SAN_DIR)/fuzz-runs \
+	       > $(SAN_DIR)/fuzz-runs/$$n.log 2>&1; then tail -n 4 $(SAN_DIR)/fuzz-runs/$$n.log; \
+	  else tail -n 40 $(SAN_DIR)/fuzz-runs/$$n.log; echo "$$n: FINDING (see $(SAN_DIR)/fuzz-runs/$$n)"; exit 1; fi; \
+	done
 
 bench: deps
 	@$(MAKE) --no-print-directory build
 	@for b in $(BUILD_DIR)/bin/bench_*; do echo "== $$b"; $$b; done
 
 clean:
-	rm -rf $(BUILD_DIR)
+	rm -rf $(BUILD_DIR) $(SAN_DIR)

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -84,8 +85,12 @@ std::vector<double> range_or_list(std::string_view text, double lo, double hi, s
       throw Error(fmt::format("N must be a whole number in [1, {}]", max_count));
     const auto count = static_cast<std::size_t>(*n);
     out.reserve(count);
+    // std::lerp is exact at both ends, monotonic and never overflows (a + (b - a) t rounded 180 to
+    // 180.00000000000003 and 0 to -5.6e-17, outside [lo, hi]: found by fuzz_numbers); the clamp
+    // keeps every value between A and B whatever the rounding.
+    const double low = std::min(a, b), high = std::max(a, b);
     for (std::size_t i = 0; i < count; ++i)
-      out.push_back(count == 1 ? a : a + (b - a) * double(i) / double(count - 1));
+      out.push_back(count == 1 ? a : std::clamp(std::lerp(a, b, double(i) / double(count - 1)), low, high));
     return out;
   }
   std::size_t start = 0;

@@ -91,4 +91,26 @@ ImageFormat output_image_format(const fs::path& path, std::string_view label) {
                             path.string() + (label.empty() ? "'" : "")));
 }
 
+std::string png_structure_problem(std::string_view b) {
+  constexpr std::size_t kSignature = 8;
+  if (b.size() < kSignature) return "the file ends inside the PNG signature";
+  std::size_t pos = kSignature;
+  bool first = true;
+  while (true) {
+    if (b.size() - pos < 8) return pos == b.size() ? "the file ends before the IEND chunk" : "the file ends inside a chunk header";
+    const auto u = [&](std::size_t i) { return std::uint32_t(static_cast<unsigned char>(b[pos + i])); };
+    const std::uint32_t length = u(0) << 24 | u(1) << 16 | u(2) << 8 | u(3);
+    std::string type(b.substr(pos + 4, 4));
+    for (char& c : type)
+      if (!std::isalpha(static_cast<unsigned char>(c))) c = '?';
+    if (length > 0x7fffffffu) return fmt::format("the {} chunk claims {} bytes, more than PNG allows", type, length);
+    if (first && type != "IHDR") return "the first chunk is not IHDR";
+    first = false;
+    if (b.size() - pos - 8 < std::uint64_t(length) + 4)
+      return fmt::format("the file ends inside the {} chunk (it claims {} bytes)", type, length);
+    pos += 8 + std::size_t(length) + 4;
+    if (type == "IEND") return {};
+  }
+}
+
 }  // namespace hydrolux::io

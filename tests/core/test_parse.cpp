@@ -54,6 +54,12 @@ TEST(Parse, RangesAndLists) {
   EXPECT_EQ(range_or_list("5:5:1", 0, 180, 10), (std::vector<double>{5}));
   EXPECT_EQ(range_or_list("0,10,90", 0, 180, 10), (std::vector<double>{0, 10, 90}));
   EXPECT_EQ(range_or_list("1e3:0:2", 0, 1e3, 10), (std::vector<double>{1000, 0}));
+  // Rounding never leaves [A, B] (found by fuzz_numbers: ".4:0:4" gave -5.6e-17 < 0, and
+  // "0.7:180:7" 180.00000000000003 > 180), and huge ends do not overflow to NaN.
+  for (const char* text : {".4:0:4", "0.7:180:7", "0.1:179.9:1000", "180:0:999"})
+    for (double v : range_or_list(text, 0, 180, 1000)) EXPECT_TRUE(v >= 0 && v <= 180) << text << " " << v;
+  EXPECT_EQ(range_or_list("0.7:180:7", 0, 180, 10).back(), 180.0);
+  for (double v : range_or_list("-1e308:1e308:3", -1e308, 1e308, 10)) EXPECT_TRUE(std::isfinite(v));
   for (const char* bad : {"", "0:180", "0:180:0", "0:180:11", "0:180:2.5", "0:200:3", "1,2,", ",1", "0:1:2:3",
                           "a:b:3", "1,2,3,4,5,6,7,8,9,10,11", "-1,0"})
     EXPECT_THROW((void)range_or_list(bad, 0, 180, 10), Error) << bad;

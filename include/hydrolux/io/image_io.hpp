@@ -65,6 +65,11 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
 std::uint64_t min_encoded_bytes(ImageFormat f, std::int64_t width, std::int64_t height, int channels, int bits,
                                 char pnm_magic = '6');
 
+// For PNG, the chunk structure (length, type, data, CRC) walked to the IEND chunk without
+// decompressing anything: an empty string if it is whole, else why not ("the file ends inside the
+// IDAT chunk"). A truncated PNG is refused here with a clear reason, before the codec sees it.
+std::string png_structure_problem(std::string_view bytes);
+
 // Encodes to PNG or EXR bytes (IoError for other formats or an inconsistent image).
 std::string encode_image(const Image& image, ImageFormat format, PngOptions png = {});
 
