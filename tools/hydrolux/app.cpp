@@ -92,6 +92,11 @@ std::vector<Command> add_all_commands(CLI::App& app) {
 }
 
 int run_cli(int argc, char** argv) {
+  // A provisional name for messages (the leading words of argv, "hydrolux drop render"), set before
+  // the signal handling starts: a Ctrl-C may come before the command tree is even built.
+  std::string provisional = "hydrolux";
+  for (int i = 1; i < argc && i <= 2 && argv[i][0] != '-' && argv[i][0] != '\0'; ++i) provisional += std::string(" ") + argv[i];
+  set_program_name(provisional);
   install_signal_handling();
   CLI::App app{"hydrolux: physically based light transport through water drops.\n"
                "Units: angles in degrees, wavelengths in vacuum nanometres, temperatures in Celsius.\n"
@@ -119,6 +124,8 @@ int run_cli(int argc, char** argv) {
     }
   }
   for (const auto& a : split_args) args.push_back(a.c_str());
+  // Named from argv at once: a signal may arrive while the arguments are still being parsed.
+  set_program_name(program_from_argv(app, int(args.size()), args.data()));
   try {
     app.parse(int(args.size()), args.data());
   } catch (const CLI::CallForHelp& e) {

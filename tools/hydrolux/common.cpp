@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/parse.hpp"
@@ -31,9 +32,14 @@ CLI::Validator bounded(double lo, double hi, bool lo_open, const std::string& un
       range);
 }
 
-std::string& program_name_storage() {
-  static std::string name = "hydrolux";
-  return name;
+// The name is read by the signal thread while the main thread may set it: guarded.
+struct ProgramName {
+  std::mutex mutex;
+  std::string name = "hydrolux";
+};
+ProgramName& program_name_storage() {
+  static ProgramName* p = new ProgramName;  // never destroyed: the signal thread may read it at exit
+  return *p;
 }
 
 }  // namespace
@@ -107,8 +113,16 @@ void check_temperature_flag(const std::optional<double>& temperature_c, const st
                           models.find(',') == std::string::npos ? "uses it" : "use it"));
 }
 
-void set_program_name(std::string name) { program_name_storage() = std::move(name); }
-const std::string& program_name() { return program_name_storage(); }
+void set_program_name(std::string name) {
+  auto& p = program_name_storage();
+  std::lock_guard lock(p.mutex);
+  p.name = std::move(name);
+}
+std::string program_name() {
+  auto& p = program_name_storage();
+  std::lock_guard lock(p.mutex);
+  return p.name;
+}
 
 void warn(const std::string& text) { fmt::print(stderr, "{}: warning: {}\n", program_name(), text); }
 

@@ -83,7 +83,7 @@ void check_temperature_flag(const std::optional<double>& temperature_c,
 
 // The name of the running command ("hydrolux drop render"), for warnings.
 void set_program_name(std::string name);
-const std::string& program_name();
+std::string program_name();  // thread-safe: the signal thread reads it
 // One line on stderr: "<program>: warning: <text>".
 void warn(const std::string& text);
 
