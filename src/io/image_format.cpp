@@ -113,4 +113,100 @@ std::string png_structure_problem(std::string_view b) {
   }
 }
 
+std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
+  // Flags in the version field (OpenEXR file layout, "Version Field").
+  constexpr std::uint32_t kTiled = 0x200, kLongNames = 0x400, kNonImage = 0x800, kMultipart = 0x1000;
+  if (b.size() < 8) return "the file ends inside the EXR magic number and version";
+  const auto u32 = [&](std::size_t at) {
+    return std::uint32_t(static_cast<unsigned char>(b[at])) | std::uint32_t(static_cast<unsigned char>(b[at + 1])) << 8 |
+           std::uint32_t(static_cast<unsigned char>(b[at + 2])) << 16 |
+           std::uint32_t(static_cast<unsigned char>(b[at + 3])) << 24;
+  };
+  const auto i32 = [&](std::size_t at) { return std::int32_t(u32(at)); };
+  const std::uint32_t version = u32(4);
+  if ((version & 0xff) != 2) return fmt::format("EXR version {} (hydrolux reads version 2)", version & 0xff);
+  if (version & kNonImage) return "deep (non-image) EXR data is not supported";
+  const std::size_t max_name = (version & kLongNames) ? 255 : 31;
+  std::size_t pos = 8;
+  // A NUL-terminated name of at most max_name characters.
+  const auto read_name = [&](std::string& out) -> std::string {
+    const auto end = b.find('\0', pos);
+    if (end == std::string_view::npos) return "the file ends inside an attribute name";
+    if (end - pos > max_name) return fmt::format("an attribute name longer than {} characters", max_name);
+    out.assign(b.substr(pos, end - pos));
+    pos = end + 1;
+    return {};
+  };
+  std::uint64_t chunks = 0;
+  for (int part = 0;; ++part) {
+    if (part > 0) {  // multipart: the list of headers ends with an empty one
+      if (pos >= b.size()) return "the file ends inside the part headers";
+      if (b[pos] == '\0') {
+        ++pos;
+        break;
+      }
+    }
+    if (part >= 1024) return "more than 1024 parts";
+    bool have_window = false, tiled = (version & kTiled) != 0;
+    std::int64_t w = 0, h = 0;
+    std::uint32_t tile_x = 0, tile_y = 0;
+    int compression = 0;
+    std::int64_t chunk_count = -1;
+    for (int attributes = 0;; ++attributes) {
+      std::string name, type;
+      if (auto e = read_name(name); !e.empty()) return e;
+      if (name.empty()) break;
+      if (attributes >= 4096) return "more than 4096 attributes";
+      if (auto e = read_name(type); !e.empty()) return e;
+      if (b.size() - pos < 4) return fmt::format("the file ends inside the size of attribute '{}'", name);
+      const std::int32_t size = i32(pos);
+      pos += 4;
+      if (size < 0 || std::uint64_t(size) > b.size() - pos)
+        return fmt::format("attribute '{}' claims {} bytes, more than the {} left in the file", name, size,
+                           b.size() - pos);
+      if (name == "dataWindow" && type == "box2i" && size == 16) {
+        const std::int64_t xmin = i32(pos), ymin = i32(pos + 4), xmax = i32(pos + 8), ymax = i32(pos + 12);
+        w = xmax - xmin + 1;
+        h = ymax - ymin + 1;
+        have_window = true;
+      } else if (name == "compression" && size == 1) {
+        compression = static_cast<unsigned char>(b[pos]);
+      } else if (name == "tiles" && type == "tiledesc" && size == 9) {
+        tile_x = u32(pos);
+        tile_y = u32(pos + 4);
+        tiled = true;
+      } else if (name == "chunkCount" && type == "int" && size == 4) {
+        chunk_count = i32(pos);
+      } else if (name == "type" && type == "string") {
+        const std::string_view t = b.substr(pos, std::size_t(size));
+        if (t.substr(0, 4) == "deep") return "deep EXR data is not supported";
+      }
+      pos += std::size_t(size);
+    }
+    if (!have_window) return "a part has no dataWindow";
+    if (w < 1 || h < 1) return fmt::format("the data window is {} x {} pixels", w, h);
+    if (w > limits.max_side || h > limits.max_side)
+      return fmt::format("the header claims {} x {} pixels; the limit is {} pixels a side", w, h, limits.max_side);
+    if (w * h > limits.max_pixels)
+      return fmt::format("the header claims {} x {} pixels; the limit is {} pixels", w, h, limits.max_pixels);
+    if (chunk_count >= 0) {
+      chunks += std::uint64_t(chunk_count);
+    } else if (tiled) {
+      if (tile_x == 0 || tile_y == 0) return "a tiled part without a valid tile size";
+      chunks += ceil_div(std::uint64_t(w), tile_x) * ceil_div(std::uint64_t(h), tile_y);
+    } else {
+      // Scan lines per chunk by compression: none, RLE, ZIPS 1; ZIP, PXR24 16; PIZ, B44(A), DWAA 32;
+      // DWAB (and anything newer, counted generously) 256.
+      static constexpr int kLines[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+      const int lines = compression >= 0 && compression < 10 ? kLines[compression] : 256;
+      chunks += ceil_div(std::uint64_t(h), std::uint64_t(lines));
+    }
+    if (!(version & kMultipart)) break;
+  }
+  if (chunks > (b.size() - pos) / 8)
+    return fmt::format("the header asks for {} chunks, whose offset table alone needs {} bytes, but {} are left",
+                       chunks, 8 * chunks, b.size() - pos);
+  return {};
+}
+
 }  // namespace hydrolux::io

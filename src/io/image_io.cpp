@@ -158,6 +158,11 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
     if (const std::string problem = png_structure_problem(bytes); !problem.empty())
       throw fail(fmt::format("truncated or malformed PNG: {}", problem));
 
+  // OpenEXR trusts its header (attribute sizes, the data window's offset table): checked first.
+  if (*format == ImageFormat::exr)
+    if (const std::string problem = exr_header_problem(bytes, limits); !problem.empty())
+      throw fail(fmt::format("malformed or oversized EXR header: {}", problem));
+
   auto in = OIIO::ImageInput::create(oiio_format(*format));
   if (!in) throw codec_failure(OIIO::geterror());
   OIIO::Filesystem::IOMemReader proxy(const_cast<char*>(bytes.data()), bytes.size());

@@ -70,6 +70,14 @@ std::uint64_t min_encoded_bytes(ImageFormat f, std::int64_t width, std::int64_t 
 // IDAT chunk"). A truncated PNG is refused here with a clear reason, before the codec sees it.
 std::string png_structure_problem(std::string_view bytes);
 
+// For OpenEXR, the header (OpenEXR file layout: magic, version and flags, then each part's
+// attributes as name, type, size, value) walked without OpenEXR, which trusts it: OpenEXR 3.1 sizes
+// a string attribute by its declared length (1.8 GB for a 1 kB file, found by fuzz_image) and its
+// chunk offset table by the data window. An empty string if every attribute fits in the file,
+// each part has a data window within `limits`, and the file can hold the offset table of the
+// chunks that window needs (8 bytes a chunk); else why not. Deep (non-image) files are refused.
+std::string exr_header_problem(std::string_view bytes, const ImageLimits& limits);
+
 // Encodes to PNG or EXR bytes (IoError for other formats or an inconsistent image).
 std::string encode_image(const Image& image, ImageFormat format, PngOptions png = {});
 
