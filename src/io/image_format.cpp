@@ -147,7 +147,7 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
       }
     }
     if (part >= 1024) return "more than 1024 parts";
-    bool have_window = false, tiled = (version & kTiled) != 0;
+    bool have_window = false, have_channels = false, tiled = (version & kTiled) != 0;
     std::int64_t w = 0, h = 0;
     std::uint32_t tile_x = 0, tile_y = 0;
     int compression = 0;
@@ -177,6 +177,27 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
         tiled = true;
       } else if (name == "chunkCount" && type == "int" && size == 4) {
         chunk_count = i32(pos);
+      } else if (name == "channels" && type == "chlist") {
+        // name, pixel type (0 uint, 1 half, 2 float), pLinear, 3 reserved, x and y sampling; a
+        // NUL ends the list. OpenImageIO 2.4 aborts on any other pixel type (an assertion left on
+        // in release builds: found by fuzz_image).
+        std::size_t at = pos, end = pos + std::size_t(size), count = 0;
+        while (true) {
+          if (at >= end) return "the channel list is not terminated";
+          if (b[at] == '\0') break;
+          const auto name_end = b.find('\0', at);
+          if (name_end == std::string_view::npos || name_end >= end || end - name_end - 1 < 16)
+            return "a channel entry runs past its attribute";
+          const std::size_t fields = name_end + 1;
+          const std::int32_t pixel_type = i32(fields);
+          if (pixel_type < 0 || pixel_type > 2) return fmt::format("a channel of unknown pixel type {}", pixel_type);
+          if (i32(fields + 8) < 1 || i32(fields + 12) < 1) return "a channel with a sampling rate below 1";
+          at = fields + 16;
+          if (++count > std::size_t(limits.max_channels))
+            return fmt::format("more than {} channels", limits.max_channels);
+        }
+        if (count == 0) return "no channels";
+        have_channels = true;
       } else if (name == "type" && type == "string") {
         const std::string_view t = b.substr(pos, std::size_t(size));
         if (t.substr(0, 4) == "deep") return "deep EXR data is not supported";
@@ -184,6 +205,7 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
       pos += std::size_t(size);
     }
     if (!have_window) return "a part has no dataWindow";
+    if (!have_channels) return "a part has no channel list";
     if (w < 1 || h < 1) return fmt::format("the data window is {} x {} pixels", w, h);
     if (w > limits.max_side || h > limits.max_side)
       return fmt::format("the header claims {} x {} pixels; the limit is {} pixels a side", w, h, limits.max_side);

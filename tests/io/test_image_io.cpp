@@ -246,7 +246,8 @@ TEST(ImageFormats, EveryFormatAndLayoutDecodes) {
       ADD_FAILURE() << good << ": " << e.what();
     }
   }
-  for (const char* bad : {"huge.png", "truncated.png", "exr-huge-string-attribute.exr"})
+  // exr-bad-pixel-type.exr made OpenImageIO 2.4 abort (an assertion on the channel pixel type).
+  for (const char* bad : {"huge.png", "truncated.png", "exr-huge-string-attribute.exr", "exr-bad-pixel-type.exr"})
     EXPECT_THROW((void)decode_image(slurp(dir / bad), bad), IoError) << bad;
 }
 
