@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
+#include <iterator>
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/image_io.hpp"
@@ -21,6 +23,21 @@ std::string lower_extension(const fs::path& p) {
 }
 
 std::uint64_t ceil_div(std::uint64_t a, std::uint64_t b) { return (a + b - 1) / b; }
+
+std::uint32_t be16_at(std::string_view b, std::size_t at) {
+  return std::uint32_t(static_cast<unsigned char>(b[at])) << 8 | std::uint32_t(static_cast<unsigned char>(b[at + 1]));
+}
+
+std::uint32_t be32_at(std::string_view b, std::size_t at) { return be16_at(b, at) << 16 | be16_at(b, at + 2); }
+
+// A width x height claim against the limits; empty if within them.
+std::string size_problem(std::uint64_t w, std::uint64_t h, const ImageLimits& limits) {
+  if (w > std::uint64_t(limits.max_side) || h > std::uint64_t(limits.max_side))
+    return fmt::format("the header claims {} x {} pixels; the limit is {} pixels a side", w, h, limits.max_side);
+  if (w * h > std::uint64_t(limits.max_pixels))
+    return fmt::format("the header claims {} x {} pixels; the limit is {} pixels", w, h, limits.max_pixels);
+  return {};
+}
 
 }  // namespace
 
@@ -55,9 +72,8 @@ std::uint64_t min_encoded_bytes(ImageFormat f, std::int64_t width, std::int64_t 
   switch (f) {
     case ImageFormat::png: {
       // zlib's deflate expands at most 1032:1 (its documented limit); each row is a filter byte
-      // plus its packed samples.
-      const std::uint64_t raw = h * (1 + ceil_div(w * c * std::uint64_t(bits), 8));
-      return raw / 1032;
+      // plus its packed samples (`bits` a sample as stored: 1-16).
+      return (h + w * h * c * std::uint64_t(bits) / 8) / 1032;
     }
     case ImageFormat::pnm:
       switch (pnm_magic) {
@@ -91,26 +107,50 @@ ImageFormat output_image_format(const fs::path& path, std::string_view label) {
                             path.string() + (label.empty() ? "'" : "")));
 }
 
-std::string png_structure_problem(std::string_view b) {
+std::string png_structure_problem(std::string_view b, const ImageLimits& limits) {
   constexpr std::size_t kSignature = 8;
   if (b.size() < kSignature) return "the file ends inside the PNG signature";
   std::size_t pos = kSignature;
   bool first = true;
+  std::uint64_t width = 0, height = 0, bits_per_pixel = 0, idat_bytes = 0;
   while (true) {
     if (b.size() - pos < 8) return pos == b.size() ? "the file ends before the IEND chunk" : "the file ends inside a chunk header";
-    const auto u = [&](std::size_t i) { return std::uint32_t(static_cast<unsigned char>(b[pos + i])); };
-    const std::uint32_t length = u(0) << 24 | u(1) << 16 | u(2) << 8 | u(3);
+    const std::uint32_t length = be32_at(b, pos);
     std::string type(b.substr(pos + 4, 4));
     for (char& c : type)
       if (!std::isalpha(static_cast<unsigned char>(c))) c = '?';
     if (length > 0x7fffffffu) return fmt::format("the {} chunk claims {} bytes, more than PNG allows", type, length);
     if (first && type != "IHDR") return "the first chunk is not IHDR";
-    first = false;
     if (b.size() - pos - 8 < std::uint64_t(length) + 4)
       return fmt::format("the file ends inside the {} chunk (it claims {} bytes)", type, length);
+    if (first) {
+      // IHDR: width, height, bit depth, colour type (0 grey, 2 RGB, 3 palette, 4 grey+alpha, 6 RGBA).
+      if (length != 13) return "the IHDR chunk is not 13 bytes";
+      width = be32_at(b, pos + 8);
+      height = be32_at(b, pos + 12);
+      const int depth = static_cast<unsigned char>(b[pos + 16]), colour = static_cast<unsigned char>(b[pos + 17]);
+      static constexpr int kSamples[] = {1, 0, 3, 1, 2, 0, 4};
+      if (colour > 6 || kSamples[colour] == 0) return fmt::format("unknown PNG colour type {}", colour);
+      if (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16)
+        return fmt::format("PNG bit depth {}", depth);
+      bits_per_pixel = std::uint64_t(kSamples[colour]) * std::uint64_t(depth);
+      if (width == 0 || height == 0) return fmt::format("the header claims {} x {} pixels", width, height);
+      if (const std::string e = size_problem(width, height, limits); !e.empty()) return e;
+    }
+    first = false;
+    if (type == "IDAT") idat_bytes += length;
     pos += 8 + std::size_t(length) + 4;
-    if (type == "IEND") return {};
+    if (type == "IEND") break;
   }
+  // The image data before compression are at least a filter byte a row plus the packed samples
+  // (with Adam7 interlacing, more rows); zlib's deflate expands at most 1032:1.
+  const std::uint64_t raw = (height + width * height * bits_per_pixel / 8);
+  if (idat_bytes < raw / 1032)
+    return fmt::format(
+        "the header claims {} x {} pixels of {} bits, which need at least {} bytes of compressed image data, but the "
+        "IDAT chunks hold {}",
+        width, height, bits_per_pixel, raw / 1032, idat_bytes);
+  return {};
 }
 
 std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
@@ -207,10 +247,7 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
     if (!have_window) return "a part has no dataWindow";
     if (!have_channels) return "a part has no channel list";
     if (w < 1 || h < 1) return fmt::format("the data window is {} x {} pixels", w, h);
-    if (w > limits.max_side || h > limits.max_side)
-      return fmt::format("the header claims {} x {} pixels; the limit is {} pixels a side", w, h, limits.max_side);
-    if (w * h > limits.max_pixels)
-      return fmt::format("the header claims {} x {} pixels; the limit is {} pixels", w, h, limits.max_pixels);
+    if (const std::string e = size_problem(std::uint64_t(w), std::uint64_t(h), limits); !e.empty()) return e;
     if (chunk_count >= 0) {
       chunks += std::uint64_t(chunk_count);
     } else if (tiled) {
@@ -228,6 +265,221 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
   if (chunks > (b.size() - pos) / 8)
     return fmt::format("the header asks for {} chunks, whose offset table alone needs {} bytes, but {} are left",
                        chunks, 8 * chunks, b.size() - pos);
+  // Every chunk lies after the table and inside the file (OpenEXR otherwise seeks to what a zeroed
+  // or corrupt table says and sizes its reads from whatever it finds there).
+  const std::uint64_t table_end = pos + 8 * chunks;
+  for (std::uint64_t k = 0; k < chunks; ++k) {
+    const std::uint64_t offset = std::uint64_t(u32(pos + 8 * k)) | std::uint64_t(u32(pos + 8 * k + 4)) << 32;
+    if (offset < table_end || offset >= b.size())
+      return fmt::format("the offset table puts chunk {} of {} at byte {}, outside the chunk data (bytes {} to {})",
+                         k + 1, chunks, offset, table_end, b.size());
+  }
+  return {};
+}
+
+std::string jpeg_structure_problem(std::string_view b, const ImageLimits& limits) {
+  // JPEG (ITU T.81, Annex B): SOI, then marker segments (0xFF, a marker, a 16-bit length counting
+  // itself), entropy-coded data after each SOS up to the next marker other than RSTn or a stuffed
+  // 0xFF00, and EOI.
+  if (b.size() < 4 || static_cast<unsigned char>(b[0]) != 0xff || static_cast<unsigned char>(b[1]) != 0xd8)
+    return "no JPEG start-of-image marker";
+  std::size_t pos = 2;
+  bool have_frame = false, arithmetic = false;
+  std::uint64_t width = 0, height = 0, components = 0, scans = 0;
+  const auto byte = [&](std::size_t at) { return static_cast<unsigned char>(b[at]); };
+  while (true) {
+    if (pos >= b.size() || byte(pos) != 0xff) {
+      if (pos >= b.size()) return "the file ends before the end-of-image marker (truncated)";
+      return fmt::format("no marker at byte {} where one must start", pos);
+    }
+    while (pos < b.size() && byte(pos) == 0xff) ++pos;  // fill bytes
+    if (pos >= b.size()) return "the file ends before the end-of-image marker (truncated)";
+    const unsigned marker = byte(pos++);
+    if (marker == 0xd9) break;                                      // EOI
+    if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) continue;  // TEM, RSTn: no length
+    if (marker == 0xd8 || marker == 0x00) return fmt::format("an unexpected marker 0x{:02X}", marker);
+    if (b.size() - pos < 2) return "the file ends inside a marker segment (truncated)";
+    const std::size_t length = be16_at(b, pos);
+    if (length < 2 || b.size() - pos < length)
+      return fmt::format("the file ends inside a segment: marker 0x{:02X} claims {} bytes (truncated)", marker, length);
+    const bool frame = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
+    if (frame) {
+      if (have_frame) return "a second frame header";
+      if (length < 8) return "a frame header shorter than 8 bytes";
+      height = be16_at(b, pos + 3);
+      width = be16_at(b, pos + 5);
+      components = byte(pos + 7);
+      if (height == 0) return "the image height is left to a DNL marker (not supported)";
+      if (width == 0) return "the header claims a width of 0";
+      if (components == 0 || components > std::uint64_t(limits.max_channels))
+        return fmt::format("the header claims {} components; the limit is {}", components, limits.max_channels);
+      if (const std::string e = size_problem(width, height, limits); !e.empty()) return e;
+      arithmetic = marker >= 0xc9;
+      have_frame = true;
+    }
+    pos += length;
+    if (marker == 0xda) {  // SOS
+      if (!have_frame) return "a scan before the frame header";
+      if (++scans > std::uint64_t(limits.max_jpeg_scans))
+        return fmt::format("more than {} scans (each progressive scan passes over the whole image)",
+                           limits.max_jpeg_scans);
+      // Entropy-coded data: ends at 0xFF followed by anything but 0x00 (stuffing) or RSTn.
+      while (true) {
+        const void* ff = std::memchr(b.data() + pos, 0xff, b.size() - pos);
+        if (!ff) return "the file ends inside the image data (truncated)";
+        pos = std::size_t(static_cast<const char*>(ff) - b.data());
+        if (pos + 1 >= b.size()) return "the file ends inside the image data (truncated)";
+        const unsigned next = byte(pos + 1);
+        if (next == 0x00 || (next >= 0xd0 && next <= 0xd7)) {
+          pos += 2;
+          continue;
+        }
+        if (next == 0xff) {  // fill before a marker
+          ++pos;
+          continue;
+        }
+        break;
+      }
+    }
+  }
+  if (!have_frame) return "no frame header";
+  if (scans == 0) return "no image data (no scan)";
+  // Every 8 x 8 block of the first component costs at least one bit of Huffman-coded DC difference
+  // (arithmetic coding has no such bound).
+  const std::uint64_t least = arithmetic ? 0 : ceil_div(ceil_div(width, 8) * ceil_div(height, 8), 8);
+  if (least > b.size())
+    return fmt::format("the header claims {} x {} pixels, which need at least {} bytes of JPEG data, but the file has {}",
+                       width, height, least, b.size());
+  return {};
+}
+
+std::string tiff_structure_problem(std::string_view b, const ImageLimits& limits) {
+  // TIFF 6.0 (and BigTIFF): a byte order mark, 42 (or 43), the offset of the first image file
+  // directory (IFD), whose entries are tag, type, count and a value or the offset of the values.
+  // Only the first image is read, so only the first IFD is walked.
+  if (b.size() < 8) return "the file ends inside the TIFF header";
+  const bool little = b[0] == 'I';
+  const auto u = [&](std::uint64_t at, int n) {
+    std::uint64_t v = 0;
+    for (int k = 0; k < n; ++k) {
+      const std::uint64_t byte = static_cast<unsigned char>(b[std::size_t(at) + std::size_t(k)]);
+      v |= little ? byte << (8 * k) : byte << (8 * (n - 1 - k));
+    }
+    return v;
+  };
+  const std::uint64_t version = u(2, 2);
+  if (version != 42 && version != 43) return fmt::format("TIFF version {}", version);
+  const bool big = version == 43;
+  const int word = big ? 8 : 4;  // offsets and counts
+  if (big && (b.size() < 16 || u(4, 2) != 8)) return "a malformed BigTIFF header";
+  const std::uint64_t ifd = u(big ? 8 : 4, word);
+  const std::uint64_t entry_size = big ? 20 : 12, count_size = big ? 8 : 2;
+  if (ifd < 8 || ifd > b.size() || b.size() - ifd < count_size)
+    return fmt::format("the first image directory is at byte {}, outside the file", ifd);
+  const std::uint64_t entries = u(ifd, int(count_size));
+  if (entries == 0 || entries > (b.size() - ifd - count_size) / entry_size)
+    return fmt::format("the first image directory claims {} entries, more than the file holds", entries);
+
+  struct Field {
+    std::uint64_t type_size = 0, count = 0, at = 0;  // `at`: where the values are
+    bool present = false;
+  };
+  // Tags used below: ImageWidth, ImageLength, BitsPerSample, Compression, StripOffsets,
+  // SamplesPerPixel, RowsPerStrip, StripByteCounts, PlanarConfiguration, TileWidth, TileLength,
+  // TileOffsets, TileByteCounts, and SGI's ImageDepth (volumes).
+  enum Tag : std::uint64_t {
+    kWidth = 256, kLength = 257, kBits = 258, kStripOffsets = 273, kSamples = 277, kRowsPerStrip = 278,
+    kStripBytes = 279, kPlanar = 284, kTileWidth = 322, kTileLength = 323, kTileOffsets = 324, kTileBytes = 325,
+    kImageDepth = 32997
+  };
+  constexpr std::uint64_t kTags[] = {kWidth,     kLength,    kBits,        kStripOffsets, kSamples,
+                                     kRowsPerStrip, kStripBytes, kPlanar,  kTileWidth,    kTileLength,
+                                     kTileOffsets,  kTileBytes,  kImageDepth};
+  Field fields[std::size(kTags)];
+  for (std::uint64_t k = 0; k < entries; ++k) {
+    const std::uint64_t e = ifd + count_size + k * entry_size;
+    const std::uint64_t tag = u(e, 2), type = u(e + 2, 2), count = u(e + 4, word);
+    // Bytes per value of each TIFF field type (1-12 TIFF 6.0, 13 IFD, 16-18 BigTIFF).
+    static constexpr int kTypeSize[] = {0, 1, 1, 2, 4, 8, 1, 1, 2, 4, 8, 4, 8, 4, 0, 0, 8, 8, 8};
+    const std::uint64_t type_size = type < std::size(kTypeSize) ? std::uint64_t(kTypeSize[type]) : 0;
+    if (type_size == 0) continue;  // unknown types are skipped, as readers do
+    if (count > b.size() / type_size)
+      return fmt::format("TIFF tag {} claims {} values, more than the file holds", tag, count);
+    const std::uint64_t bytes = count * type_size;
+    std::uint64_t at = e + 4 + std::uint64_t(word);
+    if (bytes > std::uint64_t(word)) {
+      at = u(at, word);
+      if (at > b.size() || b.size() - at < bytes)
+        return fmt::format("the values of TIFF tag {} lie outside the file ({} bytes at byte {})", tag, bytes, at);
+    }
+    for (std::size_t i = 0; i < std::size(kTags); ++i)
+      if (kTags[i] == tag) fields[i] = {type_size, count, at, true};
+  }
+  const auto field = [&](Tag tag) -> const Field& {
+    std::size_t i = 0;
+    while (kTags[i] != tag) ++i;
+    return fields[i];
+  };
+  // The i-th value of an integer field.
+  const auto value = [&](const Field& f, std::uint64_t i) { return u(f.at + i * f.type_size, int(f.type_size)); };
+  const auto scalar = [&](Tag tag, std::uint64_t fallback) {
+    const Field& f = field(tag);
+    return f.present && f.count >= 1 && f.type_size <= 8 ? value(f, 0) : fallback;
+  };
+  const std::uint64_t width = scalar(kWidth, 0), height = scalar(kLength, 0);
+  if (width == 0 || height == 0) return fmt::format("the header claims {} x {} pixels", width, height);
+  if (const std::string e = size_problem(width, height, limits); !e.empty()) return e;
+  if (scalar(kImageDepth, 1) != 1) return "TIFF volumes (ImageDepth > 1) are not supported";
+  const std::uint64_t samples = scalar(kSamples, 1), bits = scalar(kBits, 1);
+  if (samples == 0 || samples > std::uint64_t(limits.max_channels))
+    return fmt::format("the header claims {} samples a pixel; the limit is {}", samples, limits.max_channels);
+  if (bits == 0 || bits > 64) return fmt::format("{} bits a sample", bits);
+  const std::uint64_t planes = scalar(kPlanar, 1) == 2 ? samples : 1;
+
+  // The strips or tiles the image needs, each of which must lie inside the file: a tile may not be
+  // larger than the image rounded up to whole 16-pixel tiles (libtiff allocates a whole tile to
+  // decode one: a 1 kB file claiming 1-pixel image in 65536 x 65536 tiles asks for gigabytes).
+  const bool tiled = field(kTileWidth).present || field(kTileLength).present;
+  std::uint64_t chunks = 0;
+  Tag offsets_tag = kStripOffsets, bytes_tag = kStripBytes;
+  if (tiled) {
+    const std::uint64_t tw = scalar(kTileWidth, 0), th = scalar(kTileLength, 0);
+    if (tw == 0 || th == 0 || tw % 16 != 0 || th % 16 != 0)
+      return fmt::format("TIFF tiles of {} x {} pixels (they must be multiples of 16)", tw, th);
+    if (tw > ceil_div(width, 16) * 16 || th > ceil_div(height, 16) * 16)
+      return fmt::format("TIFF tiles of {} x {} pixels for an image of {} x {}", tw, th, width, height);
+    chunks = ceil_div(width, tw) * ceil_div(height, th) * planes;
+    offsets_tag = kTileOffsets;
+    bytes_tag = kTileBytes;
+  } else {
+    const std::uint64_t rows = std::min(std::max<std::uint64_t>(scalar(kRowsPerStrip, height), 1), height);
+    chunks = ceil_div(height, rows) * planes;
+  }
+  const Field &offsets = field(offsets_tag), &sizes = field(bytes_tag);
+  const char* what = tiled ? "tile" : "strip";
+  if (!offsets.present || !sizes.present) return fmt::format("the {} offsets or byte counts are missing", what);
+  if (offsets.count < chunks || sizes.count < chunks)
+    return fmt::format("the image needs {} {}s but the header locates {}", chunks, what,
+                       std::min(offsets.count, sizes.count));
+  if (offsets.type_size > 8 || sizes.type_size > 8) return fmt::format("the {} offsets are not integers", what);
+  for (std::uint64_t i = 0; i < chunks; ++i) {
+    const std::uint64_t at = value(offsets, i), n = value(sizes, i);
+    if (at > b.size() || b.size() - at < n)
+      return fmt::format("{} {} of {} ({} bytes at byte {}) runs past the end of the file ({} bytes; truncated?)", what,
+                         i + 1, chunks, n, at, b.size());
+  }
+  return {};
+}
+
+std::string image_structure_problem(ImageFormat format, std::string_view bytes, const ImageLimits& limits) {
+  switch (format) {
+    case ImageFormat::png: return png_structure_problem(bytes, limits);
+    case ImageFormat::exr: return exr_header_problem(bytes, limits);
+    case ImageFormat::jpeg: return jpeg_structure_problem(bytes, limits);
+    case ImageFormat::tiff: return tiff_structure_problem(bytes, limits);
+    case ImageFormat::hdr:
+    case ImageFormat::pnm: return {};
+  }
   return {};
 }
 

@@ -246,6 +246,19 @@ std::vector<Case> generate(const std::map<std::string, CommandCases>& cases,
         add("png claiming more than its bytes", "{dir}/big" + img, [img](const fs::path& d) {
           spit(d / ("big" + img), hydrolux::testing::png_claiming(12000, 9000));
         });
+        // JPEG and TIFF content (told apart by its bytes, whatever the name).
+        add("truncated jpeg", "{dir}/cut-jpeg" + img, [img](const fs::path& d) {
+          spit(d / ("cut-jpeg" + img), hydrolux::testing::jpeg_with_scans(64, 64, 2, true));
+        });
+        add("jpeg with 500 scans", "{dir}/scans" + img, [img](const fs::path& d) {
+          spit(d / ("scans" + img), hydrolux::testing::jpeg_with_scans(4096, 4096, 500));
+        });
+        add("tiff tile bomb", "{dir}/tiles" + img, [img](const fs::path& d) {
+          spit(d / ("tiles" + img), hydrolux::testing::tiff_claiming(1, 1, 65536, 1, 1));
+        });
+        add("truncated tiff", "{dir}/cut-tiff" + img, [img](const fs::path& d) {
+          spit(d / ("cut-tiff" + img), hydrolux::testing::tiff_claiming(64, 64, 0, 1000, 64 * 64));
+        });
         if (::geteuid() != 0)
           add("unreadable", "{dir}/locked" + img, [img, good](const fs::path& d) {
             spit(d / ("locked" + img), "x");

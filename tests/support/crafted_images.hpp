@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace hydrolux::testing {
 
@@ -57,6 +58,63 @@ inline std::string hdr_claiming(std::uint32_t width, std::uint32_t height) {
 // A binary PPM whose header claims width x height pixels, with a few bytes of data.
 inline std::string ppm_claiming(std::uint32_t width, std::uint32_t height) {
   return "P6\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n" + std::string(30, '\x7f');
+}
+
+// A progressive JPEG (SOF2) of width x height 8-bit grey pixels made of `scans` empty DC scans,
+// ending with EOI unless `truncated`: the marker structure of a file that makes a decoder pass
+// over the whole image once a scan.
+inline std::string jpeg_with_scans(std::uint16_t width, std::uint16_t height, int scans, bool truncated = false) {
+  const auto be16 = [](unsigned v) { return std::string{char(v >> 8), char(v & 0xff)}; };
+  std::string j = "\xff\xd8";
+  j += "\xff\xc2" + be16(11) + char(8) + be16(height) + be16(width) + char(1) + char(1) + char(0x11) + char(0);
+  for (int s = 0; s < scans; ++s)
+    j += "\xff\xda" + be16(8) + char(1) + char(1) + char(0) + char(0) + char(0) + char(0) + std::string(4, '\0');
+  if (!truncated) j += "\xff\xd9";
+  return j;
+}
+
+// A little-endian TIFF of width x height 8-bit grey pixels, in one strip or (tile_size > 0) in
+// tiles of tile_size x tile_size, with `data_bytes` zero bytes of image data while the strip or
+// tile byte counts claim `claimed_bytes` each (equal for a valid file): one image directory.
+inline std::string tiff_claiming(std::uint32_t width, std::uint32_t height, std::uint32_t tile_size,
+                                 std::uint32_t data_bytes, std::uint32_t claimed_bytes) {
+  const auto le16 = [](unsigned v) { return std::string{char(v & 0xff), char(v >> 8)}; };
+  const auto le32 = [](std::uint32_t v) {
+    return std::string{char(v & 0xff), char((v >> 8) & 0xff), char((v >> 16) & 0xff), char(v >> 24)};
+  };
+  struct Entry {
+    unsigned tag, type;
+    std::uint32_t count, value;
+  };
+  const std::uint32_t tiles_across = tile_size ? (width + tile_size - 1) / tile_size : 1;
+  const std::uint32_t tiles_down = tile_size ? (height + tile_size - 1) / tile_size : 1;
+  const std::uint32_t chunks = tiles_across * tiles_down;
+  std::vector<Entry> e = {{256, 4, 1, width}, {257, 4, 1, height}, {258, 3, 1, 8}, {259, 3, 1, 1}, {262, 3, 1, 1}};
+  const std::uint32_t entries = 5 + 3 + (tile_size ? 3 : 1);
+  const std::uint32_t ifd_end = 8 + 2 + 12 * entries + 4;
+  // With several chunks, their offsets and byte counts are arrays after the directory.
+  const std::uint32_t arrays = chunks > 1 ? ifd_end : 0, data = ifd_end + (chunks > 1 ? 8 * chunks : 0);
+  const std::uint32_t offsets_value = chunks > 1 ? arrays : data, counts_value = chunks > 1 ? arrays + 4 * chunks : claimed_bytes;
+  if (tile_size) {
+    e.push_back({277, 3, 1, 1});
+    e.push_back({284, 3, 1, 1});
+    e.push_back({322, 4, 1, tile_size});
+    e.push_back({323, 4, 1, tile_size});
+    e.push_back({324, 4, chunks, offsets_value});
+    e.push_back({325, 4, chunks, counts_value});
+  } else {
+    e.insert(e.end(), {{273, 4, 1, offsets_value}, {277, 3, 1, 1}, {278, 4, 1, height}, {279, 4, 1, counts_value}});
+  }
+  std::string t = "II" + le16(42) + le32(8) + le16(unsigned(e.size()));
+  for (const auto& x : e)
+    t += le16(x.tag) + le16(x.type) + le32(x.count) + (x.type == 3 && x.count == 1 ? le16(x.value) + le16(0) : le32(x.value));
+  t += le32(0);  // no next directory
+  if (chunks > 1) {
+    const std::uint32_t each = data_bytes / chunks;
+    for (std::uint32_t k = 0; k < chunks; ++k) t += le32(data + k * each);
+    for (std::uint32_t k = 0; k < chunks; ++k) t += le32(claimed_bytes);
+  }
+  return t + std::string(data_bytes, '\0');
 }
 
 }  // namespace hydrolux::testing

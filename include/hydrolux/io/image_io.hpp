@@ -41,6 +41,9 @@ struct ImageLimits {
   std::int64_t max_pixels = std::int64_t(1) << 28;  // width x height: 268 million
   std::int64_t max_values = std::int64_t(1) << 30;  // width x height x channels: 4 GiB as float
   int max_channels = 16;
+  // A progressive JPEG is decoded scan by scan over the whole image; encoders write about 10
+  // (libjpeg's default progression) to 20 (mozjpeg); a small file with thousands is a time bomb.
+  int max_jpeg_scans = 100;
   std::uint64_t max_file_bytes = kMaxInputBytes;
 };
 
@@ -65,18 +68,31 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
 std::uint64_t min_encoded_bytes(ImageFormat f, std::int64_t width, std::int64_t height, int channels, int bits,
                                 char pnm_magic = '6');
 
-// For PNG, the chunk structure (length, type, data, CRC) walked to the IEND chunk without
-// decompressing anything: an empty string if it is whole, else why not ("the file ends inside the
-// IDAT chunk"). A truncated PNG is refused here with a clear reason, before the codec sees it.
-std::string png_structure_problem(std::string_view bytes);
-
-// For OpenEXR, the header (OpenEXR file layout: magic, version and flags, then each part's
-// attributes as name, type, size, value) walked without OpenEXR, which trusts it: OpenEXR 3.1 sizes
-// a string attribute by its declared length (1.8 GB for a 1 kB file, found by fuzz_image) and its
-// chunk offset table by the data window. An empty string if every attribute fits in the file,
-// each part has a data window within `limits`, and the file can hold the offset table of the
-// chunks that window needs (8 bytes a chunk); else why not. Deep (non-image) files are refused.
+// A file's structure walked without its codec, before the codec sees the file: an empty string if
+// it is whole and its header within `limits`, else why not ("the file ends inside the IDAT chunk").
+// The codecs trust what these check, so a hostile file is refused here in one line:
+// - PNG: the chunks (length, type, data, CRC) up to IEND; IHDR's size within the limits, and the
+//   IDAT chunks large enough for it at deflate's best ratio (1032:1), from the stored bit depth and
+//   colour type (a 1-bit or palette image is 8-24 times smaller than its decoded RGB).
+// - OpenEXR: the header (magic, version and flags, each part's attributes as name, type, size,
+//   value). OpenEXR 3.1 sizes a string attribute by its declared length (1.8 GB for a 1 kB file,
+//   found by fuzz_image) and seeks through its chunk offset table: every attribute must fit in the
+//   file, each part's data window be within the limits, the offset table of the chunks it needs fit
+//   in the file and each offset point inside it. Deep (non-image) files are refused.
+// - JPEG: the marker segments and entropy-coded scans up to EOI (a truncated file is refused, not
+//   decoded grey), the frame size within the limits and, for Huffman coding, the file large enough
+//   for one bit a block; at most max_jpeg_scans scans (a progressive JPEG is decoded while it is
+//   opened). DNL-defined heights are refused.
+// - TIFF (and BigTIFF): the first image directory, its values inside the file; size, samples and
+//   bits within the limits; tiles multiples of 16 and no larger than the image; every strip or
+//   tile the image needs inside the file (a truncated TIFF is refused).
+// - Radiance HDR and PNM have no structure to walk: their bound against the file size is checked
+//   from the codec's header (min_encoded_bytes).
+std::string image_structure_problem(ImageFormat format, std::string_view bytes, const ImageLimits& limits);
+std::string png_structure_problem(std::string_view bytes, const ImageLimits& limits);
 std::string exr_header_problem(std::string_view bytes, const ImageLimits& limits);
+std::string jpeg_structure_problem(std::string_view bytes, const ImageLimits& limits);
+std::string tiff_structure_problem(std::string_view bytes, const ImageLimits& limits);
 
 // Encodes to PNG or EXR bytes (IoError for other formats or an inconsistent image).
 std::string encode_image(const Image& image, ImageFormat format, PngOptions png = {});
