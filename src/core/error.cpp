@@ -42,4 +42,47 @@ void require_in_range(const char* quantity, double value, double lo, double hi,
   if (!(value >= lo && value <= hi)) throw DomainError(quantity, value, lo, hi, context);
 }
 
+std::string printable(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char c = byte(i);
+    if (c >= 0x20 && c < 0x7f) {
+      out += char(c);
+      ++i;
+      continue;
+    }
+    // The length of a valid UTF-8 sequence starting here (RFC 3629: no overlong forms, no
+    // surrogates, at most U+10FFFF), or 0.
+    std::size_t n = 0;
+    if (c >= 0xc2 && c <= 0xdf) n = 2;
+    else if (c >= 0xe0 && c <= 0xef) n = 3;
+    else if (c >= 0xf0 && c <= 0xf4) n = 4;
+    if (n != 0 && i + n <= text.size()) {
+      bool ok = true;
+      for (std::size_t k = 1; k < n; ++k) ok = ok && (byte(i + k) & 0xc0) == 0x80;
+      const unsigned char c1 = byte(i + 1);
+      if (ok && ((c == 0xe0 && c1 < 0xa0) || (c == 0xed && c1 > 0x9f) || (c == 0xf0 && c1 < 0x90) ||
+                 (c == 0xf4 && c1 > 0x8f)))
+        ok = false;
+      // C1 controls (U+0080-U+009F) act on some terminals as escapes too.
+      if (ok && c == 0xc2 && c1 < 0xa0) ok = false;
+      if (ok) {
+        out.append(text.substr(i, n));
+        i += n;
+        continue;
+      }
+    }
+    switch (c) {
+      case '\n': out += "\\n"; break;
+      case '\r': out += "\\r"; break;
+      case '\t': out += "\\t"; break;
+      default: out += fmt::format("\\x{:02x}", c);
+    }
+    ++i;
+  }
+  return out;
+}
+
 }  // namespace hydrolux

@@ -180,20 +180,21 @@ std::string read_file(const fs::path& path, std::uint64_t max_bytes, std::string
     throw IoError(fmt::format("{}: changed while being opened; not a regular file of at most {} bytes",
                               describe(label, path), max_bytes));
   }
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};  // also when allocating the buffer fails
   std::string bytes(std::size_t(st.st_size), '\0');
   std::size_t got = 0;
   while (got < bytes.size()) {
     const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
     if (n < 0) {
       if (errno == EINTR) continue;
-      const int err = errno;
-      ::close(fd);
-      throw IoFailure(fmt::format("{}: read failed: {}", describe(label, path), os_error(err)));
+      throw IoFailure(fmt::format("{}: read failed: {}", describe(label, path), os_error(errno)));
     }
     if (n == 0) break;  // the file shrank while being read: keep what is there
     got += std::size_t(n);
   }
-  ::close(fd);
   bytes.resize(got);
   return bytes;
 }
@@ -258,6 +259,11 @@ OutputFile::OutputFile(fs::path target, std::string label) : s_(std::make_unique
   s_->destination = s_->target;
   struct stat st {};
   if (::lstat(s_->target.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
+    // A link is written through, to the file it names; a dangling one is refused (as GNU cp
+    // refuses), since replacing the link would leave its real destination unwritten.
+    struct stat pointed {};
+    if (::stat(s_->target.c_str(), &pointed) != 0 && errno == ENOENT)
+      throw IoError(fmt::format("{}: is a symbolic link to a missing file; give the file itself", s_->name()));
     std::error_code ec;
     s_->destination = fs::weakly_canonical(fs::absolute(s_->target), ec);
     if (ec) throw IoError(fmt::format("{}: cannot resolve the symbolic link: {}", s_->name(), ec.message()));
@@ -363,14 +369,18 @@ OutputDirectory::OutputDirectory(fs::path target, std::string label) : s_(std::m
     if (s_->target.empty()) throw IoError(fmt::format("{}: no folder name given", s_->label.empty() ? "output" : s_->label));
   }
   struct stat st {};
-  if (::stat(s_->target.c_str(), &st) == 0 && !S_ISDIR(st.st_mode))
+  const bool exists = ::stat(s_->target.c_str(), &st) == 0;
+  if (exists && !S_ISDIR(st.st_mode))
     throw IoError(fmt::format("{}: is {}, not a folder", s_->name(), S_ISREG(st.st_mode) ? "a file" : file_kind(st.st_mode)));
-  const fs::path parent = folder_of(s_->target);
+  // A new folder is staged beside its destination and renamed into place whole. Into an existing
+  // folder, the files are staged inside it: that proves now that it is writable, and the final
+  // renames stay on its file system (it may be a mount point).
+  const fs::path parent = exists ? s_->target : folder_of(s_->target);
   std::error_code ec;
   fs::create_directories(parent, ec);
   if (ec) throw IoError(fmt::format("{}: cannot create the folder '{}': {}", s_->name(), parent.string(), ec.message()));
   for (int attempt = 0; attempt < 100 && s_->staging.empty(); ++attempt) {
-    const fs::path staging = temporary_sibling(s_->target);
+    const fs::path staging = temporary_sibling(exists ? s_->target / "hydrolux-staging" : s_->target);
     if (create_tracked(staging, true) == 0) {
       s_->staging = staging;
     } else {
@@ -436,6 +446,13 @@ void OutputDirectory::commit() {
     if (::rename(s_->staging.c_str(), s_->target.c_str()) != 0)
       throw IoFailure(fmt::format("{}: moving the finished folder into place failed: {}", s_->name(), os_error(errno)));
   } else {
+    // A file cannot replace a folder: refused before anything moves, so no mix is left.
+    for (const auto& f : s_->files) {
+      struct stat dst {};
+      if (::lstat((s_->target / f).c_str(), &dst) == 0 && S_ISDIR(dst.st_mode))
+        throw IoError(fmt::format("{}: {} is a folder and cannot be replaced by a file; nothing was replaced",
+                                  s_->name(), f));
+    }
     std::size_t moved = 0;
     for (const auto& f : s_->files) {
       if (::rename((s_->staging / f).c_str(), (s_->target / f).c_str()) != 0)

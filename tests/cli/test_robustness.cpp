@@ -208,7 +208,8 @@ std::vector<Case> generate(const std::map<std::string, CommandCases>& cases,
       };
       std::vector<std::string> values = f.extras;
       if (f.kind == "number" || f.kind == "integer") {
-        for (const char* v : {"abc", "", "nan", "inf", "-inf", "1e999", "0x10", "1,5", " 1"}) values.push_back(v);
+        for (const char* v : {"abc", "", "nan", "inf", "-inf", "1e999", "0x10", "1,5", " 1", "1\n2", "\x1b[2J"})
+          values.push_back(v);
         for (const auto& v : outside_range(info.type_name)) values.push_back(v);
         if (f.kind == "integer")
           for (const char* v : {"1.5", "1e30", "99999999999999999999"}) values.push_back(v);
@@ -224,6 +225,7 @@ std::vector<Case> generate(const std::map<std::string, CommandCases>& cases,
         const std::string img = env ? ".exr" : ".png", hdr = env ? ".hdr" : ".hdr";
         const std::string good = f.valid;  // {png} or {exr}
         add("missing", "{dir}/missing" + img);
+        add("control characters", "{dir}/no\nsuch\x1b[2J" + img);  // printed escaped, on one line
         add("folder", "{dir}/folder" + img, [img](const fs::path& d) { fs::create_directories(d / ("folder" + img)); });
         add("fifo", "{dir}/fifo" + img, [img](const fs::path& d) { ::mkfifo((d / ("fifo" + img)).c_str(), 0600); });
         add("/dev/zero", "/dev/zero");
@@ -268,6 +270,7 @@ std::vector<Case> generate(const std::map<std::string, CommandCases>& cases,
       }
       if (f.kind == "output-image") {
         add("missing folder", "{dir}/missing/out.png");
+        add("control characters", "{dir}/no\nfolder\r/out.png");
         add("a folder", "{dir}/folder.png", [](const fs::path& d) { fs::create_directories(d / "folder.png"); });
         add("file as folder", "{dir}/file/out.png", [](const fs::path& d) { spit(d / "file", "x"); });
         add("wrong extension", "{dir}/out.jpg");
@@ -379,6 +382,8 @@ TEST_F(Robustness, BadInputsKeepTheContract) {
       std::string why;
       if (r.code != c.expected_code) why += "exit code " + std::to_string(r.code) + "; ";
       if (lines(r.err) != 1) why += std::to_string(lines(r.err)) + " lines on stderr; ";
+      if (std::any_of(r.err.begin(), r.err.end(), [](char ch) { return (ch >= 0 && ch < 0x20 && ch != '\n') || ch == 0x7f; }))
+        why += "control characters on stderr; ";
       if (!std::any_of(c.names.begin(), c.names.end(), [&](const std::string& n) { return r.err.find(n) != std::string::npos; }))
         why += "the message does not name the flag; ";
       for (const char* bad : {"Could not convert", "internal error", "nan ", "-nan", "bad_alloc", "libpng"})

@@ -164,6 +164,7 @@ void wait_until_signals_handled(pid_t pid) {
     bool ready = false, exists = false;
     while (std::getline(in, line)) {
       exists = true;
+      if (line.rfind("State:", 0) == 0 && line.find('Z') != std::string::npos) return;  // it has ended
       if (line.rfind("SigBlk:", 0) == 0) {
         const unsigned long long mask = std::stoull(line.substr(7), nullptr, 16);
         ready = (mask >> (SIGINT - 1) & 1) && (mask >> (SIGTERM - 1) & 1);
@@ -193,8 +194,9 @@ TEST_F(Safety, SignalsCancelCleanly) {
 }
 
 // An interrupted gallery used to leave a half-filled folder. Now its figures are staged in a hidden
-// folder beside it: a Ctrl-C once some figures are written removes the staging folder and leaves
-// the previous gallery exactly as it was.
+// folder (inside the gallery when it exists, beside it when it is new) and moved in at the end: a
+// Ctrl-C once some figures are written removes the staging folder and leaves the previous gallery
+// exactly as it was.
 TEST_F(Safety, InterruptedGalleryLeavesTheOldOne) {
   const fs::path gallery = dir_ / "gallery";
   fs::create_directories(gallery);
@@ -203,9 +205,11 @@ TEST_F(Safety, InterruptedGalleryLeavesTheOldOne) {
   wait_until_signals_handled(p.pid);
   // Wait for the staging folder to hold a figure (or for the run to end, which fails below).
   bool staged = false;
-  while (!staged && ::waitpid(p.pid, nullptr, WNOHANG) == 0) {
-    for (const auto& e : fs::directory_iterator(dir_))
-      if (e.path().filename().string().rfind(".gallery.tmp-", 0) == 0 && !fs::is_empty(e.path())) staged = true;
+  while (!staged && hydrolux::testing::still_running(p)) {
+    std::error_code ec;  // the staging folder may vanish between listing and looking inside
+    for (const auto& e : fs::directory_iterator(gallery, ec))
+      if (e.path().filename().string().rfind(".hydrolux-staging.tmp-", 0) == 0 && !fs::is_empty(e.path(), ec))
+        staged = true;
     if (!staged) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   ASSERT_TRUE(staged) << "the gallery finished before a figure was seen staged";

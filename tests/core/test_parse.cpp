@@ -67,3 +67,20 @@ TEST(Parse, RangesAndLists) {
 
 }  // namespace
 }  // namespace hydrolux::parse
+
+// Messages quote what the user gave: control characters and invalid UTF-8 are escaped so that a
+// message stays one line and cannot drive the terminal; valid UTF-8 (accented file names) stays.
+TEST(Printable, EscapesControlsAndInvalidUtf8) {
+  using hydrolux::printable;
+  EXPECT_EQ(printable("plain/path.png"), "plain/path.png");
+  EXPECT_EQ(printable("a\nb\rc\td"), "a\\nb\\rc\\td");
+  EXPECT_EQ(printable("\x1b[2J"), "\\x1b[2J");
+  EXPECT_EQ(printable(std::string("nul\0x", 5)), "nul\\x00x");
+  EXPECT_EQ(printable("del\x7f"), "del\\x7f");
+  EXPECT_EQ(printable("gr\xc3\xa4" "ben/\xe6\xb0\xb4.png"), "gr\xc3\xa4" "ben/\xe6\xb0\xb4.png");  // Gräben/水.png
+  EXPECT_EQ(printable("\xc2\x9b" "31m"), "\\xc2\\x9b31m");  // C1 control CSI
+  EXPECT_EQ(printable("\xff\xfe"), "\\xff\\xfe");
+  EXPECT_EQ(printable("\xe6\xb0"), "\\xe6\\xb0");              // a sequence cut short
+  EXPECT_EQ(printable("\xc0\xaf"), "\\xc0\\xaf");              // overlong '/'
+  EXPECT_EQ(printable("\xed\xa0\x80"), "\\xed\\xa0\\x80");     // a surrogate
+}

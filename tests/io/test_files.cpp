@@ -149,6 +149,11 @@ TEST_F(Files, UnwritableFolderIsFoundAtReservation) {
     if (!testing::enter_private_mounts() || !testing::mount_tmpfs(ro, 64, /*read_only=*/true))
       return testing::kChildCannotSetUp;
     try {
+      OutputDirectory existing(ro, "--out");  // an existing folder of outputs: probed at once too
+      return 3;
+    } catch (const IoError&) {
+    }
+    try {
       OutputFile out(ro + "/x.png", "-o");
       return 1;
     } catch (const IoError& e) {
@@ -238,6 +243,10 @@ TEST_F(Files, SymbolicLinkTargetIsReplaced) {
   write_file(dir_ / "link.txt", "new");
   EXPECT_TRUE(fs::is_symlink(dir_ / "link.txt"));
   EXPECT_EQ(slurp(dir_ / "real.txt"), "new");
+  // A dangling link is refused, and left as it was.
+  fs::create_symlink("nowhere/missing.txt", dir_ / "dangling.txt");
+  EXPECT_THROW(write_file(dir_ / "dangling.txt", "new"), IoError);
+  EXPECT_TRUE(fs::is_symlink(dir_ / "dangling.txt"));
 }
 
 // Inputs: a regular file is read whole; anything else is refused from its stat(), so a FIFO with no
@@ -351,6 +360,20 @@ TEST_F(Files, OutputDirectoryStagesAndCommits) {
     EXPECT_THROW(out.commit(), IoError);
   }
   EXPECT_EQ(slurp(dir_ / "deep" / "gallery" / "user-notes.txt"), "mine");
+  {
+    // Into an existing folder the staging folder is made inside it (same file system, writability
+    // proven at once), and a folder where a file would go is refused before anything moves.
+    OutputDirectory out(dir_ / "deep" / "gallery");
+    EXPECT_EQ(names(dir_ / "deep"), std::vector<std::string>{"gallery"});
+    EXPECT_EQ(names(dir_ / "deep" / "gallery").size(), 4u);  // a.svg, index.html, user-notes.txt, staging
+    fs::create_directories(dir_ / "deep" / "gallery" / "index.html.d");
+    out.write("a.svg", "A3");
+    out.write("index.html.d", "a file where a folder is");
+    EXPECT_THROW(out.commit(), IoError);
+  }
+  EXPECT_EQ(slurp(dir_ / "deep" / "gallery" / "a.svg"), "A2");
+  EXPECT_TRUE(fs::is_directory(dir_ / "deep" / "gallery" / "index.html.d"));
+  EXPECT_EQ(names(dir_ / "deep" / "gallery").size(), 4u);  // the staging folder is gone
   EXPECT_THROW(OutputDirectory(dir_ / "deep" / "gallery" / "a.svg"), IoError);  // a file
   EXPECT_EQ(pending_output_count(), 0u);
 }

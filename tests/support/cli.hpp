@@ -12,6 +12,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
+#include <csignal>
 #include <functional>
 #include <vector>
 
@@ -107,13 +109,38 @@ inline Process spawn(const std::vector<std::string>& args, const std::function<v
   return p;
 }
 
-// Waits for the process; the exit code, or 128 + the signal that ended it.
+// Whether the process is still running, without reaping it (finish() collects its status).
+inline bool still_running(const Process& p) {
+  siginfo_t info{};
+  if (::waitid(P_PID, id_t(p.pid), &info, WEXITED | WNOHANG | WNOWAIT) != 0) return false;
+  return info.si_pid == 0;
+}
+
+// A hang detector, not a time limit: a CLI run that has not ended after this long is stuck (a
+// read blocking on a FIFO, a loop that never ends); it is killed and the test fails saying so,
+// instead of the whole suite hanging until CI gives up. Every run in these tests takes seconds.
+inline constexpr int kHungAfterSeconds = 600;
+
+// Waits for the process; the exit code, or 128 + the signal that ended it. A process still running
+// after kHungAfterSeconds is killed: code -2 and a note in `err`.
 inline Result finish(const Process& p) {
   Result r;
   int status = 0;
-  while (::waitpid(p.pid, &status, 0) < 0) {
+  bool hung = false;
+  for (long waited_ms = 0;; waited_ms += 5) {
+    const pid_t done = ::waitpid(p.pid, &status, WNOHANG);
+    if (done == p.pid) break;
+    if (done < 0 && errno != EINTR) {  // not our child (ECHILD): nothing to wait for
+      r.code = -1;
+      return r;
+    }
+    if (!hung && waited_ms >= 1000L * kHungAfterSeconds) {
+      hung = true;
+      ::kill(p.pid, SIGKILL);
+    }
+    ::usleep(5000);
   }
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.code = hung ? -2 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   const auto slurp = [](const fs::path& f) {
     std::ifstream in(f, std::ios::binary);
     std::stringstream ss;
@@ -122,6 +149,7 @@ inline Result finish(const Process& p) {
   };
   r.out = slurp(p.out_file);
   r.err = slurp(p.err_file);
+  if (hung) r.err += "[hung: killed by the test after " + std::to_string(kHungAfterSeconds) + " s]\n";
   fs::remove(p.out_file);
   fs::remove(p.err_file);
   return r;

@@ -4,15 +4,19 @@
 // OS error; no output replaced) or an internal error; 130 / 143 / 129 cancelled by SIGINT / SIGTERM /
 // SIGHUP (unfinished outputs removed, existing files unchanged).
 #include <fmt/format.h>
+#include <fcntl.h>
 #include <pthread.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <new>
 #include <string_view>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -34,14 +38,31 @@ const char* signal_name(int sig) {
   return "a signal";
 }
 
+// The signal that cancelled the run (0: none yet), set by the signal thread before it cancels the
+// outputs, so that a failure the cancellation causes in the main thread (a write refused as
+// cancelled) is never reported as a failure of its own: the main thread checks it on every way
+// out and leaves the exit to the signal thread.
+std::atomic<int> g_cancelled_by{0};
+// A copy of standard error taken at start-up: while a codec runs, descriptor 2 points into a
+// capture buffer (io/image_io.cpp), and the cancellation message must still reach the terminal.
+int g_stderr_copy = STDERR_FILENO;
+
+// Called on every way out of run_cli: after a cancellation the signal thread owns the exit.
+void wait_if_cancelled() {
+  if (g_cancelled_by.load() == 0) return;
+  for (;;) ::pause();  // the signal thread prints its line and calls _Exit(128 + signal)
+}
+
 // Ctrl-C, SIGTERM and SIGHUP are blocked in every thread (the worker threads TBB and OpenImageIO
 // start later inherit the mask) and taken by one thread waiting in sigwait, which runs ordinary
 // code: it removes every pending temporary output through the library's registry and exits with
 // 128 + the signal. A signal the process was started with ignored (nohup, a background job)
 // stays ignored. SIGXFSZ is ignored so that a file-size limit is a write error (EFBIG) we report,
-// not a crash that leaves a temporary file.
+// not a crash that leaves a temporary file. If no thread can be started, the default actions stay
+// (a signal then kills the process; temporary files may be left, never a half-written output).
 void install_signal_handling() {
   std::signal(SIGXFSZ, SIG_IGN);
+  if (const int copy = ::fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 3); copy >= 0) g_stderr_copy = copy;
   sigset_t set;
   sigemptyset(&set);
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
@@ -49,18 +70,29 @@ void install_signal_handling() {
     if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
     sigaddset(&set, sig);
   }
-  ::pthread_sigmask(SIG_BLOCK, &set, nullptr);
-  std::thread([set] {
-    int sig = 0;
-    while (::sigwait(&set, &sig) != 0) {
-    }
-    const std::size_t removed = io::cancel_pending_outputs();
-    fmt::print(stderr, "{}{}: cancelled by {}; {}\n", ::isatty(STDERR_FILENO) ? "\n" : "", program_name(),
-               signal_name(sig),
-               removed ? "unfinished outputs removed, existing files unchanged" : "no output was written");
-    std::fflush(stderr);
-    std::_Exit(128 + sig);
-  }).detach();
+  sigset_t before;
+  ::pthread_sigmask(SIG_BLOCK, &set, &before);
+  try {
+    std::thread([set] {
+      int sig = 0;
+      while (::sigwait(&set, &sig) != 0) {
+      }
+      g_cancelled_by.store(sig);
+      const std::size_t removed = io::cancel_pending_outputs();
+      const std::string line =
+          fmt::format("{}{}: cancelled by {}; {}\n", ::isatty(g_stderr_copy) ? "\n" : "", program_name(),
+                      signal_name(sig), removed ? "unfinished outputs removed, existing files unchanged"
+                                                : "no unfinished output to remove");
+      for (std::size_t done = 0; done < line.size();) {
+        const ssize_t n = ::write(g_stderr_copy, line.data() + done, line.size() - done);
+        if (n <= 0 && errno != EINTR) break;
+        if (n > 0) done += std::size_t(n);
+      }
+      std::_Exit(128 + sig);
+    }).detach();
+  } catch (const std::system_error&) {
+    ::pthread_sigmask(SIG_SETMASK, &before, nullptr);
+  }
 }
 
 // "hydrolux drop render" for the subcommands named at the start of argv (for parse errors, which
@@ -91,7 +123,9 @@ std::vector<Command> add_all_commands(CLI::App& app) {
   return commands;
 }
 
-int run_cli(int argc, char** argv) {
+namespace {
+
+int run_parsed(int argc, char** argv) {
   // A provisional name for messages (the leading words of argv, "hydrolux drop render"), set before
   // the signal handling starts: a Ctrl-C may come before the command tree is even built.
   std::string provisional = "hydrolux";
@@ -147,7 +181,7 @@ int run_cli(int argc, char** argv) {
           if (const auto* opt = cmd.app->get_option_no_throw(name); opt && opt->get_expected_max() == 0)
             msg = fmt::format("{} '{}': {} is a switch and takes no value; give {} alone", name, value, name, name);
     }
-    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, msg, prog);
+    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, printable(msg), prog);
     return kExitUsage;
   } catch (const CLI::ParseError& e) {
     std::string msg = e.what();
@@ -155,7 +189,7 @@ int run_cli(int argc, char** argv) {
     for (char& c : msg)
       if (c == '\n') c = ' ';
     const std::string prog = program_from_argv(app, int(args.size()), args.data());
-    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, msg, prog);
+    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, printable(msg), prog);
     return kExitUsage;
   }
 
@@ -167,6 +201,7 @@ int run_cli(int argc, char** argv) {
     set_program_name(prog);
     try {
       const int code = cmd.run();
+      wait_if_cancelled();
       std::cout.flush();
       if (std::fflush(stdout) != 0 || std::ferror(stdout) || std::cout.fail()) {
         fmt::print(stderr, "{}: cannot write to standard output\n", prog);
@@ -174,27 +209,46 @@ int run_cli(int argc, char** argv) {
       }
       return code;
     } catch (const DomainError& e) {
+      wait_if_cancelled();  // a failure the cancellation caused is not reported
       const auto it = cmd.flags_for_quantity.find(e.quantity());
       if (it != cmd.flags_for_quantity.end())
-        fmt::print(stderr, "{}: {} {:g} is {}\n", prog, it->second, e.value(), e.range_text());
+        fmt::print(stderr, "{}: {} {:g} is {}\n", prog, it->second, e.value(), printable(e.range_text()));
       else
-        fmt::print(stderr, "{}: {}\n", prog, e.what());
+        fmt::print(stderr, "{}: {}\n", prog, printable(e.what()));
       return kExitUsage;
     } catch (const IoFailure& e) {
-      fmt::print(stderr, "{}: {}\n", prog, e.what());
+      wait_if_cancelled();  // a failure the cancellation caused is not reported
+      fmt::print(stderr, "{}: {}\n", prog, printable(e.what()));
       return kExitFailure;
     } catch (const Error& e) {
-      fmt::print(stderr, "{}: {}\n", prog, e.what());
+      wait_if_cancelled();  // a failure the cancellation caused is not reported
+      fmt::print(stderr, "{}: {}\n", prog, printable(e.what()));
       return kExitUsage;
     } catch (const std::bad_alloc&) {
+      wait_if_cancelled();  // a failure the cancellation caused is not reported
       fmt::print(stderr, "{}: out of memory\n", prog);
       return kExitFailure;
     } catch (const std::exception& e) {
-      fmt::print(stderr, "{}: internal error: {}\n", prog, e.what());
+      wait_if_cancelled();  // a failure the cancellation caused is not reported
+      fmt::print(stderr, "{}: internal error: {}\n", prog, printable(e.what()));
       return kExitFailure;
     }
   }
   return kExitFailure;  // unreachable: require_subcommand(1)
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv) {
+  int code = kExitFailure;
+  try {
+    code = run_parsed(argc, argv);
+  } catch (...) {
+    wait_if_cancelled();
+    throw;
+  }
+  wait_if_cancelled();
+  return code;
 }
 
 }  // namespace hydrolux::cli

@@ -140,7 +140,7 @@ int run_render(const RenderArgs& a) {
   write_output_image(output, img);
   files.commit();
   if (!a.quiet)
-    fmt::print(stderr, "drop render: wrote {} ({}x{}, drop radius {:.1f} px, mu {:.5f}{})\n", a.output, img.width,
+    fmt::print(stderr, "drop render: wrote {} ({}x{}, drop radius {:.1f} px, mu {:.5f}{})\n", printable(a.output), img.width,
                img.height, cam.drop_radius_px(), mu[1], a.dispersion ? " (green channel)" : "");
   return 0;
 }

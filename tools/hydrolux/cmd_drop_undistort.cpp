@@ -98,7 +98,7 @@ int run_undistort(const UndistortArgs& a) {
     fmt::print(stderr,
                "drop undistort: wrote {} ({}x{}, fov {:g} deg, yaw {:g}, pitch {:g}; {:.1f}% of the pixels "
                "seen through the drop)\n",
-               a.output, out.width, out.height, view.fov_deg, view.yaw_deg, view.pitch_deg,
+               printable(a.output), out.width, out.height, view.fov_deg, view.yaw_deg, view.pitch_deg,
                100.0 * double(seen) / (double(out.width) * out.height));
   }
   return 0;

@@ -31,7 +31,7 @@ int run_gallery(const GalleryArgs& a) {
       [&](const std::string& name, std::string_view bytes) { dir.write(name, bytes); }, bar.callback());
   files.commit();
   bar.finish();
-  for (const auto& f : figures) fmt::print("{}/{}\n", a.out, f.file);
+  for (const auto& f : figures) fmt::print("{}/{}\n", printable(a.out), f.file);
   fmt::print("{}/index.html  ({} figures)\n", a.out, figures.size());
   return 0;
 }

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
+
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -24,7 +26,16 @@ CLI::Validator bounded(double lo, double hi, bool lo_open, const std::string& un
   return CLI::Validator(
       [=](std::string& s) -> std::string {
         const auto v = parse::number(s);
-        if (!v) return fmt::format("'{}' is not a finite number; valid range {}", s, range);
+        if (!v) {
+          // "1e-400" and "1e400" are numbers, just not ones a double holds.
+          double probe = 0;
+          const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), probe);
+          const bool out_of_range = ec == std::errc::result_out_of_range && ptr == s.data() + s.size();
+          return fmt::format("'{}' is {}; valid range {}", s,
+                             out_of_range ? "beyond what a double holds (about 1e-308 to 1e308 in magnitude)"
+                                          : "not a finite number",
+                             range);
+        }
         if ((lo_open ? !(*v > lo) : !(*v >= lo)) || !(*v <= hi))
           return fmt::format("{} is outside the valid range {}", s, range);
         return {};
@@ -116,7 +127,7 @@ void check_temperature_flag(const std::optional<double>& temperature_c, const st
 void set_program_name(std::string name) {
   auto& p = program_name_storage();
   std::lock_guard lock(p.mutex);
-  p.name = std::move(name);
+  p.name = printable(name);  // argv words may hold anything
 }
 std::string program_name() {
   auto& p = program_name_storage();
@@ -124,7 +135,7 @@ std::string program_name() {
   return p.name;
 }
 
-void warn(const std::string& text) { fmt::print(stderr, "{}: warning: {}\n", program_name(), text); }
+void warn(const std::string& text) { fmt::print(stderr, "{}: warning: {}\n", program_name(), printable(text)); }
 
 ImageOutput declare_output_image(io::FileSet& files, const std::string& flag, const std::string& path) {
   const io::ImageFormat format = io::output_image_format(path, flag);

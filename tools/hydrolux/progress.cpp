@@ -16,7 +16,7 @@ ProgressFn ProgressBar::callback() {
 }
 
 void ProgressBar::update(double fraction, std::string_view label) {
-  if (quiet_) return;
+  if (quiet_ || finished_) return;
   const auto now = Clock::now();
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   // Off a terminal, print a line only every 5 s, so logs stay short.
@@ -32,8 +32,16 @@ void ProgressBar::update(double fraction, std::string_view label) {
 }
 
 void ProgressBar::finish() {
-  if (quiet_) return;
+  if (quiet_ || finished_) return;
+  finished_ = true;
   if (tty_ && printed_) fmt::print(stderr, "\n");
+}
+
+ProgressBar::~ProgressBar() {
+  if (!quiet_ && !finished_ && tty_ && printed_) {
+    std::fputs("\r\033[K", stderr);
+    std::fflush(stderr);
+  }
 }
 
 }  // namespace hydrolux::cli

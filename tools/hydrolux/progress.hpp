@@ -11,6 +11,11 @@ namespace hydrolux::cli {
 class ProgressBar {
  public:
   ProgressBar(std::string job, bool quiet);
+  // A bar left unfinished (an error was thrown) is erased from the terminal, so the error's one
+  // line is not printed after it.
+  ~ProgressBar();
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
   ProgressFn callback();
   void update(double fraction, std::string_view label);
   void finish();
@@ -20,7 +25,7 @@ class ProgressBar {
   std::string job_;
   bool quiet_, tty_;
   Clock::time_point start_, last_print_;
-  bool printed_ = false;
+  bool printed_ = false, finished_ = false;
 };
 
 }  // namespace hydrolux::cli

@@ -3,6 +3,7 @@
 // line on stderr and exit code 2.
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace hydrolux {
 
@@ -54,6 +55,12 @@ class IoFailure : public Error {
  public:
   using Error::Error;
 };
+
+// A message made safe for one terminal line: control characters (a newline in a file name, an
+// escape sequence in a value) and bytes that are not valid UTF-8 become visible escapes ("\n",
+// "\x1b"); printable ASCII and valid UTF-8 pass unchanged. Error messages quote what the user
+// gave, so the CLI prints every message through this.
+std::string printable(std::string_view text);
 
 // Throws DomainError unless lo <= value <= hi (NaN always throws).
 void require_in_range(const char* quantity, double value, double lo, double hi,
