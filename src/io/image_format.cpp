@@ -60,6 +60,7 @@ std::optional<ImageFormat> sniff_image_format(std::string_view b) {
   if (starts("#?RADIANCE") || starts("#?RGBE")) return ImageFormat::hdr;
   if (starts("\xff\xd8\xff")) return ImageFormat::jpeg;
   if (starts(std::string_view("II*\0", 4)) || starts(std::string_view("MM\0*", 4))) return ImageFormat::tiff;
+  if (starts(std::string_view("II+\0", 4)) || starts(std::string_view("MM\0+", 4))) return ImageFormat::tiff;  // BigTIFF
   if (b.size() >= 3 && b[0] == 'P' && std::string_view("123456fF").find(b[1]) != std::string_view::npos &&
       std::isspace(static_cast<unsigned char>(b[2])))
     return ImageFormat::pnm;

@@ -239,7 +239,7 @@ TEST(ImageFormats, EveryFormatAndLayoutDecodes) {
     return ss.str();
   };
   for (const char* good : {"drop.png", "drop.exr", "tiled.exr", "multipart.exr", "drop.hdr", "drop.ppm", "ascii.ppm",
-                           "gray.pgm", "tiny.pfm", "drop.jpg", "progressive.jpg", "drop.tif", "tiled.tif", "palette.png"}) {
+                           "gray.pgm", "tiny.pfm", "drop.jpg", "progressive.jpg", "drop.tif", "tiled.tif", "bigtiff.tif", "palette.png"}) {
     try {
       const auto d = decode_image(slurp(dir / good), good);
       EXPECT_GT(d.image.width, 0) << good;
@@ -340,6 +340,7 @@ TEST(ImageFormats, SniffedFromTheFirstBytes) {
   EXPECT_EQ(sniff_image_format("Pf\n"), ImageFormat::pnm);
   EXPECT_EQ(sniff_image_format("\xff\xd8\xff\xe0"), ImageFormat::jpeg);
   EXPECT_EQ(sniff_image_format(std::string("II*\0", 4)), ImageFormat::tiff);
+  EXPECT_EQ(sniff_image_format(std::string("MM\0+", 4)), ImageFormat::tiff);  // BigTIFF
   EXPECT_EQ(sniff_image_format("P7 not pnm"), std::nullopt);
   EXPECT_EQ(sniff_image_format(""), std::nullopt);
   EXPECT_EQ(sniff_image_format("BM"), std::nullopt);  // BMP is not read
