@@ -48,6 +48,11 @@ std::string printable(std::string_view text) {
   const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
   for (std::size_t i = 0; i < text.size();) {
     const unsigned char c = byte(i);
+    if (c == '\\') {  // escaped too, so that "\n" in the output always means an escape
+      out += "\\\\";
+      ++i;
+      continue;
+    }
     if (c >= 0x20 && c < 0x7f) {
       out += char(c);
       ++i;
@@ -66,8 +71,15 @@ std::string printable(std::string_view text) {
       if (ok && ((c == 0xe0 && c1 < 0xa0) || (c == 0xed && c1 > 0x9f) || (c == 0xf0 && c1 < 0x90) ||
                  (c == 0xf4 && c1 > 0x8f)))
         ok = false;
-      // C1 controls (U+0080-U+009F) act on some terminals as escapes too.
+      // C1 controls (U+0080-U+009F) act on some terminals as escapes too; zero-width and
+      // direction-changing characters (U+200B-U+200F, U+2028-U+202E, U+2066-U+2069) make a name
+      // print as something else.
       if (ok && c == 0xc2 && c1 < 0xa0) ok = false;
+      if (ok && c == 0xe2 && c1 == 0x80) {
+        const unsigned char c2 = byte(i + 2);
+        if ((c2 >= 0x8b && c2 <= 0x8f) || (c2 >= 0xa8 && c2 <= 0xae)) ok = false;
+      }
+      if (ok && c == 0xe2 && c1 == 0x81 && byte(i + 2) >= 0xa6 && byte(i + 2) <= 0xa9) ok = false;
       if (ok) {
         out.append(text.substr(i, n));
         i += n;

@@ -370,6 +370,8 @@ OutputDirectory::OutputDirectory(fs::path target, std::string label) : s_(std::m
   }
   struct stat st {};
   const bool exists = ::stat(s_->target.c_str(), &st) == 0;
+  if (!exists && ::lstat(s_->target.c_str(), &st) == 0 && S_ISLNK(st.st_mode))
+    throw IoError(fmt::format("{}: is a symbolic link to a missing folder; give the folder itself", s_->name()));
   if (exists && !S_ISDIR(st.st_mode))
     throw IoError(fmt::format("{}: is {}, not a folder", s_->name(), S_ISREG(st.st_mode) ? "a file" : file_kind(st.st_mode)));
   // A new folder is staged beside its destination and renamed into place whole. Into an existing
@@ -433,6 +435,8 @@ void OutputDirectory::commit() {
   if (s_->committed) return;
   struct stat st {};
   const bool exists = ::stat(s_->target.c_str(), &st) == 0;
+  if (!exists && ::lstat(s_->target.c_str(), &st) == 0 && S_ISLNK(st.st_mode))
+    throw IoError(fmt::format("{}: is a symbolic link to a missing folder; give the folder itself", s_->name()));
   if (exists && !S_ISDIR(st.st_mode)) throw IoError(fmt::format("{}: is no longer a folder", s_->name()));
   if (exists)
     for (const auto& f : s_->files)

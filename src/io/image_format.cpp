@@ -30,6 +30,16 @@ std::uint32_t be16_at(std::string_view b, std::size_t at) {
 
 std::uint32_t be32_at(std::string_view b, std::size_t at) { return be16_at(b, at) << 16 | be16_at(b, at + 2); }
 
+// A tile of tw x th pixels for a w x h image: decoders allocate whole tiles, so one may be no larger
+// in area than the image rounded up to 16 pixels a side, or 512 x 512 (the largest common tile,
+// Cloud-Optimised GeoTIFFs'), whichever is more.
+std::string tile_problem(std::uint64_t tw, std::uint64_t th, std::uint64_t w, std::uint64_t h) {
+  const std::uint64_t allowed = std::max<std::uint64_t>(ceil_div(w, 16) * 16 * ceil_div(h, 16) * 16, 512 * 512);
+  if (tw > 65536 || th > 65536 || tw * th > allowed)
+    return fmt::format("tiles of {} x {} pixels for an image of {} x {}", tw, th, w, h);
+  return {};
+}
+
 // A width x height claim against the limits; empty if within them.
 std::string size_problem(std::uint64_t w, std::uint64_t h, const ImageLimits& limits) {
   if (w > std::uint64_t(limits.max_side) || h > std::uint64_t(limits.max_side))
@@ -188,9 +198,13 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
       }
     }
     if (part >= 1024) return "more than 1024 parts";
-    bool have_window = false, have_channels = false, tiled = (version & kTiled) != 0;
+    // A single part is tiled by the version flag (OpenEXR ignores a stray `tiles` attribute); a
+    // part of a multipart file by its `type`.
+    const bool multipart = (version & kMultipart) != 0;
+    bool have_window = false, have_channels = false, tiled = !multipart && (version & kTiled) != 0;
     std::int64_t w = 0, h = 0;
     std::uint32_t tile_x = 0, tile_y = 0;
+    int level_mode = 0, rounding = 0;
     int compression = 0;
     std::int64_t chunk_count = -1;
     for (int attributes = 0;; ++attributes) {
@@ -215,7 +229,8 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
       } else if (name == "tiles" && type == "tiledesc" && size == 9) {
         tile_x = u32(pos);
         tile_y = u32(pos + 4);
-        tiled = true;
+        level_mode = static_cast<unsigned char>(b[pos + 8]) & 0x0f;  // one level, mipmap, ripmap
+        rounding = static_cast<unsigned char>(b[pos + 8]) >> 4 & 1;   // down, up
       } else if (name == "chunkCount" && type == "int" && size == 4) {
         chunk_count = i32(pos);
       } else if (name == "channels" && type == "chlist") {
@@ -242,6 +257,7 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
       } else if (name == "type" && type == "string") {
         const std::string_view t = b.substr(pos, std::size_t(size));
         if (t.substr(0, 4) == "deep") return "deep EXR data is not supported";
+        if (multipart && t.substr(0, 10) == "tiledimage") tiled = true;
       }
       pos += std::size_t(size);
     }
@@ -249,18 +265,46 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
     if (!have_channels) return "a part has no channel list";
     if (w < 1 || h < 1) return fmt::format("the data window is {} x {} pixels", w, h);
     if (const std::string e = size_problem(std::uint64_t(w), std::uint64_t(h), limits); !e.empty()) return e;
-    if (chunk_count >= 0) {
-      chunks += std::uint64_t(chunk_count);
-    } else if (tiled) {
+    std::uint64_t part_chunks = 0;
+    if (tiled) {
       if (tile_x == 0 || tile_y == 0) return "a tiled part without a valid tile size";
-      chunks += ceil_div(std::uint64_t(w), tile_x) * ceil_div(std::uint64_t(h), tile_y);
+      // OpenEXR allocates a tile buffer for each of its thread slots: a tile may be no larger
+      // than the image (rounded up to 16) or 512 x 512 pixels, whichever is more.
+      if (const std::string e = tile_problem(tile_x, tile_y, std::uint64_t(w), std::uint64_t(h)); !e.empty())
+        return e;
+      if (level_mode > 2) return fmt::format("unknown EXR level mode {}", level_mode);
+      // Tiles over every level: one level; mipmap levels halving both sides together; ripmap
+      // levels halving each side on its own (OpenEXR's level rounding, down or up).
+      const auto level_count = [&](std::uint64_t n) {
+        int levels = 1;
+        while (n > 1) {
+          n = rounding ? (n + 1) / 2 : n / 2;
+          ++levels;
+        }
+        return levels;
+      };
+      const auto level_size = [&](std::uint64_t n, int l) {
+        for (int k = 0; k < l; ++k) n = rounding ? (n + 1) / 2 : n / 2;
+        return std::max<std::uint64_t>(n, 1);
+      };
+      const int lx = level_mode == 0 ? 1 : level_count(std::uint64_t(level_mode == 1 ? std::max(w, h) : w));
+      const int ly = level_mode == 0 ? 1 : level_mode == 1 ? lx : level_count(std::uint64_t(h));
+      for (int i = 0; i < lx; ++i)
+        for (int j = 0; j < ly; ++j) {
+          if (level_mode == 1 && i != j) continue;
+          part_chunks += ceil_div(level_size(std::uint64_t(w), i), tile_x) * ceil_div(level_size(std::uint64_t(h), j), tile_y);
+        }
     } else {
       // Scan lines per chunk by compression: none, RLE, ZIPS 1; ZIP, PXR24 16; PIZ, B44(A), DWAA 32;
       // DWAB (and anything newer, counted generously) 256.
       static constexpr int kLines[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
       const int lines = compression >= 0 && compression < 10 ? kLines[compression] : 256;
-      chunks += ceil_div(std::uint64_t(h), std::uint64_t(lines));
+      part_chunks = ceil_div(std::uint64_t(h), std::uint64_t(lines));
     }
+    // A multipart file states each part's chunk count; it must be what the part needs.
+    if (multipart && (chunk_count < 0 || std::uint64_t(chunk_count) != part_chunks))
+      return fmt::format("a part states {} chunks but its data window and tiling need {}", chunk_count, part_chunks);
+    chunks += part_chunks;
     if (!(version & kMultipart)) break;
   }
   if (chunks > (b.size() - pos) / 8)
@@ -285,14 +329,16 @@ std::string jpeg_structure_problem(std::string_view b, const ImageLimits& limits
   if (b.size() < 4 || static_cast<unsigned char>(b[0]) != 0xff || static_cast<unsigned char>(b[1]) != 0xd8)
     return "no JPEG start-of-image marker";
   std::size_t pos = 2;
-  bool have_frame = false, arithmetic = false;
+  bool have_frame = false;
   std::uint64_t width = 0, height = 0, components = 0, scans = 0;
   const auto byte = [&](std::size_t at) { return static_cast<unsigned char>(b[at]); };
   while (true) {
-    if (pos >= b.size() || byte(pos) != 0xff) {
-      if (pos >= b.size()) return "the file ends before the end-of-image marker (truncated)";
-      return fmt::format("no marker at byte {} where one must start", pos);
+    if (pos < b.size() && byte(pos) != 0xff) {
+      // Stray bytes between segments: libjpeg skips them to the next marker with a warning.
+      const void* ff = std::memchr(b.data() + pos, 0xff, b.size() - pos);
+      pos = ff ? std::size_t(static_cast<const char*>(ff) - b.data()) : b.size();
     }
+    if (pos >= b.size()) return "the file ends before the end-of-image marker (truncated)";
     while (pos < b.size() && byte(pos) == 0xff) ++pos;  // fill bytes
     if (pos >= b.size()) return "the file ends before the end-of-image marker (truncated)";
     const unsigned marker = byte(pos++);
@@ -315,7 +361,9 @@ std::string jpeg_structure_problem(std::string_view b, const ImageLimits& limits
       if (components == 0 || components > std::uint64_t(limits.max_channels))
         return fmt::format("the header claims {} components; the limit is {}", components, limits.max_channels);
       if (const std::string e = size_problem(width, height, limits); !e.empty()) return e;
-      arithmetic = marker >= 0xc9;
+      // Arithmetic coding has no bound of bytes a block: a 114-byte file can make libjpeg decode a
+      // 16384 x 16384 progressive image (4.8 GB, 18 s; found in review). It is rare: refused.
+      if (marker >= 0xc9) return "arithmetic-coded JPEG is not supported (re-encode it with Huffman coding)";
       have_frame = true;
     }
     pos += length;
@@ -345,9 +393,8 @@ std::string jpeg_structure_problem(std::string_view b, const ImageLimits& limits
   }
   if (!have_frame) return "no frame header";
   if (scans == 0) return "no image data (no scan)";
-  // Every 8 x 8 block of the first component costs at least one bit of Huffman-coded DC difference
-  // (arithmetic coding has no such bound).
-  const std::uint64_t least = arithmetic ? 0 : ceil_div(ceil_div(width, 8) * ceil_div(height, 8), 8);
+  // Every 8 x 8 block of the first component costs at least one bit of Huffman-coded DC difference.
+  const std::uint64_t least = ceil_div(ceil_div(width, 8) * ceil_div(height, 8), 8);
   if (least > b.size())
     return fmt::format("the header claims {} x {} pixels, which need at least {} bytes of JPEG data, but the file has {}",
                        width, height, least, b.size());
@@ -389,13 +436,13 @@ std::string tiff_structure_problem(std::string_view b, const ImageLimits& limits
   // SamplesPerPixel, RowsPerStrip, StripByteCounts, PlanarConfiguration, TileWidth, TileLength,
   // TileOffsets, TileByteCounts, and SGI's ImageDepth (volumes).
   enum Tag : std::uint64_t {
-    kWidth = 256, kLength = 257, kBits = 258, kStripOffsets = 273, kSamples = 277, kRowsPerStrip = 278,
-    kStripBytes = 279, kPlanar = 284, kTileWidth = 322, kTileLength = 323, kTileOffsets = 324, kTileBytes = 325,
-    kImageDepth = 32997
+    kWidth = 256, kLength = 257, kBits = 258, kCompression = 259, kStripOffsets = 273, kSamples = 277,
+    kRowsPerStrip = 278, kStripBytes = 279, kPlanar = 284, kTileWidth = 322, kTileLength = 323,
+    kTileOffsets = 324, kTileBytes = 325, kImageDepth = 32997
   };
-  constexpr std::uint64_t kTags[] = {kWidth,     kLength,    kBits,        kStripOffsets, kSamples,
-                                     kRowsPerStrip, kStripBytes, kPlanar,  kTileWidth,    kTileLength,
-                                     kTileOffsets,  kTileBytes,  kImageDepth};
+  constexpr std::uint64_t kTags[] = {kWidth,       kLength,     kBits,     kCompression, kStripOffsets,
+                                     kSamples,     kRowsPerStrip, kStripBytes, kPlanar,  kTileWidth,
+                                     kTileLength,  kTileOffsets,  kTileBytes,  kImageDepth};
   Field fields[std::size(kTags)];
   for (std::uint64_t k = 0; k < entries; ++k) {
     const std::uint64_t e = ifd + count_size + k * entry_size;
@@ -413,8 +460,9 @@ std::string tiff_structure_problem(std::string_view b, const ImageLimits& limits
       if (at > b.size() || b.size() - at < bytes)
         return fmt::format("the values of TIFF tag {} lie outside the file ({} bytes at byte {})", tag, bytes, at);
     }
+    // A repeated tag: libtiff keeps the first and ignores the rest, so the walk does too.
     for (std::size_t i = 0; i < std::size(kTags); ++i)
-      if (kTags[i] == tag) fields[i] = {type_size, count, at, true};
+      if (kTags[i] == tag && !fields[i].present) fields[i] = {type_size, count, at, true};
   }
   const auto field = [&](Tag tag) -> const Field& {
     std::size_t i = 0;
@@ -441,14 +489,18 @@ std::string tiff_structure_problem(std::string_view b, const ImageLimits& limits
   // larger than the image rounded up to whole 16-pixel tiles (libtiff allocates a whole tile to
   // decode one: a 1 kB file claiming 1-pixel image in 65536 x 65536 tiles asks for gigabytes).
   const bool tiled = field(kTileWidth).present || field(kTileLength).present;
+  // libtiff keeps strip and tile offsets in one field, the last read winning: a file with both
+  // could pass this walk with one and be decoded with the other.
+  if ((field(kStripOffsets).present || field(kStripBytes).present) &&
+      (field(kTileOffsets).present || field(kTileBytes).present))
+    return "both strip and tile locations";
   std::uint64_t chunks = 0;
   Tag offsets_tag = kStripOffsets, bytes_tag = kStripBytes;
   if (tiled) {
     const std::uint64_t tw = scalar(kTileWidth, 0), th = scalar(kTileLength, 0);
     if (tw == 0 || th == 0 || tw % 16 != 0 || th % 16 != 0)
       return fmt::format("TIFF tiles of {} x {} pixels (they must be multiples of 16)", tw, th);
-    if (tw > ceil_div(width, 16) * 16 || th > ceil_div(height, 16) * 16)
-      return fmt::format("TIFF tiles of {} x {} pixels for an image of {} x {}", tw, th, width, height);
+    if (const std::string e = tile_problem(tw, th, width, height); !e.empty()) return e;
     chunks = ceil_div(width, tw) * ceil_div(height, th) * planes;
     offsets_tag = kTileOffsets;
     bytes_tag = kTileBytes;
@@ -463,12 +515,38 @@ std::string tiff_structure_problem(std::string_view b, const ImageLimits& limits
     return fmt::format("the image needs {} {}s but the header locates {}", chunks, what,
                        std::min(offsets.count, sizes.count));
   if (offsets.type_size > 8 || sizes.type_size > 8) return fmt::format("the {} offsets are not integers", what);
+  std::uint64_t total = 0;
   for (std::uint64_t i = 0; i < chunks; ++i) {
     const std::uint64_t at = value(offsets, i), n = value(sizes, i);
     if (at > b.size() || b.size() - at < n)
       return fmt::format("{} {} of {} ({} bytes at byte {}) runs past the end of the file ({} bytes; truncated?)", what,
                          i + 1, chunks, n, at, b.size());
+    total += n;
   }
+  // Strips or tiles that share bytes (thousands pointing at the same few) would each be decoded.
+  if (total > b.size())
+    return fmt::format("its {}s claim {} bytes in all, more than the file's {}", what, total, b.size());
+  // The image data against what its compression can hold: uncompressed, every byte; PackBits at
+  // most 64:1 (2 bytes for a run of 128); LZW about 2731:1 (12-bit codes for strings of at most
+  // 4096 bytes); Deflate 1032:1 (zlib); JPEG one bit an 8 x 8 block (of a subsampled chroma
+  // sample, at worst); others
+  // (fax, ZSTD, LZMA, WebP) at most 65536:1.
+  const std::uint64_t raw = width * height * samples * bits / 8;
+  std::uint64_t ratio = 65536;
+  switch (scalar(kCompression, 1)) {
+    case 1: ratio = 1; break;
+    case 32773: ratio = 64; break;
+    case 5: ratio = 2731; break;
+    case 8:
+    case 32946: ratio = 1032; break;
+    case 7: ratio = 2 * 64 * std::max<std::uint64_t>(bits, 8); break;  // x 2: chroma subsampling
+    default: break;
+  }
+  if (ratio == 1 ? total < raw : total < raw / ratio)
+    return fmt::format("the header claims {} x {} pixels ({} bytes of samples), which need at least {} bytes of "
+                       "{} data, but its {}s hold {}",
+                       width, height, raw, ratio == 1 ? raw : raw / ratio,
+                       ratio == 1 ? "uncompressed" : "compressed", what, total);
   return {};
 }
 

@@ -84,3 +84,12 @@ TEST(Printable, EscapesControlsAndInvalidUtf8) {
   EXPECT_EQ(printable("\xc0\xaf"), "\\xc0\\xaf");              // overlong '/'
   EXPECT_EQ(printable("\xed\xa0\x80"), "\\xed\\xa0\\x80");     // a surrogate
 }
+
+TEST(Printable, EscapesBackslashesAndInvisibleCharacters) {
+  using hydrolux::printable;
+  EXPECT_EQ(printable("a\\nb"), "a\\\\nb");                              // a real backslash
+  EXPECT_EQ(printable("evil\xe2\x80\xae" "gnp.exe"), "evil\\xe2\\x80\\xaegnp.exe");  // U+202E
+  EXPECT_EQ(printable("zero\xe2\x80\x8bwidth"), "zero\\xe2\\x80\\x8bwidth");         // U+200B
+  EXPECT_EQ(printable("iso\xe2\x81\xa6late"), "iso\\xe2\\x81\\xa6late");             // U+2066
+  EXPECT_EQ(printable("dash\xe2\x80\x94ok"), "dash\xe2\x80\x94ok");                   // U+2014 stays
+}

@@ -375,6 +375,8 @@ TEST_F(Files, OutputDirectoryStagesAndCommits) {
   EXPECT_TRUE(fs::is_directory(dir_ / "deep" / "gallery" / "index.html.d"));
   EXPECT_EQ(names(dir_ / "deep" / "gallery").size(), 4u);  // the staging folder is gone
   EXPECT_THROW(OutputDirectory(dir_ / "deep" / "gallery" / "a.svg"), IoError);  // a file
+  fs::create_directory_symlink("nowhere", dir_ / "dangling-gallery");
+  EXPECT_THROW(OutputDirectory(dir_ / "dangling-gallery"), IoError);  // found now, not at the end
   EXPECT_EQ(pending_output_count(), 0u);
 }
 

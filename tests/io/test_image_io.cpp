@@ -3,6 +3,8 @@
 // same image encoded to the same bytes.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -239,7 +241,7 @@ TEST(ImageFormats, EveryFormatAndLayoutDecodes) {
     return ss.str();
   };
   for (const char* good : {"drop.png", "drop.exr", "tiled.exr", "multipart.exr", "drop.hdr", "drop.ppm", "ascii.ppm",
-                           "gray.pgm", "tiny.pfm", "drop.jpg", "progressive.jpg", "drop.tif", "tiled.tif", "bigtiff.tif", "palette.png"}) {
+                           "gray.pgm", "tiny.pfm", "drop.jpg", "progressive.jpg", "drop.tif", "tiled.tif", "bigtiff.tif", "palette.png", "mipmap.exr"}) {
     try {
       const auto d = decode_image(slurp(dir / good), good);
       EXPECT_GT(d.image.width, 0) << good;
@@ -282,6 +284,35 @@ TEST(ImageFormats, ExrHeadersAreWalkedBeforeOpenExrTrustsThem) {
                 .find("the header asks for 3750 chunks, whose offset table alone needs 30000 bytes"),
             std::string::npos);
   EXPECT_NE(exr_header_problem(exr.substr(0, 40), {}).find("the file ends inside"), std::string::npos);
+
+  // Tiles are bounded as TIFF's are: OpenEXR allocates a tile buffer for each thread slot, and a
+  // 440-byte 1 x 1 file with 8192 x 8192 tiles took 1.15 GB (found in review).
+  std::ifstream tin(corpus / "tiled.exr", std::ios::binary);
+  std::stringstream tss;
+  tss << tin.rdbuf();
+  std::string tiled = tss.str();
+  EXPECT_EQ(exr_header_problem(tiled, {}), "");
+  const std::string tiles_key("tiles\0tiledesc\0", 15);
+  const auto tiles_at = tiled.find(tiles_key) + tiles_key.size() + 4;
+  for (int k = 0; k < 8; ++k) tiled[tiles_at + k] = "\x00\x20\x00\x00\x00\x20\x00\x00"[k];  // 8192, 8192
+  EXPECT_NE(exr_header_problem(tiled, {}).find("tiles of 8192 x 8192 pixels"), std::string::npos)
+      << exr_header_problem(tiled, {});
+
+  // A single-part file's offset table is sized from its data window, as OpenEXR sizes it: a stray
+  // chunkCount attribute (which OpenEXR ignores there) cannot switch the offset check off.
+  std::size_t end = 8;
+  while (exr[end] != '\0') {                         // name, type, size, value
+    end = exr.find('\0', end) + 1;
+    end = exr.find('\0', end) + 1;
+    std::uint32_t size = 0;
+    for (int k = 0; k < 4; ++k) size |= std::uint32_t(static_cast<unsigned char>(exr[end + k])) << (8 * k);
+    end += 4 + size;
+  }
+  std::string stray = exr.substr(0, end) + std::string("chunkCount\0int\0\x04\0\0\0\0\0\0\0", 24) + exr.substr(end);
+  const std::size_t table = end + 24 + 1;
+  stray.replace(table, 8, std::string("\0\0\0\0\0\0\xff\x7f", 8));  // zip: 16 lines a chunk, so one chunk
+  EXPECT_NE(exr_header_problem(stray, {}).find("the offset table puts chunk 1 of 1 at byte"), std::string::npos)
+      << exr_header_problem(stray, {});
 }
 
 // JPEG and TIFF are walked before their codecs too (the hostile files a review found): a
@@ -329,6 +360,48 @@ TEST(ImageFormats, JpegAndTiffStructuresAreWalkedBeforeTheirCodecs) {
   refused(testing::tiff_claiming(100000, 1, 0, 10, 10), "wide.tif", "the limit is 65536 pixels a side");
   refused(testing::tiff_claiming(64, 64, 0, 64, 1u << 30), "claims.tif", "runs past the end of the file");
   refused(tif.substr(0, 6), "header.tif", "the file ends inside the TIFF header");
+  // Tiles larger than a small image are common (OpenImageIO writes 64 x 64 tiles for a 40 x 40
+  // image; COGs use 512 x 512): allowed up to 512 x 512.
+  EXPECT_EQ(decode_image(testing::tiff_claiming(40, 40, 64, 64 * 64, 64 * 64), "small.tif").image.width, 40);
+
+  // What a second review found. A repeated tag counts once, as libtiff keeps the first: a 1 x 1
+  // image whose first TileWidth/TileLength say 16384 is a tile bomb whatever follows.
+  using E = std::array<std::uint32_t, 4>;
+  const std::vector<E> head = {{256, 4, 1, 1}, {257, 4, 1, 1}, {258, 3, 1, 8}, {259, 3, 1, 1}, {262, 3, 1, 1}, {277, 3, 1, 1}};
+  auto dup = head;
+  dup.insert(dup.end(), {E{322, 4, 1, 16384}, E{322, 4, 1, 16}, E{323, 4, 1, 16384}, E{323, 4, 1, 16}});
+  dup.insert(dup.end(), {E{324, 4, 1, testing::tiff_data_offset(12)}, E{325, 4, 1, 256}});
+  refused(testing::tiff_from_entries(dup, 256), "dup.tif", "tiles of 16384 x 16384 pixels for an image of 1 x 1");
+  // Strip and tile locations together (libtiff keeps them in one field).
+  auto both = head;
+  both.insert(both.end(), {E{273, 4, 1, testing::tiff_data_offset(12)}, E{278, 4, 1, 1}, E{279, 4, 1, 1},
+                           E{322, 4, 1, 16}, E{323, 4, 1, 16}, E{325, 4, 1, 1}});
+  refused(testing::tiff_from_entries(both, 256), "both.tif", "both strip and tile locations");
+  // 8192 x 8192 RGBA in one Deflate strip of 100 bytes (it decoded, mostly zeros, at 1.1 GB).
+  const std::vector<E> deflate = {{256, 4, 1, 8192}, {257, 4, 1, 8192}, {258, 3, 1, 8}, {259, 3, 1, 8},
+                                  {262, 3, 1, 2},    {273, 4, 1, testing::tiff_data_offset(9)}, {277, 3, 1, 4},
+                                  {278, 4, 1, 8192}, {279, 4, 1, 100}};
+  refused(testing::tiff_from_entries(deflate, 100), "deflate.tif",
+          "need at least 260111 bytes of compressed data, but its strips hold 100");
+  // 4096 uncompressed strips of one row, all pointing at the same 16 bytes.
+  const std::uint32_t strips = 4096, arrays = testing::tiff_data_offset(9);
+  std::vector<E> shared = {{256, 4, 1, 16}, {257, 4, 1, strips}, {258, 3, 1, 8}, {259, 3, 1, 1}, {262, 3, 1, 1},
+                           {273, 4, strips, arrays}, {277, 3, 1, 1}, {278, 4, 1, 1}, {279, 4, strips, arrays + 4 * strips}};
+  std::string shared_tif = testing::tiff_from_entries(shared, 0);
+  const std::uint32_t data_at = std::uint32_t(shared_tif.size()) + 8 * strips;
+  for (std::uint32_t k = 0; k < strips; ++k) shared_tif += std::string{char(data_at & 0xff), char(data_at >> 8 & 0xff), char(data_at >> 16), 0};
+  for (std::uint32_t k = 0; k < strips; ++k) shared_tif += std::string{16, 0, 0, 0};
+  shared_tif += std::string(16, '\0');
+  refused(shared_tif, "shared.tif", "its strips claim 65536 bytes in all, more than the file's");
+
+  // JPEG: stray bytes between segments are skipped (libjpeg warns and reads on); arithmetic
+  // coding, which has no bytes-a-block bound (a 114-byte file decoded 16384 x 16384), is refused.
+  std::string stray = jpg;
+  stray.insert(20, std::string(2, '\0'));  // after the APP0 segment
+  EXPECT_EQ(jpeg_structure_problem(stray, limits), "");
+  std::string arithmetic = testing::jpeg_with_scans(64, 64, 1);
+  arithmetic[3] = char(0xca);  // SOF2 -> SOF10
+  refused(arithmetic, "arith.jpg", "arithmetic-coded JPEG is not supported");
 }
 
 TEST(ImageFormats, SniffedFromTheFirstBytes) {

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cerrno>
 #include <csignal>
 #include <functional>
@@ -126,21 +127,22 @@ inline constexpr int kHungAfterSeconds = 600;
 inline Result finish(const Process& p) {
   Result r;
   int status = 0;
-  bool hung = false;
-  for (long waited_ms = 0;; waited_ms += 5) {
+  bool hung = false, lost = false;
+  const auto start = std::chrono::steady_clock::now();
+  while (true) {
     const pid_t done = ::waitpid(p.pid, &status, WNOHANG);
     if (done == p.pid) break;
     if (done < 0 && errno != EINTR) {  // not our child (ECHILD): nothing to wait for
-      r.code = -1;
-      return r;
+      lost = true;
+      break;
     }
-    if (!hung && waited_ms >= 1000L * kHungAfterSeconds) {
+    if (!hung && std::chrono::steady_clock::now() - start > std::chrono::seconds(kHungAfterSeconds)) {
       hung = true;
       ::kill(p.pid, SIGKILL);
     }
     ::usleep(5000);
   }
-  r.code = hung ? -2 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.code = lost ? -1 : hung ? -2 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   const auto slurp = [](const fs::path& f) {
     std::ifstream in(f, std::ios::binary);
     std::stringstream ss;

@@ -117,4 +117,19 @@ inline std::string tiff_claiming(std::uint32_t width, std::uint32_t height, std:
   return t + std::string(data_bytes, '\0');
 }
 
+// A little-endian TIFF from raw directory entries {tag, type (3 SHORT, 4 LONG), count, value},
+// written in the order given (repeats allowed), followed by `data_bytes` zero bytes starting at
+// the offset tiff_data_offset(entries.size()) returns.
+inline std::uint32_t tiff_data_offset(std::size_t entries) { return std::uint32_t(8 + 2 + 12 * entries + 4); }
+inline std::string tiff_from_entries(const std::vector<std::array<std::uint32_t, 4>>& entries, std::uint32_t data_bytes) {
+  const auto le16 = [](unsigned v) { return std::string{char(v & 0xff), char(v >> 8)}; };
+  const auto le32 = [](std::uint32_t v) {
+    return std::string{char(v & 0xff), char((v >> 8) & 0xff), char((v >> 16) & 0xff), char(v >> 24)};
+  };
+  std::string t = "II" + le16(42) + le32(8) + le16(unsigned(entries.size()));
+  for (const auto& [tag, type, count, value] : entries)
+    t += le16(tag) + le16(type) + le32(count) + (type == 3 && count == 1 ? le16(value) + le16(0) : le32(value));
+  return t + le32(0) + std::string(data_bytes, '\0');
+}
+
 }  // namespace hydrolux::testing

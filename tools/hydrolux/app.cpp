@@ -50,7 +50,14 @@ int g_stderr_copy = STDERR_FILENO;
 // Called on every way out of run_cli: after a cancellation the signal thread owns the exit.
 void wait_if_cancelled() {
   if (g_cancelled_by.load() == 0) return;
-  for (;;) ::pause();  // the signal thread prints its line and calls _Exit(128 + signal)
+  // The signal thread prints its line and calls _Exit(128 + signal). Should it be stuck (its
+  // write blocked on a full pipe), a second Ctrl-C or SIGTERM ends the process by the default
+  // action: unblocked here, in the one thread that waits.
+  sigset_t set;
+  sigemptyset(&set);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&set, sig);
+  ::pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+  for (;;) ::pause();
 }
 
 // Ctrl-C, SIGTERM and SIGHUP are blocked in every thread (the worker threads TBB and OpenImageIO

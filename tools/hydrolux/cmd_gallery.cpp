@@ -32,7 +32,7 @@ int run_gallery(const GalleryArgs& a) {
   files.commit();
   bar.finish();
   for (const auto& f : figures) fmt::print("{}/{}\n", printable(a.out), f.file);
-  fmt::print("{}/index.html  ({} figures)\n", a.out, figures.size());
+  fmt::print("{}/index.html  ({} figures)\n", printable(a.out), figures.size());
   return 0;
 }
 }  // namespace

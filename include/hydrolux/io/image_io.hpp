@@ -82,10 +82,14 @@ std::uint64_t min_encoded_bytes(ImageFormat f, std::int64_t width, std::int64_t 
 // - JPEG: the marker segments and entropy-coded scans up to EOI (a truncated file is refused, not
 //   decoded grey), the frame size within the limits and, for Huffman coding, the file large enough
 //   for one bit a block; at most max_jpeg_scans scans (a progressive JPEG is decoded while it is
-//   opened). DNL-defined heights are refused.
-// - TIFF (and BigTIFF): the first image directory, its values inside the file; size, samples and
-//   bits within the limits; tiles multiples of 16 and no larger than the image; every strip or
-//   tile the image needs inside the file (a truncated TIFF is refused).
+//   opened). DNL-defined heights and arithmetic coding (no bytes-a-block bound) are refused.
+// - TIFF (and BigTIFF): the first image directory (a repeated tag counts once, as in libtiff), its
+//   values inside the file; size, samples and bits within the limits; tiles multiples of 16 and no
+//   larger in area than the image or 512 x 512; every strip or tile the image needs inside the
+//   file (a truncated TIFF is refused), together no more than the file, and enough bytes for the
+//   image at its compression's best ratio.
+// - OpenEXR tiles are bounded the same way, and its offset table counted over every mipmap or
+//   ripmap level; a multipart file's chunkCount must agree with each part's window.
 // - Radiance HDR and PNM have no structure to walk: their bound against the file size is checked
 //   from the codec's header (min_encoded_bytes).
 std::string image_structure_problem(ImageFormat format, std::string_view bytes, const ImageLimits& limits);
