@@ -65,11 +65,11 @@ test-sanitize: deps
 	@$(MAKE) --no-print-directory sanitize-build
 	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -LE fuzz
 
-# Each fuzz target for FUZZ_SECONDS on a scratch copy of its seed corpus; findings go to
-# $(SAN_DIR)/fuzz-runs/<target>/findings/.
+# Each fuzz target (or those named in FUZZ_TARGETS, e.g. FUZZ_TARGETS=fuzz_image) for FUZZ_SECONDS
+# on a scratch copy of its seed corpus; findings go to $(SAN_DIR)/fuzz-runs/<target>/findings/.
 fuzz: deps
 	@$(MAKE) --no-print-directory fuzz-build
-	@mkdir -p $(SAN_DIR)/fuzz-runs; for b in $(SAN_DIR)/bin/fuzz_*; do \
+	@mkdir -p $(SAN_DIR)/fuzz-runs; for b in $(if $(FUZZ_TARGETS),$(addprefix $(SAN_DIR)/bin/,$(FUZZ_TARGETS)),$(SAN_DIR)/bin/fuzz_*); do \
 	  n=$$(basename $$b); echo "== $$n for $(FUZZ_SECONDS) s"; \
 	  if $(SAN_ENV) fuzz/run_fuzzer.sh $$b fuzz/corpus/$${n#fuzz_} $(FUZZ_SECONDS) $(SAN_DIR)/fuzz-runs \
 	       > $(SAN_DIR)/fuzz-runs/$$n.log 2>&1; then tail -n 4 $(SAN_DIR)/fuzz-runs/$$n.log; \

@@ -401,6 +401,70 @@ std::string jpeg_structure_problem(std::string_view b, const ImageLimits& limits
   return {};
 }
 
+std::string jpeg_without_metadata(std::string_view b) {
+  // The same walk as jpeg_structure_problem (which must have passed), copying every segment and
+  // scan but the metadata ones.
+  const auto byte = [&](std::size_t at) { return static_cast<unsigned char>(b[at]); };
+  std::string out(b.substr(0, 2));  // SOI
+  out.reserve(b.size());
+  std::size_t pos = 2;
+  while (pos < b.size()) {
+    if (byte(pos) != 0xff) {  // stray bytes between segments
+      const void* ff = std::memchr(b.data() + pos, 0xff, b.size() - pos);
+      if (!ff) break;
+      pos = std::size_t(static_cast<const char*>(ff) - b.data());
+    }
+    while (pos < b.size() && byte(pos) == 0xff) ++pos;
+    if (pos >= b.size()) break;
+    const unsigned marker = byte(pos++);
+    if (marker == 0xd9) {
+      out += "\xff\xd9";
+      break;
+    }
+    if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) {
+      out += '\xff';
+      out += char(marker);
+      continue;
+    }
+    if (b.size() - pos < 2) break;
+    const std::size_t length = be16_at(b, pos);
+    if (length < 2 || b.size() - pos < length) break;
+    // APP1-APP13, APP15 (Exif, XMP, ICC, IPTC/Photoshop, ...) and COM are dropped; APP0 (JFIF) and
+    // APP14 (Adobe: the colour transform) change how the pixels decode and are kept.
+    const bool metadata = (marker >= 0xe1 && marker <= 0xef && marker != 0xee) || marker == 0xfe;
+    const std::size_t start = pos - 2;
+    pos += length;
+    if (!metadata) out.append(b.substr(start, pos - start));
+    if (marker == 0xda) {  // entropy-coded data up to the next marker
+      const std::size_t data = pos;
+      while (pos < b.size()) {
+        const void* ff = std::memchr(b.data() + pos, 0xff, b.size() - pos);
+        if (!ff) {
+          pos = b.size();
+          break;
+        }
+        pos = std::size_t(static_cast<const char*>(ff) - b.data());
+        if (pos + 1 >= b.size()) {
+          pos = b.size();
+          break;
+        }
+        const unsigned next = byte(pos + 1);
+        if (next == 0x00 || (next >= 0xd0 && next <= 0xd7)) {
+          pos += 2;
+          continue;
+        }
+        if (next == 0xff) {
+          ++pos;
+          continue;
+        }
+        break;
+      }
+      out.append(b.substr(data, pos - data));
+    }
+  }
+  return out;
+}
+
 std::string tiff_structure_problem(std::string_view b, const ImageLimits& limits) {
   // TIFF 6.0 (and BigTIFF): a byte order mark, 42 (or 43), the offset of the first image file
   // directory (IFD), whose entries are tag, type, count and a value or the offset of the values.

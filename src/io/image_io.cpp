@@ -158,6 +158,12 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
   if (const std::string problem = image_structure_problem(*format, bytes, limits); !problem.empty())
     throw fail(fmt::format("malformed, truncated or oversized {} file: {}", format_name(*format), problem));
 
+  std::string stripped;
+  if (*format == ImageFormat::jpeg) {
+    stripped = jpeg_without_metadata(bytes);
+    bytes = stripped;
+  }
+
   auto in = OIIO::ImageInput::create(oiio_format(*format));
   if (!in) throw codec_failure(OIIO::geterror());
   OIIO::Filesystem::IOMemReader proxy(const_cast<char*>(bytes.data()), bytes.size());

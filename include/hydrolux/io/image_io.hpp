@@ -98,6 +98,13 @@ std::string exr_header_problem(std::string_view bytes, const ImageLimits& limits
 std::string jpeg_structure_problem(std::string_view bytes, const ImageLimits& limits);
 std::string tiff_structure_problem(std::string_view bytes, const ImageLimits& limits);
 
+// A JPEG that passed jpeg_structure_problem, without its metadata segments (APP1-APP13, APP15:
+// Exif, XMP, ICC, IPTC; and COM), which hydrolux does not use. OpenImageIO 2.4 parses them while
+// opening a file, and fuzz_image found it reading past a saved marker there (a heap overflow in
+// JpgInput::open); what it never sees it cannot misread. APP0 (JFIF) and APP14 (Adobe), which
+// change how the pixels decode, are kept.
+std::string jpeg_without_metadata(std::string_view bytes);
+
 // Encodes to PNG or EXR bytes (IoError for other formats or an inconsistent image).
 std::string encode_image(const Image& image, ImageFormat format, PngOptions png = {});
 
