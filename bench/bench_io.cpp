@@ -71,6 +71,15 @@ void decode(benchmark::State& state) {
 }
 BENCHMARK(decode)->Args({512, 0})->Args({512, 1})->Unit(benchmark::kMillisecond);
 
+// The structural walk alone (io::image_structure_problem), which decode runs before the codec.
+void structure_walk(benchmark::State& state) {
+  const auto format = state.range(1) ? hydrolux::io::ImageFormat::exr : hydrolux::io::ImageFormat::png;
+  const std::string bytes = hydrolux::io::encode_image(test_image(int(state.range(0))), format);
+  const hydrolux::io::ImageLimits limits;
+  for (auto _ : state) benchmark::DoNotOptimize(hydrolux::io::image_structure_problem(format, bytes, limits));
+}
+BENCHMARK(structure_walk)->Args({512, 0})->Args({512, 1})->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();
