@@ -153,14 +153,15 @@ std::string png_structure_problem(std::string_view b, const ImageLimits& limits)
     pos += 8 + std::size_t(length) + 4;
     if (type == "IEND") break;
   }
-  // The image data before compression are at least a filter byte a row plus the packed samples
-  // (with Adam7 interlacing, more rows); zlib's deflate expands at most 1032:1.
-  const std::uint64_t raw = (height + width * height * bits_per_pixel / 8);
-  if (idat_bytes < raw / 1032)
+  // The IDAT chunks against deflate's best ratio, for the pixels as stored (one "channel" of
+  // bits_per_pixel bits; with Adam7 interlacing there are more filter bytes, never fewer).
+  const std::uint64_t least =
+      min_encoded_bytes(ImageFormat::png, std::int64_t(width), std::int64_t(height), 1, int(bits_per_pixel));
+  if (idat_bytes < least)
     return fmt::format(
         "the header claims {} x {} pixels of {} bits, which need at least {} bytes of compressed image data, but the "
         "IDAT chunks hold {}",
-        width, height, bits_per_pixel, raw / 1032, idat_bytes);
+        width, height, bits_per_pixel, least, idat_bytes);
   return {};
 }
 
@@ -322,79 +323,93 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
   return {};
 }
 
-std::string jpeg_structure_problem(std::string_view b, const ImageLimits& limits) {
-  // JPEG (ITU T.81, Annex B): SOI, then marker segments (0xFF, a marker, a 16-bit length counting
-  // itself), entropy-coded data after each SOS up to the next marker other than RSTn or a stuffed
-  // 0xFF00, and EOI.
-  if (b.size() < 4 || static_cast<unsigned char>(b[0]) != 0xff || static_cast<unsigned char>(b[1]) != 0xd8)
-    return "no JPEG start-of-image marker";
-  std::size_t pos = 2;
-  bool have_frame = false;
-  std::uint64_t width = 0, height = 0, components = 0, scans = 0;
+namespace {
+
+// Walks a JPEG (ITU T.81, Annex B) from after SOI to EOI: marker segments (0xFF, a marker, a
+// 16-bit length counting itself), entropy-coded data after each SOS up to the next marker other
+// than RSTn or a stuffed 0xFF00. Stray bytes between segments are skipped, as libjpeg skips them.
+// For each marker, visit(marker, at, payload, end): `at` its first 0xFF, `payload` where its length
+// field starts (equal to `end` for TEM, RSTn and EOI, which have none), `end` just past it and,
+// for SOS, past its entropy-coded data. The walk stops at EOI, at a malformed or truncated spot
+// (returning why), or when the visitor returns a reason.
+template <typename Visit>
+std::string walk_jpeg(std::string_view b, Visit&& visit) {
   const auto byte = [&](std::size_t at) { return static_cast<unsigned char>(b[at]); };
+  // The first 0xFF at or after `from`, or b.size().
+  const auto next_ff = [&](std::size_t from) {
+    const void* ff = from < b.size() ? std::memchr(b.data() + from, 0xff, b.size() - from) : nullptr;
+    return ff ? std::size_t(static_cast<const char*>(ff) - b.data()) : b.size();
+  };
+  constexpr std::string_view kTruncated = "the file ends before the end-of-image marker (truncated)";
+  std::size_t pos = 2;
   while (true) {
-    if (pos < b.size() && byte(pos) != 0xff) {
-      // Stray bytes between segments: libjpeg skips them to the next marker with a warning.
-      const void* ff = std::memchr(b.data() + pos, 0xff, b.size() - pos);
-      pos = ff ? std::size_t(static_cast<const char*>(ff) - b.data()) : b.size();
-    }
-    if (pos >= b.size()) return "the file ends before the end-of-image marker (truncated)";
+    pos = next_ff(pos);
+    const std::size_t at = pos;
     while (pos < b.size() && byte(pos) == 0xff) ++pos;  // fill bytes
-    if (pos >= b.size()) return "the file ends before the end-of-image marker (truncated)";
+    if (pos >= b.size()) return std::string(kTruncated);
     const unsigned marker = byte(pos++);
-    if (marker == 0xd9) break;                                      // EOI
-    if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) continue;  // TEM, RSTn: no length
+    if (marker == 0xd9) return visit(marker, at, pos, pos);  // EOI
+    if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) {  // TEM, RSTn: no length
+      if (std::string e = visit(marker, at, pos, pos); !e.empty()) return e;
+      continue;
+    }
     if (marker == 0xd8 || marker == 0x00) return fmt::format("an unexpected marker 0x{:02X}", marker);
     if (b.size() - pos < 2) return "the file ends inside a marker segment (truncated)";
     const std::size_t length = be16_at(b, pos);
     if (length < 2 || b.size() - pos < length)
       return fmt::format("the file ends inside a segment: marker 0x{:02X} claims {} bytes (truncated)", marker, length);
+    std::size_t end = pos + length;
+    if (marker == 0xda) {
+      while (true) {
+        end = next_ff(end);
+        if (end + 1 >= b.size()) return "the file ends inside the image data (truncated)";
+        const unsigned next = byte(end + 1);
+        if (next == 0x00 || (next >= 0xd0 && next <= 0xd7)) end += 2;  // stuffing, restart marker
+        else if (next == 0xff) ++end;                                    // fill before a marker
+        else break;
+      }
+    }
+    if (std::string e = visit(marker, at, pos, end); !e.empty()) return e;
+    pos = end;
+  }
+}
+
+}  // namespace
+
+std::string jpeg_structure_problem(std::string_view b, const ImageLimits& limits) {
+  if (b.size() < 4 || static_cast<unsigned char>(b[0]) != 0xff || static_cast<unsigned char>(b[1]) != 0xd8)
+    return "no JPEG start-of-image marker";
+  bool have_frame = false;
+  std::uint64_t width = 0, height = 0, scans = 0;
+  const std::string problem = walk_jpeg(b, [&](unsigned marker, std::size_t, std::size_t payload, std::size_t) {
     const bool frame = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 && marker != 0xcc;
     if (frame) {
-      if (have_frame) return "a second frame header";
-      if (length < 8) return "a frame header shorter than 8 bytes";
-      height = be16_at(b, pos + 3);
-      width = be16_at(b, pos + 5);
-      components = byte(pos + 7);
-      if (height == 0) return "the image height is left to a DNL marker (not supported)";
-      if (width == 0) return "the header claims a width of 0";
+      if (have_frame) return std::string("a second frame header");
+      if (be16_at(b, payload) < 8) return std::string("a frame header shorter than 8 bytes");
+      height = be16_at(b, payload + 3);
+      width = be16_at(b, payload + 5);
+      const std::uint64_t components = static_cast<unsigned char>(b[payload + 7]);
+      if (height == 0) return std::string("the image height is left to a DNL marker (not supported)");
+      if (width == 0) return std::string("the header claims a width of 0");
       if (components == 0 || components > std::uint64_t(limits.max_channels))
         return fmt::format("the header claims {} components; the limit is {}", components, limits.max_channels);
-      if (const std::string e = size_problem(width, height, limits); !e.empty()) return e;
+      if (std::string e = size_problem(width, height, limits); !e.empty()) return e;
       // Arithmetic coding has no bound of bytes a block: a 114-byte file can make libjpeg decode a
       // 16384 x 16384 progressive image (4.8 GB, 18 s; found in review). It is rare: refused.
-      if (marker >= 0xc9) return "arithmetic-coded JPEG is not supported (re-encode it with Huffman coding)";
+      if (marker >= 0xc9) return std::string("arithmetic-coded JPEG is not supported (re-encode it with Huffman coding)");
       have_frame = true;
-    }
-    pos += length;
-    if (marker == 0xda) {  // SOS
-      if (!have_frame) return "a scan before the frame header";
+    } else if (marker == 0xda) {
+      if (!have_frame) return std::string("a scan before the frame header");
       if (++scans > std::uint64_t(limits.max_jpeg_scans))
         return fmt::format("more than {} scans (each progressive scan passes over the whole image)",
                            limits.max_jpeg_scans);
-      // Entropy-coded data: ends at 0xFF followed by anything but 0x00 (stuffing) or RSTn.
-      while (true) {
-        const void* ff = std::memchr(b.data() + pos, 0xff, b.size() - pos);
-        if (!ff) return "the file ends inside the image data (truncated)";
-        pos = std::size_t(static_cast<const char*>(ff) - b.data());
-        if (pos + 1 >= b.size()) return "the file ends inside the image data (truncated)";
-        const unsigned next = byte(pos + 1);
-        if (next == 0x00 || (next >= 0xd0 && next <= 0xd7)) {
-          pos += 2;
-          continue;
-        }
-        if (next == 0xff) {  // fill before a marker
-          ++pos;
-          continue;
-        }
-        break;
-      }
     }
-  }
+    return std::string();
+  });
+  if (!problem.empty()) return problem;
   if (!have_frame) return "no frame header";
   if (scans == 0) return "no image data (no scan)";
-  // Every 8 x 8 block of the first component costs at least one bit of Huffman-coded DC difference.
-  const std::uint64_t least = ceil_div(ceil_div(width, 8) * ceil_div(height, 8), 8);
+  const std::uint64_t least = min_encoded_bytes(ImageFormat::jpeg, std::int64_t(width), std::int64_t(height), 1, 8);
   if (least > b.size())
     return fmt::format("the header claims {} x {} pixels, which need at least {} bytes of JPEG data, but the file has {}",
                        width, height, least, b.size());
@@ -402,66 +417,16 @@ std::string jpeg_structure_problem(std::string_view b, const ImageLimits& limits
 }
 
 std::string jpeg_without_metadata(std::string_view b) {
-  // The same walk as jpeg_structure_problem (which must have passed), copying every segment and
-  // scan but the metadata ones.
-  const auto byte = [&](std::size_t at) { return static_cast<unsigned char>(b[at]); };
   std::string out(b.substr(0, 2));  // SOI
   out.reserve(b.size());
-  std::size_t pos = 2;
-  while (pos < b.size()) {
-    if (byte(pos) != 0xff) {  // stray bytes between segments
-      const void* ff = std::memchr(b.data() + pos, 0xff, b.size() - pos);
-      if (!ff) break;
-      pos = std::size_t(static_cast<const char*>(ff) - b.data());
-    }
-    while (pos < b.size() && byte(pos) == 0xff) ++pos;
-    if (pos >= b.size()) break;
-    const unsigned marker = byte(pos++);
-    if (marker == 0xd9) {
-      out += "\xff\xd9";
-      break;
-    }
-    if (marker == 0x01 || (marker >= 0xd0 && marker <= 0xd7)) {
-      out += '\xff';
-      out += char(marker);
-      continue;
-    }
-    if (b.size() - pos < 2) break;
-    const std::size_t length = be16_at(b, pos);
-    if (length < 2 || b.size() - pos < length) break;
+  // The file passed jpeg_structure_problem: the walk reaches EOI.
+  (void)walk_jpeg(b, [&](unsigned marker, std::size_t at, std::size_t, std::size_t end) {
     // APP1-APP13, APP15 (Exif, XMP, ICC, IPTC/Photoshop, ...) and COM are dropped; APP0 (JFIF) and
     // APP14 (Adobe: the colour transform) change how the pixels decode and are kept.
     const bool metadata = (marker >= 0xe1 && marker <= 0xef && marker != 0xee) || marker == 0xfe;
-    const std::size_t start = pos - 2;
-    pos += length;
-    if (!metadata) out.append(b.substr(start, pos - start));
-    if (marker == 0xda) {  // entropy-coded data up to the next marker
-      const std::size_t data = pos;
-      while (pos < b.size()) {
-        const void* ff = std::memchr(b.data() + pos, 0xff, b.size() - pos);
-        if (!ff) {
-          pos = b.size();
-          break;
-        }
-        pos = std::size_t(static_cast<const char*>(ff) - b.data());
-        if (pos + 1 >= b.size()) {
-          pos = b.size();
-          break;
-        }
-        const unsigned next = byte(pos + 1);
-        if (next == 0x00 || (next >= 0xd0 && next <= 0xd7)) {
-          pos += 2;
-          continue;
-        }
-        if (next == 0xff) {
-          ++pos;
-          continue;
-        }
-        break;
-      }
-      out.append(b.substr(data, pos - data));
-    }
-  }
+    if (!metadata) out.append(b.substr(at, end - at));
+    return std::string();
+  });
   return out;
 }
 

@@ -124,6 +124,15 @@ TEST_F(ImageIo, ErrorsNameTheFile) {
   EXPECT_FALSE(fs::exists(dir_ / "bad.exr"));
 }
 
+// A seed file of the image fuzzer (fuzz/corpus/image): real files of every format and layout, and
+// the hostile inputs fuzzing found.
+std::string seed(const std::string& name) {
+  std::ifstream in(fs::path(HYDROLUX_SOURCE_DIR) / "fuzz" / "corpus" / "image" / name, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 std::string message_of(const std::function<void()>& call) {
   try {
     call();
@@ -233,17 +242,10 @@ TEST_F(ImageIo, TruncatedFilesFailInOneLineWithCodecMessagesCaptured) {
 // Every format hydrolux reads, through its read path: the fuzzers' seed files (fuzz/corpus/image)
 // of each format and layout decode, the hostile ones are refused in one line.
 TEST(ImageFormats, EveryFormatAndLayoutDecodes) {
-  const fs::path dir = fs::path(HYDROLUX_SOURCE_DIR) / "fuzz" / "corpus" / "image";
-  const auto slurp = [](const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
   for (const char* good : {"drop.png", "drop.exr", "tiled.exr", "multipart.exr", "drop.hdr", "drop.ppm", "ascii.ppm",
                            "gray.pgm", "tiny.pfm", "drop.jpg", "progressive.jpg", "drop.tif", "tiled.tif", "bigtiff.tif", "palette.png", "mipmap.exr"}) {
     try {
-      const auto d = decode_image(slurp(dir / good), good);
+      const auto d = decode_image(seed(good), good);
       EXPECT_GT(d.image.width, 0) << good;
       EXPECT_EQ(d.image.pixels.size(), std::size_t(d.image.width) * d.image.height * d.image.channels) << good;
     } catch (const IoError& e) {
@@ -252,11 +254,11 @@ TEST(ImageFormats, EveryFormatAndLayoutDecodes) {
   }
   // exr-bad-pixel-type.exr made OpenImageIO 2.4 abort (an assertion on the channel pixel type).
   for (const char* bad : {"huge.png", "truncated.png", "exr-huge-string-attribute.exr", "exr-bad-pixel-type.exr"})
-    EXPECT_THROW((void)decode_image(slurp(dir / bad), bad), IoError) << bad;
+    EXPECT_THROW((void)decode_image(seed(bad), bad), IoError) << bad;
   // Made OpenImageIO 2.4 read past a JPEG metadata marker (found by fuzz_image; under
   // AddressSanitizer this test fails if its metadata reach the codec again).
   try {
-    (void)decode_image(slurp(dir / "jpeg-metadata-overflow.jpg"), "overflow.jpg");
+    (void)decode_image(seed("jpeg-metadata-overflow.jpg"), "overflow.jpg");
   } catch (const IoError&) {
   }
 }
@@ -266,11 +268,7 @@ TEST(ImageFormats, EveryFormatAndLayoutDecodes) {
 // than the file sizes its chunk offset table. Both are refused from hydrolux's own walk of the
 // header, before OpenEXR reads it.
 TEST(ImageFormats, ExrHeadersAreWalkedBeforeOpenExrTrustsThem) {
-  const fs::path corpus = fs::path(HYDROLUX_SOURCE_DIR) / "fuzz" / "corpus" / "image";
-  std::ifstream in(corpus / "exr-huge-string-attribute.exr", std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  EXPECT_NE(message_of([&] { (void)decode_image(ss.str(), "fuzz.exr"); })
+  EXPECT_NE(message_of([&] { (void)decode_image(seed("exr-huge-string-attribute.exr"), "fuzz.exr"); })
                 .find("oversized OpenEXR file: attribute 'capDate' claims 1845493859 bytes"),
             std::string::npos);
   // A valid 16 x 8 EXR with its data window rewritten.
@@ -293,10 +291,7 @@ TEST(ImageFormats, ExrHeadersAreWalkedBeforeOpenExrTrustsThem) {
 
   // Tiles are bounded as TIFF's are: OpenEXR allocates a tile buffer for each thread slot, and a
   // 440-byte 1 x 1 file with 8192 x 8192 tiles took 1.15 GB (found in review).
-  std::ifstream tin(corpus / "tiled.exr", std::ios::binary);
-  std::stringstream tss;
-  tss << tin.rdbuf();
-  std::string tiled = tss.str();
+  std::string tiled = seed("tiled.exr");
   EXPECT_EQ(exr_header_problem(tiled, {}), "");
   const std::string tiles_key("tiles\0tiledesc\0", 15);
   const auto tiles_at = tiled.find(tiles_key) + tiles_key.size() + 4;
@@ -327,17 +322,10 @@ TEST(ImageFormats, ExrHeadersAreWalkedBeforeOpenExrTrustsThem) {
 // TIFF in 65536 x 65536 tiles made libtiff allocate a whole tile; a TIFF whose strips run past its
 // end was accepted.
 TEST(ImageFormats, JpegAndTiffStructuresAreWalkedBeforeTheirCodecs) {
-  const fs::path corpus = fs::path(HYDROLUX_SOURCE_DIR) / "fuzz" / "corpus" / "image";
-  const auto slurp = [](const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
   const ImageLimits limits;
   // Real files pass the walk (and decode: EveryFormatAndLayoutDecodes).
-  const std::string jpg = slurp(corpus / "drop.jpg"), tif = slurp(corpus / "drop.tif");
-  const std::string progressive = slurp(corpus / "progressive.jpg"), tiled = slurp(corpus / "tiled.tif");
+  const std::string jpg = seed("drop.jpg"), tif = seed("drop.tif");
+  const std::string progressive = seed("progressive.jpg"), tiled = seed("tiled.tif");
   for (const auto* f : {&jpg, &progressive}) EXPECT_EQ(jpeg_structure_problem(*f, limits), "");
   for (const auto* f : {&tif, &tiled}) EXPECT_EQ(tiff_structure_problem(*f, limits), "");
 
