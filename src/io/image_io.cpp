@@ -235,6 +235,13 @@ std::string encode_image(const Image& image, ImageFormat format, PngOptions png)
   if (!out) throw IoError(fmt::format("cannot encode {}: {}", format_name(format), OIIO::geterror()));
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
   spec.attribute("oiio:ColorSpace", format == ImageFormat::png ? "sRGB" : "linear");
+  if (format == ImageFormat::exr && !image.channel_names.empty()) {
+    if (image.channel_names.size() != std::size_t(image.channels))
+      throw IoError("cannot encode an image whose channel names do not match its channels");
+    spec.channelnames = image.channel_names;
+    const auto a = std::find(image.channel_names.begin(), image.channel_names.end(), "A");
+    spec.alpha_channel = a == image.channel_names.end() ? -1 : int(a - image.channel_names.begin());
+  }
   if (format == ImageFormat::exr) {
     spec.attribute("compression", "zip");
     // Same image, same bytes: OpenImageIO stamps EXR files with the time of writing unless

@@ -2,7 +2,9 @@
 // docs/rainbow-theories.md.
 #include "hydrolux/scatter/airy.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
@@ -82,6 +84,45 @@ double airy_ai_prime(double x) {
 }
 
 namespace {
+
+// Ai and Ai' tabulated on [kTableLo, kTableHi] every 1/128 for airy_ai_fast.
+constexpr double kTableLo = -16.0, kTableHi = 12.0, kTableStep = 1.0 / 128;
+struct AiryTable {
+  std::vector<double> ai, aip;
+  AiryTable() {
+    const int n = int((kTableHi - kTableLo) / kTableStep) + 1;
+    ai.resize(n);
+    aip.resize(n);
+    for (int i = 0; i < n; ++i) {
+      ai[i] = airy_ai(kTableLo + i * kTableStep);
+      aip[i] = airy_ai_prime(kTableLo + i * kTableStep);
+    }
+  }
+};
+
+}  // namespace
+
+double airy_ai_fast(double x) {
+  static const AiryTable table;
+  if (std::isnan(x)) return x;
+  if (x >= kTableHi) return 0.0;  // Ai(12) = 1.1e-11
+  if (x <= kTableLo) {
+    // A&S 10.4.60 with zeta = (2/3) z^(3/2) >= 42.7: four terms leave < 2e-8 relative.
+    const double z = -x, zeta = 2.0 / 3.0 * z * std::sqrt(z), iz = 1 / zeta, iz2 = iz * iz;
+    const double p = 1 - 0.0371335390946502 * iz2, q = iz * (0.0694444444444444 - 0.0379930650255432 * iz2);
+    const double phase = zeta + kPiD / 4;
+    return (std::sin(phase) * p - std::cos(phase) * q) / (std::sqrt(kPiD) * std::sqrt(std::sqrt(z)));
+  }
+  // Cubic Hermite from Ai and Ai' at the two nodes around x.
+  const double pos = (x - kTableLo) / kTableStep;
+  const std::size_t i = std::min(std::size_t(pos), table.ai.size() - 2);
+  const double t = pos - double(i), h = kTableStep;
+  const double t2 = t * t, t3 = t2 * t;
+  return (2 * t3 - 3 * t2 + 1) * table.ai[i] + (t3 - 2 * t2 + t) * h * table.aip[i] +
+         (-2 * t3 + 3 * t2) * table.ai[i + 1] + (t3 - t2) * h * table.aip[i + 1];
+}
+
+namespace {
 void check_airy(double n, double x, int p) {
   require_in_range("size_parameter", x, kMinSizeParameter, kMaxGeometricSizeParameter,
                    "Airy theory");
@@ -101,33 +142,43 @@ double airy_argument(double n, double x, int p, double theta) {
   return rb.side * (theta - rb.scattering_angle) * std::cbrt(x * x / rb.curvature);
 }
 
+AiryRainbow airy_rainbow(double n_real, double x, int p) {
+  check_airy(n_real, x, p);
+  AiryRainbow a;
+  a.ray = rainbow_ray(n_real, p);
+  a.x = x;
+  a.eps = ray_fresnel_factors(Complex(n_real, 0), p, a.ray.theta_i);
+  a.scale = std::cbrt(x * x / a.ray.curvature);  // z per radian
+  a.amplitude = std::sqrt(2 * kPiD * a.ray.impact_parameter / std::sin(a.ray.scattering_angle)) *
+                std::pow(x, 7.0 / 6.0) / std::cbrt(a.ray.curvature);
+  const double delta_r =
+      2 * x * (p * n_real * std::cos(a.ray.theta_t) - std::cos(a.ray.theta_i));  // optical path
+  // Focal lines of the inner branch (theta_i just below the rainbow ray, dTheta/dtheta_i < 0).
+  const int n_inner = focal_lines(n_real, p, a.ray.theta_i * (1 - 1e-9));
+  a.phase0 = delta_r - kPiD * (n_inner + 1) / 2 - kPiD / 4;
+  return a;
+}
+
+double airy_intensity(const AiryRainbow& a, double theta) {
+  const double z = a.scale * a.ray.side * (theta - a.ray.scattering_angle);
+  const double ai = airy_ai_fast(-z);
+  return 0.5 * (std::norm(a.eps.perpendicular) + std::norm(a.eps.parallel)) * a.amplitude * a.amplitude * ai * ai;
+}
+
 void airy_amplitudes(double n_real, double x, int p, std::span<const double> theta_rad,
                      std::span<Complex> s1, std::span<Complex> s2) {
-  check_airy(n_real, x, p);
+  const AiryRainbow a = airy_rainbow(n_real, x, p);
   const double size = static_cast<double>(theta_rad.size());
   require_in_range("s1_size", static_cast<double>(s1.size()), size, size, "the theta_rad span");
   require_in_range("s2_size", static_cast<double>(s2.size()), size, size, "the theta_rad span");
-  const RainbowRay rb = rainbow_ray(n_real, p);
-  const Complex m(n_real, 0);
-  const RayFresnelFactors eps = ray_fresnel_factors(m, p, rb.theta_i);
-  const double scale = std::cbrt(x * x / rb.curvature);  // z per radian
-  const double amplitude =
-      std::sqrt(2 * kPiD * rb.impact_parameter / std::sin(rb.scattering_angle)) *
-      std::pow(x, 7.0 / 6.0) / std::cbrt(rb.curvature);
-  const double delta_r =
-      2 * x * (p * n_real * std::cos(rb.theta_t) - std::cos(rb.theta_i));  // optical path
-  // Focal lines of the inner branch (theta_i just below the rainbow ray, dTheta/dtheta_i < 0).
-  const int n_inner = focal_lines(n_real, p, rb.theta_i * (1 - 1e-9));
-  const double phase0 = delta_r - kPiD * (n_inner + 1) / 2 - kPiD / 4;
   for (std::size_t i = 0; i < theta_rad.size(); ++i) {
     const double theta = theta_rad[i];
     require_in_range("theta_rad", theta, 0.0, kPiD, "Airy theory");
-    const double dtheta = rb.side * (theta - rb.scattering_angle);  // Theta - Theta_R
-    const double z = scale * dtheta;
-    const Complex common =
-        amplitude * airy_ai(-z) * std::exp(Complex(0, phase0 + x * rb.impact_parameter * dtheta));
-    s1[i] = eps.perpendicular * common;
-    s2[i] = eps.parallel * common;
+    const double dtheta = a.ray.side * (theta - a.ray.scattering_angle);  // Theta - Theta_R
+    const Complex common = a.amplitude * airy_ai(-a.scale * dtheta) *
+                           std::exp(Complex(0, a.phase0 + x * a.ray.impact_parameter * dtheta));
+    s1[i] = a.eps.perpendicular * common;
+    s2[i] = a.eps.parallel * common;
   }
 }
 

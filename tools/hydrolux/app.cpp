@@ -126,6 +126,7 @@ std::vector<Command> add_all_commands(CLI::App& app) {
   std::vector<Command> commands = {add_fresnel(app), add_ior(app), add_mie(app), add_phase(app)};
   for (auto& c : add_drop(app)) commands.push_back(std::move(c));
   commands.push_back(add_rainphys(app));
+  commands.push_back(add_lee(app));
   commands.push_back(add_gallery(app));
   return commands;
 }

@@ -52,6 +52,7 @@ Command add_drop_profile(CLI::App& drop);
 Command add_drop_render(CLI::App& drop);
 Command add_drop_undistort(CLI::App& drop);
 Command add_rainphys(CLI::App& app);
+Command add_lee(CLI::App& app);
 
 // ---- validators: each gives "'<value>' ... valid range [lo, hi] <unit>" ----
 

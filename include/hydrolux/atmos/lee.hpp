@@ -1,0 +1,143 @@
+#pragma once
+// Lee diagrams: the colour of sunlight scattered by water drops over scattering angle and drop
+// radius (R. L. Lee, Appl. Opt. 37, 5221, 1998), computed spectrally in absolute units, and the
+// corona (forward) and glory (backward) tables of cloud droplets in the same form. The equations,
+// the sampling and the checks are in docs/lee.md.
+//
+// What a table holds. Column c is a population of drops (a gamma distribution of number-mean
+// radius radius_um[c] and relative standard deviation `size_spread`, or drops of that one radius);
+// row r a scattering angle theta (0 = forward, the sun behind the drop; 180 = the antisolar point).
+// The value is
+//     T(theta) = <dsigma_sca/dOmega> / <pi a^2>   [sr^-1]
+// the drops' differential scattering cross-section per unit of their projected area, averaged over
+// the population (ratio of the two averages), over the sun's disk, and over wavelength weighted by
+// the sun's spectrum and the CIE 1931 observer. It is the radiance scattered once by a thin layer
+// of these drops per unit incident irradiance and per unit of the layer's projected-area optical
+// depth tau_geo = path * sum pi a^2 n(a): L = E_sun * tau_geo * T. (For drops much larger than the
+// wavelength Q_ext -> 2, so tau_geo = tau_ext / 2; over the whole sphere T integrates to Q_sca.)
+// Nothing is normalised per column: rainbows, fogbows, coronas and glories keep their brightness
+// ratios. Colour: X, Y, Z relative to the sun's luminance (a colourless T gives Y = T), and linear
+// RGB after the sun's white is adapted to D65 (Bradford), so that a wavelength-independent T is
+// RGB (T, T, T): sunlight is white.
+//
+// Integration (docs/lee.md): K wavelengths at the midpoints of K equal steps (weights S x_bar dl);
+// the population on a grid in ln a shared by every column (step spread / 6, shifted by a different
+// fraction of a step at each wavelength, so that no grid resonates with the Mie ripple); one point
+// of the sun's disk per (wavelength, radius) from a 2-D low-discrepancy sequence, the scattering
+// angle to that point taken exactly on the sphere. `sampling` multiplies every rate (K, the radius
+// grid's density); tests check that doubling it changes the standard table by less than 1% RMS in
+// luminance.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hydrolux/color/cie.hpp"
+#include "hydrolux/core/progress.hpp"
+#include "hydrolux/scatter/theories.hpp"
+
+namespace hydrolux::optics {
+class Medium;
+}
+
+namespace hydrolux::atmos {
+
+enum class LeeTableKind { rainbow, corona, glory };
+enum class AngleAxis { angle, cosine };
+enum class RadiusScale { log, linear };
+
+std::string_view table_kind_name(LeeTableKind k);
+std::string_view angle_axis_name(AngleAxis a);
+std::string_view radius_scale_name(RadiusScale s);
+
+// The sun's angular diameter (0.53 degrees: Allen's Astrophysical Quantities, 31.99 arcmin at 1 AU)
+// and the linear limb-darkening coefficient used when limb darkening is on: I(mu) / I(1) =
+// 1 - u (1 - mu), u = 0.6 for the visible (Cox, Allen's Astrophysical Quantities, 4th ed., 2000,
+// section 14.7; u runs from 0.8 at 400 nm to 0.5 at 800 nm, and one grey value is used here).
+inline constexpr double kSunDiskDeg = 0.53;
+inline constexpr double kLimbDarkeningU = 0.6;
+
+struct LeeSpec {
+  LeeTableKind table = LeeTableKind::rainbow;
+  scatter::Theory theory{scatter::TheoryKind::Mie, 0};
+  // Columns: radius_um from radius_min_um to radius_max_um inclusive (one column: radius_min_um).
+  double radius_min_um = 5, radius_max_um = 800;
+  int columns = 512;
+  RadiusScale radius_scale = RadiusScale::log;
+  // Rows: theta (or cos theta) from angle_min_deg to angle_max_deg inclusive, increasing downward.
+  double angle_min_deg = 90, angle_max_deg = 180;
+  int rows = 1024;
+  AngleAxis axis = AngleAxis::angle;
+  double sun_disk_deg = kSunDiskDeg;  // angular diameter; 0 = a point
+  bool limb_darkening = false;
+  double size_spread = 0.1;  // relative standard deviation of the gamma distribution; 0 = one radius
+  double wavelength_min_nm = 380, wavelength_max_nm = 780;
+  int wavelengths = 0;  // 0: one every 10 nm / sampling
+  std::string drop_medium = "water", surrounding_medium = "air";
+  std::optional<double> temperature_c;  // the drop medium's default when unset
+  color::Illuminant sun = color::Illuminant::astm_g173_direct();
+  color::RgbSpace rgb_space = color::RgbSpace::rec709;
+  double sampling = 1;  // multiplies every sampling rate
+  std::uint64_t seed = 1;
+  int threads = 0;  // 0: every core
+};
+
+// The defaults of each kind: rainbow 5-800 um over 90-180 degrees; corona 1-50 um over 0-20; glory
+// 1-50 um over 160-180.
+LeeSpec default_lee_spec(LeeTableKind kind);
+
+// Checks a spec before any work: DomainError naming the quantity ("radius_um", "angle_deg",
+// "columns", "rows", "sun_disk_deg", "size_spread", "wavelength_nm", "wavelengths", "sampling",
+// "size_parameter", "temperature_c") or Error for a theory that cannot make the table (Airy theory
+// has no corona or glory).
+void validate(const LeeSpec& spec);
+
+// The sample positions: radius_um per column, theta in degrees and its cosine per row.
+std::vector<double> column_radii_um(const LeeSpec& spec);
+std::vector<double> row_angles_deg(const LeeSpec& spec);
+
+struct LeeWork {
+  std::int64_t evaluations = 0;  // single-drop solutions (one wavelength, one radius, every row)
+  std::int64_t terms = 0;        // partial waves (Mie, Debye) summed over the evaluations
+  std::int64_t term_angles = 0;  // terms x rows: the amplitude sums' inner loop count
+  int wavelengths = 0;           // K
+  int radius_nodes = 0;          // radii per wavelength on the shared grid
+  double radius_step_ln = 0;     // its step in ln a (0: one radius per column)
+};
+
+struct LeeTable {
+  LeeSpec spec;
+  std::vector<double> radius_um;  // per column
+  std::vector<double> angle_deg;  // per row
+  std::vector<double> cos_angle;  // per row
+  // X, Y, Z per pixel, (row * columns + column) * 3, relative to the sun's luminance (sr^-1).
+  std::vector<double> xyz;
+  color::Xyz sun_white;                // the sun's XYZ over the sampled wavelengths, Y = 1
+  color::Mat3 xyz_to_rgb{};            // Bradford (sun -> D65) then XYZ -> linear RGB
+  std::vector<double> wavelengths_nm;  // the K sampled wavelengths
+  LeeWork work;
+
+  int columns() const { return int(radius_um.size()); }
+  int rows() const { return int(angle_deg.size()); }
+  color::Xyz at(int row, int column) const;
+  // Linear RGB, unmapped (may have negative components) or desaturated into the gamut.
+  color::Rgb rgb(int row, int column, bool into_gamut = true) const;
+};
+
+// Computes a table. `progress` is called after each wavelength with the fraction of the work done.
+LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress = {});
+
+// The table as images: RGB (gamut-mapped linear RGB) followed by X, Y, Z (unmapped), 6 channels;
+// and the display version: exposure so that the 99.5th percentile of the luminance is 1, then
+// Reinhard's curve on luminance, L (1 + L / 4) / (1 + L) (white at L = 2), hue kept, then the sRGB
+// curve (applied when the PNG is encoded). `exposure` returns the factor used.
+struct LeeImages {
+  std::vector<float> linear;   // rows x columns x 6: R, G, B, X, Y, Z
+  std::vector<float> display;  // rows x columns x 3: linear display values in [0, 1]
+  double exposure = 1;
+};
+LeeImages lee_images(const LeeTable& t);
+
+}  // namespace hydrolux::atmos

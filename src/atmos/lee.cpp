@@ -1,0 +1,516 @@
+#include "hydrolux/atmos/lee.hpp"
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <numeric>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/math.hpp"
+#include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/airy.hpp"
+#include "hydrolux/scatter/amplitudes.hpp"
+#include "hydrolux/scatter/debye.hpp"
+#include "hydrolux/scatter/geometric.hpp"
+#include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/size_distribution.hpp"
+
+namespace hydrolux::atmos {
+
+namespace {
+
+constexpr double kPiD = kPi<double>;
+constexpr double kMinRadiusUm = 0.1, kMaxRadiusUm = 5000;
+constexpr int kMaxSide = 16384;
+constexpr double kMaxSpread = 0.5;
+constexpr double kMaxSunDiskDeg = 5;
+// The population's grid reaches kTailSigmas relative widths beyond the outer columns (the gamma
+// weight there is below 1e-13 of its peak for spread <= 0.5) and nodes are spread / kNodesPerWidth
+// apart in ln a.
+constexpr double kTailSigmas = 8;
+constexpr double kNodesPerWidth = 6;
+constexpr double kNegligibleWeight = 1e-12;
+
+double deg(double rad) { return rad * 180 / kPiD; }
+double rad(double d) { return d * kPiD / 180; }
+
+// Fractional part of a + b n, for the low-discrepancy sequences.
+double frac(double v) { return v - std::floor(v); }
+
+// A 64-bit mix of the seed (splitmix64's finaliser), to a fraction in [0, 1).
+double seed_fraction(std::uint64_t seed, std::uint64_t stream) {
+  std::uint64_t z = seed * 0x9E3779B97F4A7C15ull + stream * 0xBF58476D1CE4E5B9ull + 0x94D049BB133111EBull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return double(z >> 11) * 0x1.0p-53;
+}
+
+int wavelength_count(const LeeSpec& s) {
+  if (s.wavelength_max_nm == s.wavelength_min_nm) return 1;
+  const double base = s.wavelengths > 0 ? s.wavelengths : std::ceil((s.wavelength_max_nm - s.wavelength_min_nm) / 10.0);
+  return std::max(1, int(std::lround(base * s.sampling)));
+}
+
+double relative_width_or_zero(const LeeSpec& s) { return s.size_spread; }
+
+// The grid in ln a shared by the columns: [lo, hi) with step h; nodes at lo + (j + shift) h.
+struct RadiusGrid {
+  bool per_column = true;  // spread 0: the nodes are the columns' radii
+  double lo = 0, h = 0;
+  int nodes = 0;
+};
+
+RadiusGrid radius_grid(const LeeSpec& s, const std::vector<double>& radii_um) {
+  RadiusGrid g;
+  const double w = relative_width_or_zero(s);
+  if (w == 0) {
+    g.nodes = int(radii_um.size());
+    return g;
+  }
+  g.per_column = false;
+  g.h = w / (kNodesPerWidth * s.sampling);
+  g.lo = std::log(radii_um.front() * 1e-6) - kTailSigmas * w;
+  const double hi = std::log(radii_um.back() * 1e-6) + kTailSigmas * w;
+  g.nodes = int(std::ceil((hi - g.lo) / g.h)) + 1;
+  return g;
+}
+
+// The largest radius (m) the grid reaches.
+double largest_radius_m(const LeeSpec& s) {
+  const double w = relative_width_or_zero(s);
+  return std::max(s.radius_min_um, s.radius_max_um) * 1e-6 * std::exp(kTailSigmas * w + 2 * w / kNodesPerWidth);
+}
+double smallest_radius_m(const LeeSpec& s) {
+  const double w = relative_width_or_zero(s);
+  return std::min(s.radius_min_um, s.radius_max_um) * 1e-6 * std::exp(-kTailSigmas * w - 2 * w / kNodesPerWidth);
+}
+
+// Inverse CDF of the distance rho / R from the sun's centre of a point drawn by radiance over the
+// disk: uniform, rho = R sqrt(u); limb-darkened, by a table of the CDF.
+class SunDiskSampler {
+ public:
+  explicit SunDiskSampler(bool limb) : limb_(limb) {
+    if (!limb) return;
+    constexpr int n = 2048;
+    cdf_.resize(n + 1);
+    double sum = 0;
+    cdf_[0] = 0;
+    for (int i = 1; i <= n; ++i) {
+      const double r = (i - 0.5) / n;  // midpoint of the ring
+      sum += r * (1 - kLimbDarkeningU * (1 - std::sqrt(1 - r * r))) / n;
+      cdf_[i] = sum;
+    }
+    for (double& c : cdf_) c /= sum;
+  }
+  double radius_fraction(double u) const {
+    if (!limb_) return std::sqrt(u);
+    const auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+    const std::size_t i = std::min<std::size_t>(std::max<std::ptrdiff_t>(it - cdf_.begin(), 1), cdf_.size() - 1);
+    const double a = cdf_[i - 1], b = cdf_[i];
+    const double t = b > a ? (u - a) / (b - a) : 0;
+    return (double(i - 1) + t) / double(cdf_.size() - 1);
+  }
+
+ private:
+  bool limb_;
+  std::vector<double> cdf_;
+};
+
+// Per-thread scratch for one evaluation.
+struct Scratch {
+  std::vector<double> mu, theta;
+  std::vector<scatter::Complex> s1, s2;
+  void resize(std::size_t n) {
+    mu.resize(n);
+    theta.resize(n);
+    s1.resize(n);
+    s2.resize(n);
+  }
+};
+
+}  // namespace
+
+std::string_view table_kind_name(LeeTableKind k) {
+  switch (k) {
+    case LeeTableKind::rainbow: return "rainbow";
+    case LeeTableKind::corona: return "corona";
+    case LeeTableKind::glory: return "glory";
+  }
+  return "?";
+}
+std::string_view angle_axis_name(AngleAxis a) { return a == AngleAxis::angle ? "angle" : "cos"; }
+std::string_view radius_scale_name(RadiusScale s) { return s == RadiusScale::log ? "log" : "linear"; }
+
+LeeSpec default_lee_spec(LeeTableKind kind) {
+  LeeSpec s;
+  s.table = kind;
+  if (kind != LeeTableKind::rainbow) {
+    s.radius_min_um = 1;
+    s.radius_max_um = 50;
+  }
+  if (kind == LeeTableKind::corona) {
+    s.angle_min_deg = 0;
+    s.angle_max_deg = 20;
+  } else if (kind == LeeTableKind::glory) {
+    s.angle_min_deg = 160;
+    s.angle_max_deg = 180;
+  }
+  return s;
+}
+
+void validate(const LeeSpec& s) {
+  require_in_range("columns", s.columns, 1, kMaxSide);
+  require_in_range("rows", s.rows, 1, kMaxSide);
+  require_in_range("radius_um", s.radius_min_um, kMinRadiusUm, kMaxRadiusUm, "a Lee table");
+  require_in_range("radius_um", s.radius_max_um, kMinRadiusUm, kMaxRadiusUm, "a Lee table");
+  if (s.columns > 1 && !(s.radius_max_um > s.radius_min_um))
+    throw DomainError("radius_um", s.radius_max_um, s.radius_min_um, kMaxRadiusUm,
+                      fmt::format("a table of {} columns (the largest radius must exceed the smallest, {:g} um)",
+                                  s.columns, s.radius_min_um));
+  require_in_range("angle_deg", s.angle_min_deg, 0.0, 180.0, "the scattering angle");
+  require_in_range("angle_deg", s.angle_max_deg, 0.0, 180.0, "the scattering angle");
+  if (s.rows > 1 && !(s.angle_max_deg > s.angle_min_deg))
+    throw DomainError("angle_deg", s.angle_max_deg, s.angle_min_deg, 180.0,
+                      fmt::format("a table of {} rows (the largest angle must exceed the smallest, {:g} degrees)",
+                                  s.rows, s.angle_min_deg));
+  require_in_range("sun_disk_deg", s.sun_disk_deg, 0.0, kMaxSunDiskDeg, "the sun's angular diameter");
+  if (s.size_spread != 0)
+    require_in_range("size_spread", s.size_spread, 0.01, kMaxSpread, "the relative width (0 for one radius)");
+  require_in_range("wavelength_nm", s.wavelength_min_nm, color::kCmfMinNm, color::kCmfMaxNm, "the CIE 1931 observer");
+  require_in_range("wavelength_nm", s.wavelength_max_nm, s.wavelength_min_nm, color::kCmfMaxNm,
+                   "the CIE 1931 observer (at least the shortest wavelength)");
+  require_in_range("wavelengths", s.wavelengths, 0, 2000, "wavelength samples (0: one per 10 nm)");
+  require_in_range("sampling", s.sampling, 0.25, 16.0, "the sampling multiplier");
+  const auto sun_range = s.sun.range_nm();
+  require_in_range("wavelength_nm", s.wavelength_min_nm, sun_range[0], sun_range[1], s.sun.name());
+  require_in_range("wavelength_nm", s.wavelength_max_nm, sun_range[0], sun_range[1], s.sun.name());
+  const auto drop = optics::find_medium(s.drop_medium);
+  const auto air = optics::find_medium(s.surrounding_medium);
+  // The media's own ranges (wavelength, temperature) at both ends.
+  for (double nm : {s.wavelength_min_nm, s.wavelength_max_nm}) {
+    (void)drop->index(nm, s.temperature_c);
+    (void)air->n(nm);
+  }
+  const bool wave_theory = s.theory.kind == scatter::TheoryKind::Mie || s.theory.kind == scatter::TheoryKind::Debye;
+  const double x_max = 2 * kPiD * largest_radius_m(s) * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
+  const double x_min = 2 * kPiD * smallest_radius_m(s) * air->n(s.wavelength_max_nm) / (s.wavelength_max_nm * 1e-9);
+  const double x_limit = wave_theory ? scatter::kMaxSizeParameter : scatter::kMaxGeometricSizeParameter;
+  require_in_range("size_parameter", x_max, scatter::kMinSizeParameter, x_limit,
+                   fmt::format("{} (the largest drop at the shortest wavelength)", scatter::theory_name(s.theory)));
+  require_in_range("size_parameter", x_min, scatter::kMinSizeParameter, x_limit,
+                   fmt::format("{} (the smallest drop at the longest wavelength)", scatter::theory_name(s.theory)));
+  if (s.theory.kind == scatter::TheoryKind::Airy && s.table != LeeTableKind::rainbow)
+    throw Error(fmt::format("Airy theory describes a rainbow only; a {} table needs mie, debye:P or geometric",
+                            table_kind_name(s.table)));
+}
+
+std::vector<double> column_radii_um(const LeeSpec& s) {
+  std::vector<double> r(std::size_t(s.columns));
+  for (int c = 0; c < s.columns; ++c) {
+    const double t = s.columns > 1 ? double(c) / (s.columns - 1) : 0.0;
+    r[std::size_t(c)] = s.radius_scale == RadiusScale::log
+                            ? s.radius_min_um * std::pow(s.radius_max_um / s.radius_min_um, t)
+                            : s.radius_min_um + t * (s.radius_max_um - s.radius_min_um);
+  }
+  if (s.columns > 1) r.back() = s.radius_max_um;
+  return r;
+}
+
+std::vector<double> row_angles_deg(const LeeSpec& s) {
+  std::vector<double> a(std::size_t(s.rows));
+  for (int i = 0; i < s.rows; ++i) {
+    const double t = s.rows > 1 ? double(i) / (s.rows - 1) : 0.0;
+    if (s.axis == AngleAxis::angle) {
+      a[std::size_t(i)] = s.angle_min_deg + t * (s.angle_max_deg - s.angle_min_deg);
+    } else {
+      // cos theta increases downward: row 0 holds the largest angle.
+      const double c0 = std::cos(rad(s.angle_max_deg)), c1 = std::cos(rad(s.angle_min_deg));
+      a[std::size_t(i)] = deg(std::acos(std::clamp(c0 + t * (c1 - c0), -1.0, 1.0)));
+    }
+  }
+  if (s.rows > 1) {
+    a.front() = s.axis == AngleAxis::angle ? s.angle_min_deg : s.angle_max_deg;
+    a.back() = s.axis == AngleAxis::angle ? s.angle_max_deg : s.angle_min_deg;
+  }
+  return a;
+}
+
+color::Xyz LeeTable::at(int row, int column) const {
+  const std::size_t i = (std::size_t(row) * radius_um.size() + std::size_t(column)) * 3;
+  return {xyz[i], xyz[i + 1], xyz[i + 2]};
+}
+
+color::Rgb LeeTable::rgb(int row, int column, bool into_gamut) const {
+  const color::Rgb v = color::matmul(xyz_to_rgb, at(row, column));
+  return into_gamut ? color::desaturate_into_gamut(v, spec.rgb_space) : v;
+}
+
+LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
+  validate(spec);
+  LeeTable t;
+  t.spec = spec;
+  t.radius_um = column_radii_um(spec);
+  t.angle_deg = row_angles_deg(spec);
+  const std::size_t rows = t.angle_deg.size(), cols = t.radius_um.size();
+  t.cos_angle.resize(rows);
+  std::vector<double> sin_angle(rows);
+  for (std::size_t i = 0; i < rows; ++i) {
+    t.cos_angle[i] = std::cos(rad(t.angle_deg[i]));
+    sin_angle[i] = std::sin(rad(t.angle_deg[i]));
+  }
+  if (spec.axis == AngleAxis::cosine && rows > 1) {
+    // The exact sample positions of the cosine axis (acos and cos do not round-trip).
+    const double c0 = std::cos(rad(spec.angle_max_deg)), c1 = std::cos(rad(spec.angle_min_deg));
+    for (std::size_t i = 0; i < rows; ++i) t.cos_angle[i] = c0 + double(i) / double(rows - 1) * (c1 - c0);
+  }
+
+  const auto drop = optics::find_medium(spec.drop_medium);
+  const auto air = optics::find_medium(spec.surrounding_medium);
+
+  // Wavelengths: midpoints of K equal steps, weights S(l) dl.
+  const int K = wavelength_count(spec);
+  const double dl = K > 1 ? (spec.wavelength_max_nm - spec.wavelength_min_nm) / K : 1.0;
+  t.wavelengths_nm.resize(std::size_t(K));
+  std::vector<color::Xyz> weight(static_cast<std::size_t>(K));
+  color::Xyz white;
+  for (int k = 0; k < K; ++k) {
+    const double nm = K > 1 ? spec.wavelength_min_nm + (k + 0.5) * dl
+                            : 0.5 * (spec.wavelength_min_nm + spec.wavelength_max_nm);
+    t.wavelengths_nm[std::size_t(k)] = nm;
+    const color::Xyz c = color::cie1931(nm);
+    const double s = spec.sun(nm) * dl;
+    weight[std::size_t(k)] = {s * c.X, s * c.Y, s * c.Z};
+    white.X += s * c.X;
+    white.Y += s * c.Y;
+    white.Z += s * c.Z;
+  }
+  if (!(white.Y > 0)) throw Error("the sampled wavelengths carry no luminance (the observer's y_bar is 0 there)");
+  for (auto& w : weight) w = {w.X / white.Y, w.Y / white.Y, w.Z / white.Y};
+  t.sun_white = {white.X / white.Y, 1.0, white.Z / white.Y};
+  t.xyz_to_rgb = color::multiply(color::xyz_to_rgb_matrix(spec.rgb_space),
+                                 color::bradford_adaptation(t.sun_white, color::d65_white()));
+
+  // The population: a grid shared by the columns, or the columns' own radii.
+  const RadiusGrid grid = radius_grid(spec, t.radius_um);
+  const double w = relative_width_or_zero(spec);
+  const std::size_t J = std::size_t(grid.nodes);
+  t.work.wavelengths = K;
+  t.work.radius_nodes = grid.nodes;
+  t.work.radius_step_ln = grid.per_column ? 0.0 : grid.h;
+  std::vector<scatter::SizeDistribution> dists;
+  if (!grid.per_column)
+    for (double r : t.radius_um) dists.push_back(scatter::SizeDistribution::gamma(r * 1e-6, w));
+
+  const SunDiskSampler disk(spec.limb_darkening);
+  const double sun_radius = rad(spec.sun_disk_deg) / 2;
+  // The plastic constant's R2 sequence (M. Roberts 2018) for the points on the disk, and the golden
+  // ratio's for the grid's shift per wavelength.
+  constexpr double kPlastic = 1.32471795724474602596;
+  const double a1 = 1 / kPlastic, a2 = 1 / (kPlastic * kPlastic);
+  const double disk_u0 = seed_fraction(spec.seed, 1), disk_v0 = seed_fraction(spec.seed, 2);
+  const double shift0 = seed_fraction(spec.seed, 3);
+
+  // Estimated work per wavelength (for progress): terms ~ x for the wave theories.
+  const bool wave_theory = spec.theory.kind == scatter::TheoryKind::Mie || spec.theory.kind == scatter::TheoryKind::Debye;
+  const auto node_radius_m = [&](std::size_t j, int k) {
+    if (grid.per_column) return t.radius_um[j] * 1e-6;
+    const double shift = frac(shift0 + k * 0.6180339887498949);
+    return std::exp(grid.lo + (double(j) + shift) * grid.h);
+  };
+  std::vector<double> k_work(static_cast<std::size_t>(K));
+  double total_work = 0;
+  for (int k = 0; k < K; ++k) {
+    const double x_top = 2 * kPiD * node_radius_m(J - 1, k) / (t.wavelengths_nm[std::size_t(k)] * 1e-9);
+    const double x_bottom = 2 * kPiD * node_radius_m(0, k) / (t.wavelengths_nm[std::size_t(k)] * 1e-9);
+    k_work[std::size_t(k)] = wave_theory ? double(J) * 0.5 * (x_top + x_bottom) + double(J) * 10 : double(J);
+    total_work += k_work[std::size_t(k)];
+  }
+
+  t.xyz.assign(rows * cols * 3, 0.0);
+  std::vector<double> node_values(J * rows);  // T at each node and row, this wavelength
+  std::vector<char> node_used(J, 1);
+  std::vector<double> column_weight;          // (column, node) area weights, this wavelength
+  std::vector<std::size_t> column_first(cols), column_count(cols);
+  std::atomic<std::int64_t> terms{0}, evaluations{0};
+
+  tbb::task_arena arena(spec.threads > 0 ? spec.threads : tbb::task_arena::automatic);
+  double done_work = 0;
+  for (int k = 0; k < K; ++k) {
+    const double nm = t.wavelengths_nm[std::size_t(k)];
+    const std::complex<double> n_drop = drop->index(nm, spec.temperature_c);
+    const double n_air = air->n(nm);
+    const scatter::Complex m = n_drop / n_air;
+    const double wavenumber = 2 * kPiD * n_air / (nm * 1e-9);
+
+    // Each column's weights over the nodes: number density x d(ln a) x a^2 (projected area), summed
+    // to 1. The number density per unit ln a is n(a) a; with the step in ln a constant, dln a cancels.
+    if (!grid.per_column) {
+      std::fill(node_used.begin(), node_used.end(), 0);
+      column_weight.assign(cols * J, 0.0);
+      const double shift = frac(shift0 + k * 0.6180339887498949);
+      arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), cols, [&](std::size_t c) {
+          // Gamma: n(a) a^3 ~ exp((alpha + 2) ln a - a / beta), taken relative to its peak at
+          // a* = (alpha + 2) beta; only nodes within kTailSigmas widths of the column are kept.
+          const double alpha = dists[c].alpha(), beta = dists[c].beta();
+          const double peak_a = (alpha + 2) * beta, ln_peak = std::log(peak_a);
+          const double centre = std::log(t.radius_um[c] * 1e-6);
+          const double j_lo = std::floor((centre - kTailSigmas * w - grid.lo) / grid.h - shift);
+          const double j_hi = std::ceil((centre + kTailSigmas * w - grid.lo) / grid.h - shift);
+          const std::size_t first = std::size_t(std::clamp(j_lo, 0.0, double(J - 1)));
+          const std::size_t last = std::size_t(std::clamp(j_hi, 0.0, double(J - 1)));
+          double* cw = &column_weight[c * J];
+          double sum = 0;
+          for (std::size_t j = first; j <= last; ++j) {
+            const double ln_a = grid.lo + (double(j) + shift) * grid.h;
+            const double v = std::exp((alpha + 2) * (ln_a - ln_peak) - (std::exp(ln_a) - peak_a) / beta);
+            cw[j] = v > kNegligibleWeight ? v : 0.0;
+            sum += cw[j];
+          }
+          if (!(sum > 0))
+            throw Error(fmt::format("the radius grid does not resolve the column of {:g} um", t.radius_um[c]));
+          for (std::size_t j = first; j <= last; ++j) cw[j] /= sum;
+          column_first[c] = first;
+          column_count[c] = last - first + 1;
+        });
+      });
+      for (std::size_t c = 0; c < cols; ++c)
+        for (std::size_t j = column_first[c]; j < column_first[c] + column_count[c]; ++j)
+          if (column_weight[c * J + j] != 0) node_used[j] = 1;
+    }
+
+    // Every node at every row: T = i / (pi x^2), i = (|S1|^2 + |S2|^2) / 2, at the row's angle to one
+    // point of the sun's disk.
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, J, 1), [&](const tbb::blocked_range<std::size_t>& range) {
+        thread_local Scratch sc;
+        sc.resize(rows);
+        for (std::size_t j = range.begin(); j != range.end(); ++j) {
+          double* out = &node_values[j * rows];
+          if (!node_used[j]) continue;
+          const double a = node_radius_m(j, k);
+          const double x = wavenumber * a;
+          const double n = double(std::size_t(k) * J + j);
+          const double rho = sun_radius * disk.radius_fraction(frac(disk_u0 + n * a1));
+          const double phi = 2 * kPiD * frac(disk_v0 + n * a2);
+          const double cr = std::cos(rho), sr_cos = std::sin(rho) * std::cos(phi);
+          for (std::size_t i = 0; i < rows; ++i)
+            sc.mu[i] = std::clamp(t.cos_angle[i] * cr + sin_angle[i] * sr_cos, -1.0, 1.0);
+          const double norm = 1 / (kPiD * x * x);
+          switch (spec.theory.kind) {
+            case scatter::TheoryKind::Mie:
+            case scatter::TheoryKind::Debye: {
+              const scatter::MieCoefficients coef = spec.theory.kind == scatter::TheoryKind::Mie
+                                                        ? scatter::mie_coefficients(m, x)
+                                                        : scatter::debye_coefficients(m, x, spec.theory.p);
+              scatter::mie_amplitudes(coef, sc.mu, sc.s1, sc.s2, 1);
+              terms += coef.terms();
+              for (std::size_t i = 0; i < rows; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
+              break;
+            }
+            case scatter::TheoryKind::Airy: {
+              const scatter::AiryRainbow rb = scatter::airy_rainbow(m.real(), x, spec.theory.p);
+              for (std::size_t i = 0; i < rows; ++i) out[i] = scatter::airy_intensity(rb, std::acos(sc.mu[i])) * norm;
+              break;
+            }
+            case scatter::TheoryKind::Geometric: {
+              for (std::size_t i = 0; i < rows; ++i) sc.theta[i] = std::acos(sc.mu[i]);
+              scatter::geometric_amplitudes(m, x, spec.theory.p, sc.theta, sc.s1, sc.s2, /*diffraction=*/true);
+              for (std::size_t i = 0; i < rows; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
+              break;
+            }
+          }
+          ++evaluations;
+        }
+      });
+    });
+
+    // Each column: its weighted mean over the nodes, into X, Y, Z with this wavelength's weight.
+    // Neighbouring columns share most of their nodes, so a block of them is summed together: each
+    // node's row of values is read once per block (memory traffic, not arithmetic, bounds this).
+    const color::Xyz wk = weight[std::size_t(k)];
+    constexpr std::size_t kBlock = 8;
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (cols + kBlock - 1) / kBlock, 1),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+        std::vector<double> acc(kBlock * rows);
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+          const std::size_t c0 = b * kBlock, c1 = std::min(cols, c0 + kBlock);
+          std::fill(acc.begin(), acc.end(), 0.0);
+          if (grid.per_column) {
+            for (std::size_t c = c0; c < c1; ++c) std::copy_n(&node_values[c * rows], rows, &acc[(c - c0) * rows]);
+          } else {
+            std::size_t first = J, last = 0;
+            for (std::size_t c = c0; c < c1; ++c) {
+              first = std::min(first, column_first[c]);
+              last = std::max(last, column_first[c] + column_count[c] - 1);
+            }
+            for (std::size_t j = first; j <= last; ++j) {
+              const double* v = &node_values[j * rows];
+              for (std::size_t c = c0; c < c1; ++c) {
+                const double wj = column_weight[c * J + j];
+                if (wj == 0) continue;
+                double* col = &acc[(c - c0) * rows];
+                for (std::size_t i = 0; i < rows; ++i) col[i] += wj * v[i];
+              }
+            }
+          }
+          for (std::size_t c = c0; c < c1; ++c) {
+            const double* col = &acc[(c - c0) * rows];
+            for (std::size_t i = 0; i < rows; ++i) {
+              double* px = &t.xyz[(i * cols + c) * 3];
+              px[0] += wk.X * col[i];
+              px[1] += wk.Y * col[i];
+              px[2] += wk.Z * col[i];
+            }
+          }
+        }
+      });
+    });
+    done_work += k_work[std::size_t(k)];
+    if (progress) progress(done_work / total_work, fmt::format("{:.0f} nm", nm));
+  }
+  t.work.evaluations = evaluations.load();
+  t.work.terms = terms.load();
+  t.work.term_angles = t.work.terms * std::int64_t(rows);
+  return t;
+}
+
+LeeImages lee_images(const LeeTable& t) {
+  const std::size_t rows = t.angle_deg.size(), cols = t.radius_um.size(), n = rows * cols;
+  LeeImages im;
+  im.linear.resize(n * 6);
+  im.display.resize(n * 3);
+  std::vector<double> lum(n);
+  const color::Rgb lw = color::luminance_weights(t.spec.rgb_space);
+  for (std::size_t p = 0; p < n; ++p) {
+    const color::Xyz v{t.xyz[p * 3], t.xyz[p * 3 + 1], t.xyz[p * 3 + 2]};
+    const color::Rgb rgb = color::desaturate_into_gamut(color::matmul(t.xyz_to_rgb, v), t.spec.rgb_space);
+    for (int c = 0; c < 3; ++c) im.linear[p * 6 + std::size_t(c)] = float(rgb[std::size_t(c)]);
+    im.linear[p * 6 + 3] = float(v.X);
+    im.linear[p * 6 + 4] = float(v.Y);
+    im.linear[p * 6 + 5] = float(v.Z);
+    lum[p] = lw[0] * rgb[0] + lw[1] * rgb[1] + lw[2] * rgb[2];
+  }
+  std::vector<double> sorted(lum);
+  const std::size_t q = std::min(n - 1, std::size_t(0.995 * double(n)));
+  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(q), sorted.end());
+  const double p995 = sorted[q];
+  im.exposure = p995 > 0 ? 1 / p995 : 1.0;
+  for (std::size_t p = 0; p < n; ++p) {
+    const double l = lum[p] * im.exposure;
+    const double mapped = l > 0 ? l * (1 + l / 4) / (1 + l) : 0.0;
+    const double gain = l > 0 ? mapped / l * im.exposure : 0.0;
+    for (int c = 0; c < 3; ++c)
+      im.display[p * 3 + std::size_t(c)] = float(std::clamp(double(im.linear[p * 6 + std::size_t(c)]) * gain, 0.0, 1.0));
+  }
+  return im;
+}
+
+}  // namespace hydrolux::atmos
