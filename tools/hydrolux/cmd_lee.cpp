@@ -127,8 +127,7 @@ nlohmann::json sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im, con
   j["sampling"] = {{"multiplier", s.sampling},
                    {"wavelengths", t.work.wavelengths},
                    {"radius_nodes", t.work.radius_nodes},
-                   {"radius_step_ln", t.work.radius_step_ln},
-                   {"sun_disk_points", "one per (wavelength, radius node), R2 sequence"},
+                   {"angle_cells", t.work.cells},
                    {"seed", s.seed}};
   j["work"] = {{"evaluations", t.work.evaluations}, {"terms", t.work.terms}, {"term_angles", t.work.term_angles}};
   j["png"] = {{"tone_mapping", "linear RGB x exposure (1 / the 99.5th percentile of luminance), then Reinhard on "

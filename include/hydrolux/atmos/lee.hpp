@@ -103,8 +103,8 @@ struct LeeWork {
   std::int64_t terms = 0;        // partial waves (Mie, Debye) summed over the evaluations
   std::int64_t term_angles = 0;  // terms x rows: the amplitude sums' inner loop count
   int wavelengths = 0;           // K
-  int radius_nodes = 0;          // radii per wavelength on the shared grid
-  double radius_step_ln = 0;     // its step in ln a (0: one radius per column)
+  int radius_nodes = 0;          // radii per wavelength (the shared grid, or the columns)
+  int cells = 0;                 // angles per evaluation: the rows' cells and a margin for the disk
 };
 
 struct LeeTable {
