@@ -38,6 +38,7 @@ constexpr double kNodesPerWidth = 6;
 constexpr double kDenseSizeParameter = 8000;
 constexpr double kDenseFactor = 16;
 constexpr int kDiskPoints = 2048;
+constexpr double kKey = 0.18;
 // Nodes where a column's weight is below this fraction of its peak are left out of it (the tails
 // left out hold less than 1e-8 of its drops' area).
 constexpr double kNegligibleWeight = 1e-9;
@@ -640,14 +641,35 @@ LeeImages lee_images(const LeeTable& t) {
     im.linear[p * 6 + 5] = float(v.Z);
     lum[p] = lw[0] * rgb[0] + lw[1] * rgb[1] + lw[2] * rgb[2];
   }
+  // Reinhard et al. 2002 ("Photographic tone reproduction"): the key 0.18 over the log-average
+  // luminance sets the exposure, and the white point is the 99.9th percentile, so a table of any
+  // dynamic range (a corona's forward peak is 1e4 times its rings) keeps its structure visible.
+  double log_sum = 0;
+  std::size_t lit = 0;
+  double peak = 0;
+  for (double l : lum)
+    if (l > 0) {
+      log_sum += std::log(l);
+      ++lit;
+      peak = std::max(peak, l);
+    }
+  const double floor_l = peak * 1e-6;  // ignore black pixels (below a millionth of the peak)
+  log_sum = 0;
+  lit = 0;
+  for (double l : lum)
+    if (l > floor_l) {
+      log_sum += std::log(l);
+      ++lit;
+    }
+  im.exposure = lit > 0 ? kKey / std::exp(log_sum / double(lit)) : 1.0;
   std::vector<double> sorted(lum);
-  const std::size_t q = std::min(n - 1, std::size_t(0.995 * double(n)));
+  const std::size_t q = std::min(n - 1, std::size_t(0.999 * double(n)));
   std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(q), sorted.end());
-  const double p995 = sorted[q];
-  im.exposure = p995 > 0 ? 1 / p995 : 1.0;
+  im.white = std::max(1.0, sorted[q] * im.exposure);
+  const double inv_w2 = 1 / (im.white * im.white);
   for (std::size_t p = 0; p < n; ++p) {
     const double l = lum[p] * im.exposure;
-    const double mapped = l > 0 ? l * (1 + l / 4) / (1 + l) : 0.0;
+    const double mapped = l > 0 ? l * (1 + l * inv_w2) / (1 + l) : 0.0;
     const double gain = l > 0 ? mapped / l * im.exposure : 0.0;
     for (int c = 0; c < 3; ++c)
       im.display[p * 3 + std::size_t(c)] = float(std::clamp(double(im.linear[p * 6 + std::size_t(c)]) * gain, 0.0, 1.0));

@@ -268,17 +268,19 @@ std::vector<Case> generate(const std::map<std::string, CommandCases>& cases,
           });
         (void)good;
       }
-      if (f.kind == "output-image") {
-        add("missing folder", "{dir}/missing/out.png");
-        add("control characters", "{dir}/no\nfolder\r/out.png");
-        add("a folder", "{dir}/folder.png", [](const fs::path& d) { fs::create_directories(d / "folder.png"); });
-        add("file as folder", "{dir}/file/out.png", [](const fs::path& d) { spit(d / "file", "x"); });
-        add("wrong extension", "{dir}/out.jpg");
+      if (f.kind == "output-image" || f.kind == "output-table") {
+        // output-table: the output must be .exr (hydrolux lee writes its .png and .json beside it).
+        const std::string ext = f.kind == "output-table" ? ".exr" : ".png";
+        add("missing folder", "{dir}/missing/out" + ext);
+        add("control characters", "{dir}/no\nfolder\r/out" + ext);
+        add("a folder", "{dir}/folder" + ext, [ext](const fs::path& d) { fs::create_directories(d / ("folder" + ext)); });
+        add("file as folder", "{dir}/file/out" + ext, [](const fs::path& d) { spit(d / "file", "x"); });
+        add("wrong extension", f.kind == "output-table" ? "{dir}/out.png" : "{dir}/out.jpg");
         add("/dev/null", "/dev/null");
         add("no name", "");
         if (input) add("same as input", input->valid, {}, 2, {input->flag, input->valid});
         // A full disk, by a file-size limit: the old file survives, exit 1.
-        add("full disk", "{dir}/old.png", [](const fs::path& d) { spit(d / "old.png", "old"); }, 1);
+        add("full disk", "{dir}/old" + ext, [ext](const fs::path& d) { spit(d / ("old" + ext), "old"); }, 1);
         out.back().fsize_limit = true;
       }
       if (f.kind == "output-dir") {
@@ -392,7 +394,8 @@ TEST_F(Robustness, BadInputsKeepTheContract) {
       std::error_code ec;
       fs::permissions(dir, fs::perms::owner_all, fs::perm_options::add, ec);
       if (listing(dir) != before) why += "files left behind or removed; ";
-      if (c.fsize_limit && fs::exists(dir / "old.png") && slurp(dir / "old.png") != "old") why += "old output replaced; ";
+      for (const char* old_name : {"old.png", "old.exr"})
+        if (c.fsize_limit && fs::exists(dir / old_name) && slurp(dir / old_name) != "old") why += "old output replaced; ";
       if (!why.empty()) {
         std::string cmd;
         for (const auto& a : args) cmd += " '" + a + "'";

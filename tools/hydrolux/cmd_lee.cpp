@@ -130,9 +130,11 @@ nlohmann::json sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im, con
                    {"angle_cells", t.work.cells},
                    {"seed", s.seed}};
   j["work"] = {{"evaluations", t.work.evaluations}, {"terms", t.work.terms}, {"term_angles", t.work.term_angles}};
-  j["png"] = {{"tone_mapping", "linear RGB x exposure (1 / the 99.5th percentile of luminance), then Reinhard on "
-                               "luminance L (1 + L/4) / (1 + L) with hue kept, clipped to [0,1], sRGB curve, 8 bits"},
-              {"exposure", im.exposure}};
+  j["png"] = {{"tone_mapping", "Reinhard et al. 2002 photographic operator on luminance, hue kept: exposure = 0.18 / "
+                               "log-average luminance; L' = L (1 + L/white^2) / (1 + L), white = 99.9th percentile "
+                               "of the exposed luminance; clipped to [0,1]; sRGB curve; 8 bits"},
+              {"exposure", im.exposure},
+              {"white", im.white}};
   return j;
 }
 
@@ -208,7 +210,7 @@ int run_lee(const LeeArgs& a) {
   try {
     s.sun = color::Illuminant::parse(a.sun);
   } catch (const DomainError& e) {
-    throw Error(fmt::format("--sun {}: the temperature {}", a.sun, e.range_text()));
+    throw Error(fmt::format("--sun {}: {:g} K is {}", a.sun, e.value(), e.range_text()));
   } catch (const Error& e) {
     throw Error(fmt::format("--sun: {}", e.what()));
   }
@@ -355,6 +357,8 @@ Command add_lee(CLI::App& app) {
            {"size_parameter", "--radius-um (the size parameter 2 pi r / lambda)"},
            {"temperature_c", "--temperature-c"},
            {"temperature_k", "--sun"},
+           {"m_imag", "--medium (its index relative to air)"},
+           {"m_real", "--medium (its index relative to air)"},
            {"p", "--theory"}}};
 }
 

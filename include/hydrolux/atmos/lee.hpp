@@ -130,13 +130,14 @@ struct LeeTable {
 LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress = {});
 
 // The table as images: RGB (gamut-mapped linear RGB) followed by X, Y, Z (unmapped), 6 channels;
-// and the display version: exposure so that the 99.5th percentile of the luminance is 1, then
-// Reinhard's curve on luminance, L (1 + L / 4) / (1 + L) (white at L = 2), hue kept, then the sRGB
-// curve (applied when the PNG is encoded). `exposure` returns the factor used.
+// and the display version, by Reinhard et al.'s photographic operator (SIGGRAPH 2002) on
+// luminance with the hue kept: exposure = 0.18 / the log-average luminance (of pixels above 1e-6
+// of the peak), L' = L (1 + L / W^2) / (1 + L) with the white W the 99.9th percentile of the exposed
+// luminance (at least 1), clipped to [0, 1]; the sRGB curve is applied when the PNG is encoded.
 struct LeeImages {
   std::vector<float> linear;   // rows x columns x 6: R, G, B, X, Y, Z
   std::vector<float> display;  // rows x columns x 3: linear display values in [0, 1]
-  double exposure = 1;
+  double exposure = 1, white = 1;
 };
 LeeImages lee_images(const LeeTable& t);
 
