@@ -430,12 +430,19 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
     cells.count = hi - lo + 1;
   }
   const std::size_t R = std::size_t(cells.count);
-  // The axis value at fraction f of cell c (c counted from cells.first), as mu = cos theta.
-  const auto cell_mu = [&](std::size_t c, double f) {
+  // The point at fraction f of cell c (c counted from cells.first) as theta (radians) and mu = cos
+  // theta; only what the theory needs is computed (Mie sums take mu, the ray theories theta).
+  const bool wants_mu = spec.theory.kind == scatter::TheoryKind::Mie || spec.theory.kind == scatter::TheoryKind::Debye;
+  const auto cell_point = [&](std::size_t c, double f, double& theta, double& mu) {
     const double v = cells.v0 + (double(int(c) + cells.first) + f - 0.5) * cells.dv;
-    if (cells.cosine) return std::clamp(v, -1.0, 1.0);
-    const double theta = v < 0 ? -v : (v > 180 ? 360 - v : v);  // beyond an axis, the mirror angle
-    return std::cos(rad(theta));
+    if (cells.cosine) {
+      mu = std::clamp(v, -1.0, 1.0);
+      if (!wants_mu) theta = std::acos(mu);
+      return;
+    }
+    const double d = v < 0 ? -v : (v > 180 ? 360 - v : v);  // beyond an axis, the mirror angle
+    theta = rad(d);
+    if (wants_mu) mu = std::cos(theta);
   };
 
   // Estimated work per wavelength (for progress): terms ~ x for the wave theories.
@@ -526,9 +533,10 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
           if (cells.per_evaluation_disk) {
             const auto d = disk_point(n);
             sc.mu[0] = std::clamp(t.cos_angle[0] * d[0] + sin_angle[0] * d[1], -1.0, 1.0);
+            sc.theta[0] = std::acos(sc.mu[0]);
           } else {
             const double j0 = frac(jitter0 + n * kGolden);
-            for (std::size_t c = 0; c < R; ++c) sc.mu[c] = cell_mu(c, frac(j0 + double(c) * a1));
+            for (std::size_t c = 0; c < R; ++c) cell_point(c, frac(j0 + double(c) * a1), sc.theta[c], sc.mu[c]);
           }
           const double norm = 1 / (kPiD * x * x);
           switch (spec.theory.kind) {
@@ -544,11 +552,10 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
             }
             case scatter::TheoryKind::Airy: {
               const scatter::AiryRainbow rb = scatter::airy_rainbow(m.real(), x, spec.theory.p);
-              for (std::size_t i = 0; i < R; ++i) out[i] = scatter::airy_intensity(rb, std::acos(sc.mu[i])) * norm;
+              for (std::size_t i = 0; i < R; ++i) out[i] = scatter::airy_intensity(rb, sc.theta[i]) * norm;
               break;
             }
             case scatter::TheoryKind::Geometric: {
-              for (std::size_t i = 0; i < R; ++i) sc.theta[i] = std::acos(sc.mu[i]);
               scatter::geometric_amplitudes(m, x, spec.theory.p, sc.theta, sc.s1, sc.s2, /*diffraction=*/true);
               for (std::size_t i = 0; i < R; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
               break;

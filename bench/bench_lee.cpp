@@ -1,0 +1,49 @@
+// Lee tables: the standard table (512 radii 5-800 um log x 1024 angles 90-180, full Mie, 40
+// wavelengths, the sun's disk, a 10% gamma spread) on every core, the same table in Airy theory, and
+// one wavelength of the standard Mie work on one thread (the kernel's rate). Counters: evaluations
+// (single-drop solutions), terms (partial waves summed), term_angles (terms x angles: the amplitude
+// sums' inner loop), and their rate.
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include "hydrolux/atmos/lee.hpp"
+
+namespace {
+
+using namespace hydrolux;
+
+void report(benchmark::State& state, const atmos::LeeTable& t) {
+  state.counters["evaluations"] = double(t.work.evaluations);
+  state.counters["terms"] = double(t.work.terms);
+  state.counters["term_angles"] = double(t.work.term_angles);
+  state.counters["term_angles_per_s"] =
+      benchmark::Counter(double(t.work.term_angles), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// Arg: 0 = Mie, 1 = Airy theory.
+void BM_StandardTable(benchmark::State& state) {
+  atmos::LeeSpec s;  // the defaults are the standard table
+  if (state.range(0) == 1) s.theory = scatter::parse_theory("airy");
+  atmos::LeeTable t;
+  for (auto _ : state) t = atmos::compute_lee_table(s);
+  report(state, t);
+  state.SetLabel(state.range(0) == 1 ? "airy, 512 x 1024, both cores" : "mie, 512 x 1024, both cores");
+}
+BENCHMARK(BM_StandardTable)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+// One wavelength (550 nm) of the standard Mie table on one thread: the per-core rate.
+void BM_StandardTableOneWavelength(benchmark::State& state) {
+  tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  atmos::LeeSpec s;
+  s.wavelength_min_nm = s.wavelength_max_nm = 550;
+  s.threads = 1;
+  atmos::LeeTable t;
+  for (auto _ : state) t = atmos::compute_lee_table(s);
+  report(state, t);
+  state.SetLabel("mie, 512 x 1024, 550 nm only, one thread");
+}
+BENCHMARK(BM_StandardTableOneWavelength)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
