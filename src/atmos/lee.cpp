@@ -632,7 +632,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   return t;
 }
 
-LeeImages lee_images(const LeeTable& t) {
+LeeImages lee_images(const LeeTable& t, double exposure, double white) {
   const std::size_t rows = t.angle_deg.size(), cols = t.radius_um.size(), n = rows * cols;
   LeeImages im;
   im.linear.resize(n * 6);
@@ -651,28 +651,19 @@ LeeImages lee_images(const LeeTable& t) {
   // Reinhard et al. 2002 ("Photographic tone reproduction"): the key 0.18 over the log-average
   // luminance sets the exposure, and the white point is the 99.9th percentile, so a table of any
   // dynamic range (a corona's forward peak is 1e4 times its rings) keeps its structure visible.
+  const double floor_l = *std::max_element(lum.begin(), lum.end()) * 1e-6;  // black pixels left out
   double log_sum = 0;
   std::size_t lit = 0;
-  double peak = 0;
-  for (double l : lum)
-    if (l > 0) {
-      log_sum += std::log(l);
-      ++lit;
-      peak = std::max(peak, l);
-    }
-  const double floor_l = peak * 1e-6;  // ignore black pixels (below a millionth of the peak)
-  log_sum = 0;
-  lit = 0;
   for (double l : lum)
     if (l > floor_l) {
       log_sum += std::log(l);
       ++lit;
     }
-  im.exposure = lit > 0 ? kKey / std::exp(log_sum / double(lit)) : 1.0;
+  im.exposure = exposure > 0 ? exposure : lit > 0 ? kKey / std::exp(log_sum / double(lit)) : 1.0;
   std::vector<double> sorted(lum);
   const std::size_t q = std::min(n - 1, std::size_t(0.999 * double(n)));
   std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(q), sorted.end());
-  im.white = std::max(1.0, sorted[q] * im.exposure);
+  im.white = white > 0 ? white : std::max(1.0, sorted[q] * im.exposure);
   const double inv_w2 = 1 / (im.white * im.white);
   for (std::size_t p = 0; p < n; ++p) {
     const double l = lum[p] * im.exposure;

@@ -21,4 +21,8 @@ struct Entry {
 // undistorted view, Beard & Chuang's shapes.
 std::vector<Entry> drop_entries();
 
+// The Lee diagrams (issue #10): theories side by side, the sun's disk and a size spread, colour
+// against angle, the corona and glory of cloud droplets.
+std::vector<Entry> lee_entries();
+
 }  // namespace hydrolux::gallery::detail

@@ -330,6 +330,7 @@ std::vector<Entry> entries() {
                  return io::render_svg(p);
                }});
   for (auto& d : detail::drop_entries()) e.push_back(std::move(d));
+  for (auto& d : detail::lee_entries()) e.push_back(std::move(d));
   return e;
 }
 

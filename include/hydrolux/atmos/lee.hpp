@@ -139,6 +139,7 @@ struct LeeImages {
   std::vector<float> display;  // rows x columns x 3: linear display values in [0, 1]
   double exposure = 1, white = 1;
 };
-LeeImages lee_images(const LeeTable& t);
+// `exposure` and `white` > 0 replace the automatic ones (to show several tables on one scale).
+LeeImages lee_images(const LeeTable& t, double exposure = 0, double white = 0);
 
 }  // namespace hydrolux::atmos
