@@ -44,6 +44,7 @@ constexpr double kKey = 0.18;
 constexpr double kNegligibleWeight = 1e-9;
 
 double deg(double rad) { return rad * 180 / kPiD; }
+double rad_to_deg_acos(double c) { return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / kPiD; }
 double rad(double d) { return d * kPiD / 180; }
 
 // Fractional part of a + b n, for the low-discrepancy sequences.
@@ -134,6 +135,18 @@ double largest_radius_m(const LeeSpec& s) {
 double smallest_radius_m(const LeeSpec& s) {
   return std::min(s.radius_min_um, s.radius_max_um) * 1e-6 * std::exp(-kTailSigmas * s.size_spread * 1.01);
 }
+
+// The shared radius grid of a spec with a spread (k_max: the largest wavenumber, m^-1).
+RadiusGrid shared_grid(const LeeSpec& s, double k_max) {
+  const double w = s.size_spread;
+  return RadiusGrid(std::log(std::min(s.radius_min_um, s.radius_max_um) * 1e-6) - kTailSigmas * w,
+                    std::log(std::max(s.radius_min_um, s.radius_max_um) * 1e-6) + kTailSigmas * w, w, s.sampling, k_max,
+                    s.theory.kind == scatter::TheoryKind::Mie || s.theory.kind == scatter::TheoryKind::Debye);
+}
+
+// The most cells (angles per evaluation) and values per array a table may need: 2^16 cells, and
+// 2^27 doubles (1 GiB) for the nodes' values and the columns' weights.
+constexpr double kMaxCells = 65536, kMaxArrayValues = 134217728;
 
 // The rows' cells and the sun's disk. With two rows or more, every evaluation samples each cell of
 // the angle axis (angle or cosine, the rows' own spacing) at a jittered point inside it, so that the
@@ -280,6 +293,33 @@ void validate(const LeeSpec& s) {
   if (s.theory.kind == scatter::TheoryKind::Airy && s.table != LeeTableKind::rainbow)
     throw Error(fmt::format("Airy theory describes a rainbow only; a {} table needs mie, debye:P or geometric",
                             table_kind_name(s.table)));
+  // The work arrays: the cells per evaluation (the rows, and the sun's disk beyond the ends) and
+  // the nodes' values and columns' weights.
+  double cells = 1;
+  if (s.rows > 1) {
+    const bool cosine = s.axis == AngleAxis::cosine;
+    const double span = cosine ? std::cos(rad(s.angle_min_deg)) - std::cos(rad(s.angle_max_deg))
+                               : s.angle_max_deg - s.angle_min_deg;
+    const double reach = cosine ? rad(s.sun_disk_deg) / 2 : s.sun_disk_deg / 2;  // |d cos| <= |d theta|
+    cells = s.rows + 2 * (reach / (span / (s.rows - 1)) + 2);
+    if (cells > kMaxCells) {
+      const double min_span = 2 * reach * (s.rows - 1) / (kMaxCells - s.rows - 4);
+      const double lo = cosine ? rad_to_deg_acos(std::cos(rad(s.angle_min_deg)) - min_span) : s.angle_min_deg + min_span;
+      throw DomainError("angle_deg", s.angle_max_deg, lo, 180.0,
+                        fmt::format("{} rows under the sun's {:g} degree disk: the angles must span at least {:.3g} "
+                                    "{} (at most {:g} row spacings may fit in the disk)",
+                                    s.rows, s.sun_disk_deg, min_span, cosine ? "in cosine" : "degrees",
+                                    kMaxCells - s.rows - 4));
+    }
+  }
+  const double k_max = 2 * kPiD * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
+  const double nodes = s.size_spread == 0 ? double(s.columns) : double(shared_grid(s, k_max).nodes());
+  if (nodes * cells > kMaxArrayValues)
+    throw DomainError("rows", s.rows, 1, std::floor(kMaxArrayValues / nodes),
+                      fmt::format("a table whose radius grid has {:g} nodes (the work arrays are limited to 1 GiB)", nodes));
+  if (nodes * s.columns > kMaxArrayValues)
+    throw DomainError("columns", s.columns, 1, std::floor(kMaxArrayValues / nodes),
+                      fmt::format("a table whose radius grid has {:g} nodes (the work arrays are limited to 1 GiB)", nodes));
 }
 
 std::vector<double> column_radii_um(const LeeSpec& s) {
@@ -373,10 +413,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   const bool per_column = w == 0;
   const double k_max = 2 * kPiD * air->n(spec.wavelength_min_nm) / (spec.wavelength_min_nm * 1e-9);
   RadiusGrid grid;
-  if (!per_column)
-    grid = RadiusGrid(std::log(t.radius_um.front() * 1e-6) - kTailSigmas * w,
-                      std::log(t.radius_um.back() * 1e-6) + kTailSigmas * w, w, spec.sampling, k_max,
-                      spec.theory.kind == scatter::TheoryKind::Mie || spec.theory.kind == scatter::TheoryKind::Debye);
+  if (!per_column) grid = shared_grid(spec, k_max);
   const std::size_t J = per_column ? cols : std::size_t(grid.nodes());
   t.work.wavelengths = K;
   t.work.radius_nodes = int(J);
@@ -436,7 +473,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   const auto cell_point = [&](std::size_t c, double f, double& theta, double& mu) {
     const double v = cells.v0 + (double(int(c) + cells.first) + f - 0.5) * cells.dv;
     if (cells.cosine) {
-      mu = std::clamp(v, -1.0, 1.0);
+      mu = v < -1 ? -2 - v : (v > 1 ? 2 - v : v);  // beyond an axis, the mirror direction
       if (!wants_mu) theta = std::acos(mu);
       return;
     }
@@ -529,7 +566,9 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
           if (!node_used[j]) continue;
           const double a = node_radius_m(j, k);
           const double x = wavenumber * a;
-          const double n = double(std::size_t(k) * J + j);
+          // Each node's evaluations are consecutive in the sequences (wavelength fastest), so the
+          // K points one column gets are spread over the cell and the disk for any J.
+          const double n = double(j * std::size_t(K) + std::size_t(k));
           if (cells.per_evaluation_disk) {
             const auto d = disk_point(n);
             sc.mu[0] = std::clamp(t.cos_angle[0] * d[0] + sin_angle[0] * d[1], -1.0, 1.0);
@@ -551,7 +590,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
               break;
             }
             case scatter::TheoryKind::Airy: {
-              const scatter::AiryRainbow rb = scatter::airy_rainbow(m.real(), x, spec.theory.p);
+              const scatter::AiryRainbow rb = scatter::airy_rainbow(m.real(), x, spec.theory.p, m.imag());
               for (std::size_t i = 0; i < R; ++i) out[i] = scatter::airy_intensity(rb, sc.theta[i]) * norm;
               break;
             }

@@ -186,9 +186,9 @@ std::vector<Entry> lee_entries() {
                 "secondary near 129 and the dark band between."},
                [radii] {
                  io::Plot p;
-                 p.title = "Lee profiles: luminance against scattering angle (Mie, sun's disk)";
+                 p.title = "Lee profiles: Y (CIE 1931) against scattering angle (Mie, sun's disk)";  // no \"nan\" in an SVG
                  p.x_label = "scattering angle (degrees)";
-                 p.y_label = "luminance Y (sr^-1)";
+                 p.y_label = "Y, sr^-1";
                  p.x_min = 120;
                  p.x_max = 160;
                  p.x_tick = 5;

@@ -142,15 +142,19 @@ double airy_argument(double n, double x, int p, double theta) {
   return rb.side * (theta - rb.scattering_angle) * std::cbrt(x * x / rb.curvature);
 }
 
-AiryRainbow airy_rainbow(double n_real, double x, int p) {
+AiryRainbow airy_rainbow(double n_real, double x, int p, double kappa) {
   check_airy(n_real, x, p);
+  require_in_range("m_imag", kappa, 0.0, 1.0, "Airy theory");
   AiryRainbow a;
   a.ray = rainbow_ray(n_real, p);
   a.x = x;
   a.eps = ray_fresnel_factors(Complex(n_real, 0), p, a.ray.theta_i);
   a.scale = std::cbrt(x * x / a.ray.curvature);  // z per radian
+  // Weak absorption (van de Hulst 1957 section 14.2, as geometric.hpp): the rainbow ray's amplitude
+  // decays as exp(-2 x kappa cos theta_t) along each of its p chords.
   a.amplitude = std::sqrt(2 * kPiD * a.ray.impact_parameter / std::sin(a.ray.scattering_angle)) *
-                std::pow(x, 7.0 / 6.0) / std::cbrt(a.ray.curvature);
+                std::pow(x, 7.0 / 6.0) / std::cbrt(a.ray.curvature) *
+                std::exp(-2.0 * p * x * kappa * std::cos(a.ray.theta_t));
   const double delta_r =
       2 * x * (p * n_real * std::cos(a.ray.theta_t) - std::cos(a.ray.theta_i));  // optical path
   // Focal lines of the inner branch (theta_i just below the rainbow ray, dTheta/dtheta_i < 0).

@@ -85,8 +85,10 @@ nlohmann::json sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im, con
       {"y", s.axis == atmos::AngleAxis::angle ? "scattering angle: row j holds angle_deg[j], increasing downward"
                                               : "cosine of the scattering angle: row j holds cos_angle[j], increasing "
                                                 "downward (cos_angle = dot(view ray, direction to the sun))"},
-      {"sample", "each pixel is the value at its sample position (pixel centres; sample with texel-centre "
-                 "coordinates u = (i + 0.5) / width, v = (j + 0.5) / height)"},
+      {"sample", "pixel (i, j) is centred on radius_um[i] and its row's angle (sample texel centres: u = (i + 0.5) "
+                 "/ width, v = (j + 0.5) / height); its value is averaged over the sun's disk and over its row's "
+                 "cell, one row spacing wide along the y axis (a box filter, so fringes finer than the table average "
+                 "out instead of aliasing); each column is one size distribution"},
       {"scattering_angle", "0 = forward (looking toward the sun through the drops), 180 = the antisolar point"}};
   j["axis"] = atmos::angle_axis_name(s.axis);
   j["radius_scale"] = atmos::radius_scale_name(s.radius_scale);
@@ -161,6 +163,11 @@ int run_lee(const LeeArgs& a) {
     s.angle_max_deg = r[1];
   }
   if (single) s.columns = 1;
+  const auto check_angle_span = [&] {
+    if (s.rows > 1 && s.angle_min_deg == s.angle_max_deg)
+      throw Error(fmt::format("--angle-deg {}: a table of {} rows needs A < B (or --size Wx1 for one angle)",
+                              a.angle_deg ? *a.angle_deg : "", s.rows));
+  };
   if (a.size) {
     const auto wh = parse::pair(*a.size, 'x');
     const auto bad = [&] {
@@ -175,6 +182,7 @@ int run_lee(const LeeArgs& a) {
       throw Error(fmt::format("--size {}: a single --radius-um {} makes one column; give --size 1x{}", *a.size,
                               *a.radius_um, s.rows));
   }
+  check_angle_span();
   s.radius_scale = a.radius_scale == "log" ? atmos::RadiusScale::log : atmos::RadiusScale::linear;
   s.axis = a.axis == "angle" ? atmos::AngleAxis::angle : atmos::AngleAxis::cosine;
   s.sun_disk_deg = a.sun_disk_deg;

@@ -21,12 +21,16 @@
 // RGB (T, T, T): sunlight is white.
 //
 // Integration (docs/lee.md): K wavelengths at the midpoints of K equal steps (weights S x_bar dl);
-// the population on a grid in ln a shared by every column (step spread / 6, shifted by a different
-// fraction of a step at each wavelength, so that no grid resonates with the Mie ripple); one point
-// of the sun's disk per (wavelength, radius) from a 2-D low-discrepancy sequence, the scattering
-// angle to that point taken exactly on the sphere. `sampling` multiplies every rate (K, the radius
-// grid's density); tests check that doubling it changes the standard table by less than 1% RMS in
-// luminance.
+// the population on a grid in ln a shared by every column (denser where the size parameter is
+// small, shifted by a different fraction of a step at each wavelength, so that no grid resonates
+// with the Mie ripple). Each evaluation (one wavelength, one radius) samples every row's cell -- the
+// interval of one row spacing around the row on its axis (angle or cosine) -- at a jittered point,
+// and the sun's disk is a fixed kernel from cells to rows (exact spherical angles, 2048 points of
+// the disk). So a row holds the average over its cell convolved with the disk, centred on its
+// sample position: the right value for a texel, and free of aliasing from fringes finer than the
+// table; a table of one row takes one point of the disk per evaluation instead. `sampling`
+// multiplies every rate (K, the radius grid's density); tests check that doubling it changes the
+// standard table by less than 1% RMS in luminance.
 #include <array>
 #include <cstdint>
 #include <memory>

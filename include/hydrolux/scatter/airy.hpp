@@ -70,7 +70,9 @@ struct AiryRainbow {
   double amplitude = 0;   // sqrt(2 pi b_R / sin theta_R) x^(7/6) q^(-1/3)
   double phase0 = 0;      // delta_R - pi (N + 1) / 2 - pi / 4
 };
-AiryRainbow airy_rainbow(double n_real, double x, int p);
+// kappa = Im m >= 0 (at most 1) attenuates the amplitude by exp(-2 p x kappa cos theta_t,R), the
+// rainbow ray's p chords through a weakly absorbing drop (van de Hulst 1957 section 14.2).
+AiryRainbow airy_rainbow(double n_real, double x, int p, double kappa = 0);
 
 // The unpolarised intensity (|S1|^2 + |S2|^2) / 2 at theta (radians) through airy_ai_fast:
 // (|eps_1|^2 + |eps_2|^2) / 2 * amplitude^2 * Ai(-z)^2.
