@@ -1,13 +1,16 @@
-// libFuzzer target: media and theories by name, as the CLI's --medium, --surrounding and --theory
-// take them (optics::find_medium, "const:<n>[+<k>i]" included; scatter::parse_theory); for a
-// medium found, its index at a fuzzer-chosen wavelength and temperature. Errors must be
-// hydrolux::Error (DomainError, UnknownNameError); an index returned must be finite.
+// libFuzzer target: media, theories, light sources and colour spaces by name, as the CLI's
+// --medium, --surrounding, --theory, --sun and --color-space take them (optics::find_medium,
+// "const:<n>[+<k>i]" included; scatter::parse_theory; color::Illuminant::parse, "blackbody:<K>"
+// included; color::parse_rgb_space); for a medium or source found, its value at a fuzzer-chosen
+// wavelength and temperature. Errors must be hydrolux::Error (DomainError, UnknownNameError); a
+// value returned must be finite.
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 
+#include "hydrolux/color/cie.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/theories.hpp"
@@ -21,6 +24,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string name(reinterpret_cast<const char*>(data + 16), size - 16);
   try {
     (void)scatter::parse_theory(name);
+  } catch (const Error&) {
+  }
+  try {
+    (void)color::parse_rgb_space(name);
+  } catch (const Error&) {
+  }
+  try {
+    const auto source = color::Illuminant::parse(name);
+    const double v = source(lambda_nm);
+    if (!std::isfinite(v) || v < 0) std::abort();
   } catch (const Error&) {
   }
   try {

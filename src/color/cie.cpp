@@ -106,6 +106,7 @@ Illuminant Illuminant::blackbody(double kelvin) {
   s.kind_ = Kind::blackbody;
   s.kelvin_ = kelvin;
   s.name_ = fmt::format("blackbody:{:g}", kelvin);
+  s.range_ = {10, 1e5};  // nm: Planck's law holds anywhere; this keeps l^5 and the exponent finite
   return s;
 }
 
@@ -140,6 +141,7 @@ double Illuminant::operator()(double nm) const {
       return interpolate_linear(t.column("wavelength_nm"), t.column("direct_circumsolar_w_m2_nm"), nm);
     }
     case Kind::blackbody: {
+      require_in_range("wavelength_nm", nm, range_[0], range_[1], name_);
       // Planck: B ~ l^-5 / (exp(c2 / (l T)) - 1), c2 = h c / k_B = 1.438776877e-2 m K (CODATA 2018).
       constexpr double c2_nm_k = 1.438776877e7;
       const auto planck = [&](double l) { return 1.0 / (std::pow(l, 5) * std::expm1(c2_nm_k / (l * kelvin_))); };

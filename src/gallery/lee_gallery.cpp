@@ -186,14 +186,14 @@ std::vector<Entry> lee_entries() {
                 "secondary near 129 and the dark band between."},
                [radii] {
                  io::Plot p;
-                 p.title = "Lee profiles: Y (CIE 1931) against scattering angle (Mie, sun's disk)";  // no \"nan\" in an SVG
+                 p.title = "Lee profiles: Y against scattering angle (Mie, sun's disk)";  // no \"nan\" in an SVG
                  p.x_label = "scattering angle (degrees)";
                  p.y_label = "Y, sr^-1";
                  p.x_min = 120;
                  p.x_max = 160;
                  p.x_tick = 5;
                  p.y_log = true;
-                 p.y_min = 1e-4;
+                 p.y_min = 1e-3;
                  p.y_max = 1;
                  p.legend = io::LegendCorner::TopRight;
                  const char* colours[] = {"#7f7f7f", "#1f77b4", "#d62728"};

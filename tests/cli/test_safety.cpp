@@ -193,6 +193,23 @@ TEST_F(Safety, SignalsCancelCleanly) {
   }
 }
 
+// Ctrl-C while a Lee table is computed: exit 130, the old table untouched, and none of its three
+// outputs (EXR, PNG, JSON) nor a temporary file left.
+TEST_F(Safety, InterruptedLeeTableLeavesNothing) {
+  const fs::path out = dir_ / "out.exr";
+  { std::ofstream(out) << "the old table"; }
+  const auto p = spawn({"lee", "-q", "-o", out.string()});  // the standard table: ~25 s
+  wait_until_signals_handled(p.pid);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // into the computation
+  ::kill(p.pid, SIGINT);
+  const auto r = finish(p);
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("hydrolux lee: cancelled by SIGINT"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(out), "the old table");
+  EXPECT_EQ(listing(dir_), std::vector<std::string>{"out.exr"});
+}
+
 // An interrupted gallery used to leave a half-filled folder. Now its figures are staged in a hidden
 // folder (inside the gallery when it exists, beside it when it is new) and moved in at the end: a
 // Ctrl-C once some figures are written removes the staging folder and leaves the previous gallery
