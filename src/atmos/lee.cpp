@@ -249,6 +249,17 @@ LeeSpec default_lee_spec(LeeTableKind kind) {
   return s;
 }
 
+LeeSpec profile_spec(LeeTableKind kind, double radius_um, double a0, double a1, int rows) {
+  LeeSpec s = default_lee_spec(kind);
+  s.radius_min_um = s.radius_max_um = radius_um;
+  s.columns = 1;
+  s.angle_min_deg = a0;
+  s.angle_max_deg = a1;
+  s.rows = rows;
+  s.size_spread = 0;
+  return s;
+}
+
 void validate(const LeeSpec& s) {
   require_in_range("columns", s.columns, 1, kMaxSide);
   require_in_range("rows", s.rows, 1, kMaxSide);

@@ -65,13 +65,6 @@ Image rgb_only(const Image& in) {
   return out;
 }
 
-Entry image_entry(std::string file, std::string title, std::string caption, std::function<Image()> make) {
-  Entry e;
-  e.figure = {std::move(file), std::move(title), std::move(caption)};
-  e.render = [make = std::move(make)] { return io::encode_image(make(), io::ImageFormat::png); };
-  return e;
-}
-
 }  // namespace
 
 std::vector<Entry> drop_entries() {

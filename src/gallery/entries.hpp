@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "hydrolux/core/image.hpp"
 #include "hydrolux/gallery/gallery.hpp"
 
 namespace hydrolux::gallery::detail {
@@ -16,6 +17,9 @@ struct Entry {
   Figure figure;
   std::function<std::string()> render;  // the file's bytes: SVG text, or an encoded PNG
 };
+
+// A figure made as an image, written as PNG (the sRGB curve applied).
+Entry image_entry(std::string file, std::string title, std::string caption, std::function<Image()> make);
 
 // The rain drop's figures (issue #4): rendered pictures, the exact tracer beside the model, the
 // undistorted view, Beard & Chuang's shapes.

@@ -11,6 +11,7 @@
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/model.hpp"
 #include "hydrolux/io/files.hpp"
+#include "hydrolux/io/image_io.hpp"
 #include "hydrolux/io/svg_plot.hpp"
 #include "hydrolux/optics/bsdf.hpp"
 #include "hydrolux/optics/fresnel.hpp"
@@ -24,6 +25,14 @@
 #include "hydrolux/version.hpp"
 
 namespace hydrolux::gallery {
+
+detail::Entry detail::image_entry(std::string file, std::string title, std::string caption,
+                                  std::function<Image()> make) {
+  Entry e;
+  e.figure = {std::move(file), std::move(title), std::move(caption)};
+  e.render = [make = std::move(make)] { return io::encode_image(make(), io::ImageFormat::png); };
+  return e;
+}
 
 namespace {
 

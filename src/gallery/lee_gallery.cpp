@@ -35,6 +35,20 @@ atmos::LeeSpec gallery_spec(const char* theory, double disk_deg, double spread) 
   return s;
 }
 
+// The profiles of 10, 100 and 1000 um drops over 120-160 degrees, shared by the colour strips and
+// the luminance plot: computed once.
+constexpr double kProfileRadiiUm[3] = {10, 100, 1000};
+constexpr int kProfileRows = 720;
+const std::vector<atmos::LeeTable>& profiles() {
+  static const std::vector<atmos::LeeTable> t = [] {
+    std::vector<atmos::LeeTable> v;
+    for (double r : kProfileRadiiUm)
+      v.push_back(atmos::compute_lee_table(atmos::profile_spec(atmos::LeeTableKind::rainbow, r, 120, 160, kProfileRows)));
+    return v;
+  }();
+  return t;
+}
+
 // The Mie table with the sun's disk and a 10% spread, shared by two figures: computed once.
 const atmos::LeeTable& mie_table() {
   static const atmos::LeeTable t = atmos::compute_lee_table(gallery_spec("mie", atmos::kSunDiskDeg, 0.1));
@@ -64,23 +78,9 @@ Image side_by_side(const std::vector<Image>& panels) {
   return out;
 }
 
-Entry png_entry(std::string file, std::string title, std::string caption, std::function<Image()> make) {
-  Entry e;
-  e.figure = {std::move(file), std::move(title), std::move(caption)};
-  e.render = [make = std::move(make)] { return io::encode_image(make(), io::ImageFormat::png); };
-  return e;
-}
-
-// One radius's profile at fine angular resolution (a point-like table: one column).
+// One radius's profile at fine angular resolution.
 atmos::LeeTable profile(atmos::LeeTableKind kind, double radius_um, double a0, double a1, int rows) {
-  atmos::LeeSpec s = atmos::default_lee_spec(kind);
-  s.radius_min_um = s.radius_max_um = radius_um;
-  s.columns = 1;
-  s.angle_min_deg = a0;
-  s.angle_max_deg = a1;
-  s.rows = rows;
-  s.size_spread = 0;
-  return atmos::compute_lee_table(s);
+  return atmos::compute_lee_table(atmos::profile_spec(kind, radius_um, a0, a1, rows));
 }
 
 // The sky around the sun (corona) or the antisolar point (glory) from a one-column profile over
@@ -111,7 +111,7 @@ Image sky_disk(const atmos::LeeTable& t, bool from_antisolar, double max_deg, in
 std::vector<Entry> lee_entries() {
   std::vector<Entry> e;
 
-  e.push_back(png_entry(
+  e.push_back(image_entry(
       "lee_theories.png", "Lee diagrams: Mie, Airy and geometric optics",
       fmt::format("hydrolux lee with --theory mie, airy and geometric, side by side. In each panel the drop radius "
                   "runs from 5 um (left) to 800 um (right, log scale) and the scattering angle from 90 degrees (top) "
@@ -135,7 +135,7 @@ std::vector<Entry> lee_entries() {
         return side_by_side(panels);
       }));
 
-  e.push_back(png_entry(
+  e.push_back(image_entry(
       "lee_disk_spread.png", "The sun's disk and a size spread",
       "The Mie Lee diagram (5-800 um, 90-180 degrees) four ways, from left: a point sun and one radius per column; the "
       "sun's 0.53 degree disk; a 10% gamma spread of radii under a point sun; both. The disk blurs the bows of "
@@ -154,25 +154,23 @@ std::vector<Entry> lee_entries() {
       }));
 
   // Colour against angle: three radii, one strip each, on one scale; and their luminance.
-  const double radii[] = {10, 100, 1000};
-  e.push_back(png_entry(
+  e.push_back(image_entry(
       "lee_colour_strips.png", "Rainbow colour against angle: 10, 100 and 1000 um drops",
       "Each strip is one drop radius (top to bottom: 10, 100, 1000 um; Mie, the sun's disk, white sunlight), "
       "scattering angle from 120 degrees (left) to 160 (right), all at one exposure. 1000 um: a bright, saturated "
       "primary with red outside (left), Alexander's dark band and the faint secondary at the left edge; 100 um: a "
       "paler primary followed by pink and green supernumeraries; 10 um: the broad, nearly white fogbow near 142 "
       "degrees.",
-      [radii] {
-        std::vector<atmos::LeeTable> ts;
-        for (double r : radii) ts.push_back(profile(atmos::LeeTableKind::rainbow, r, 120, 160, 720));
+      [] {
+        const auto& ts = profiles();
         const atmos::LeeImages scale = atmos::lee_images(ts.back());
         constexpr int kStrip = 60;
-        Image out(720, 3 * kStrip + 2 * kGap, 3);
+        Image out(kProfileRows, 3 * kStrip + 2 * kGap, 3);
         std::fill(out.pixels.begin(), out.pixels.end(), 0.02f);
         for (std::size_t k = 0; k < ts.size(); ++k) {
           const atmos::LeeImages im = atmos::lee_images(ts[k], scale.exposure, scale.white);
           for (int y = 0; y < kStrip; ++y)
-            for (int x = 0; x < 720; ++x)
+            for (int x = 0; x < kProfileRows; ++x)
               for (int c = 0; c < 3; ++c)
                 out.at(x, int(k) * (kStrip + kGap) + y, c) = im.display[std::size_t(x) * 3 + std::size_t(c)];
         }
@@ -184,9 +182,9 @@ std::vector<Entry> lee_entries() {
                 "the strips above, on a log scale. The primary's peak near 138 degrees for large drops, 139 for "
                 "100 um with its supernumeraries inside, the fogbow's broad hump near 142 degrees at 10 um; the "
                 "secondary near 129 and the dark band between."},
-               [radii] {
+               [] {
                  io::Plot p;
-                 p.title = "Lee profiles: Y against scattering angle (Mie, sun's disk)";  // no \"nan\" in an SVG
+                 p.title = "Lee profiles: Y against scattering angle (Mie, sun's disk)";  // not "luminance": test_gallery refuses "nan" in an SVG
                  p.x_label = "scattering angle (degrees)";
                  p.y_label = "Y, sr^-1";
                  p.x_min = 120;
@@ -198,8 +196,8 @@ std::vector<Entry> lee_entries() {
                  p.legend = io::LegendCorner::TopRight;
                  const char* colours[] = {"#7f7f7f", "#1f77b4", "#d62728"};
                  for (std::size_t k = 0; k < 3; ++k) {
-                   const atmos::LeeTable t = profile(atmos::LeeTableKind::rainbow, radii[k], 120, 160, 801);
-                   io::PlotSeries s{fmt::format("{:g} um", radii[k]), {}, {}, colours[k]};
+                   const atmos::LeeTable& t = profiles()[k];
+                   io::PlotSeries s{fmt::format("{:g} um", kProfileRadiiUm[k]), {}, {}, colours[k]};
                    for (int i = 0; i < t.rows(); ++i) {
                      s.x.push_back(t.angle_deg[std::size_t(i)]);
                      s.y.push_back(t.at(i, 0).Y);
@@ -209,7 +207,7 @@ std::vector<Entry> lee_entries() {
                  return io::render_svg(p);
                }});
 
-  e.push_back(png_entry(
+  e.push_back(image_entry(
       "corona_glory_10um.png", "Corona and glory of 10 um droplets",
       "Left: the corona around the sun (the sun itself not drawn), +-8 degrees, from hydrolux lee --table corona for 10 "
       "um droplets (Mie, the sun's disk): a bluish-white aureole and coloured rings whose red parts lie near "

@@ -32,19 +32,17 @@ constexpr bool kSanitized = false;
 constexpr bool kSanitized = false;
 #endif
 
-// One radius's profile over [a0, a1] degrees: white sunlight (ASTM G173 direct, 380-780 nm), the
-// sun's disk, Mie theory unless told otherwise.
-LeeTable profile(double radius_um, double a0, double a1, int rows, double spread = 0, std::string theory = "mie",
-                 double disk_deg = atmos::kSunDiskDeg) {
-  LeeSpec s;
+// One column of drops of one radius over [a0, a1] degrees in `rows` rows: white sunlight (ASTM G173
+// direct, 380-780 nm), the sun's disk, Mie theory (the defaults of LeeSpec otherwise).
+LeeSpec one_radius(double radius_um, double a0, double a1, int rows) {
+  return atmos::profile_spec(atmos::LeeTableKind::rainbow, radius_um, a0, a1, rows);
+}
+
+// Its table, with a spread and another theory if asked.
+LeeTable profile(double radius_um, double a0, double a1, int rows, double spread = 0, std::string theory = "mie") {
+  LeeSpec s = one_radius(radius_um, a0, a1, rows);
   s.theory = scatter::parse_theory(theory);
-  s.radius_min_um = s.radius_max_um = radius_um;
-  s.columns = 1;
-  s.angle_min_deg = a0;
-  s.angle_max_deg = a1;
-  s.rows = rows;
   s.size_spread = spread;
-  s.sun_disk_deg = disk_deg;
   return atmos::compute_lee_table(s);
 }
 
@@ -140,7 +138,7 @@ TEST(LeeRainbow, LargeDropsPrimarySecondaryAndAlexandersBand) {
 // they wash out for millimetre drops (under the sun's disk) and for a 10% spread in radius (Lee
 // 1998, Fig. 7; Laven, Appl. Opt. 42, 436, 2003).
 TEST(LeeRainbow, SupernumerariesScaleAndWashOut) {
-  const LeeTable t50 = profile(50, 135, 160, 1001), t100 = profile(100, 135, 160, 1001);
+  const LeeTable t50 = profile(50, 135, 160, 401), t100 = profile(100, 135, 160, 401);
   const auto f50 = supernumeraries(t50, 15), f100 = supernumeraries(t100, 15);
   ASSERT_GE(f50.size(), 3u);
   ASSERT_GE(f100.size(), 4u);
@@ -161,11 +159,11 @@ TEST(LeeRainbow, SupernumerariesScaleAndWashOut) {
 
   // Millimetre drops: the supernumeraries are 0.1 degree apart and the sun's disk (0.53) removes
   // them; nothing within 8 degrees inside the peak has 5% contrast.
-  for (const auto& f : supernumeraries(profile(1000, 135, 160, 1001), 8)) EXPECT_LT(f.contrast, 0.05) << f.angle_deg;
+  for (const auto& f : supernumeraries(profile(1000, 135, 160, 401), 8)) EXPECT_LT(f.contrast, 0.05) << f.angle_deg;
   // A 10% spread: from the third supernumerary on, the contrast falls below 0.1 (it is 0.28-0.39
   // for one radius).
   for (double r : {50.0, 100.0}) {
-    const auto spread = supernumeraries(profile(r, 135, 160, 1001, 0.1), 15);
+    const auto spread = supernumeraries(profile(r, 135, 160, 401, 0.1), 15);
     const auto one = r == 50 ? f50 : f100;
     ASSERT_GE(one.size(), 3u);
     EXPECT_GT(one[2].contrast, 0.25) << r;
@@ -202,14 +200,7 @@ TEST(LeeRainbow, FogbowOfTenMicronDroplets) {
 // rainbows, coronas and glories by use of Mie theory", Appl. Opt. 42, 436, 2003; the issue's
 // figures). Redness = R / (R + G + B) of the unmapped linear RGB, its maxima within 8%.
 TEST(LeeCorona, RedRingsOfTenMicronDroplets) {
-  LeeSpec s = atmos::default_lee_spec(atmos::LeeTableKind::corona);
-  s.radius_min_um = s.radius_max_um = 10;
-  s.columns = 1;
-  s.angle_min_deg = 0.2;
-  s.angle_max_deg = 6;
-  s.rows = 581;
-  s.size_spread = 0;
-  const LeeTable t = atmos::compute_lee_table(s);
+  const LeeTable t = atmos::compute_lee_table(atmos::profile_spec(atmos::LeeTableKind::corona, 10, 0.2, 6, 581));
   std::vector<double> red(std::size_t(t.rows()));
   for (int i = 0; i < t.rows(); ++i) {
     const auto c = t.rgb(i, 0, false);
@@ -261,14 +252,8 @@ TEST(LeeTheories, AiryAgainstMie) {
 // radius, a point sun): the table at 4001 rows over 0-180 degrees against mie_efficiencies, within
 // 0.2% (trapezoid rule; each row is its cell's average, which keeps the integral).
 TEST(LeeUnits, IntegratesToTheScatteringEfficiency) {
-  LeeSpec s;
-  s.radius_min_um = s.radius_max_um = 5;
-  s.columns = 1;
-  s.angle_min_deg = 0;
-  s.angle_max_deg = 180;
-  s.rows = 4001;
+  LeeSpec s = one_radius(5, 0, 180, 4001);
   s.sun_disk_deg = 0;
-  s.size_spread = 0;
   s.wavelength_min_nm = s.wavelength_max_nm = 550;
   const LeeTable t = atmos::compute_lee_table(s);
   ASSERT_EQ(t.wavelengths_nm.size(), 1u);
@@ -293,12 +278,8 @@ TEST(LeeColour, SunIsWhiteAndAMonochromaticLineIsOnTheLocus) {
   const LeeTable white = profile(100, 137, 140, 4);
   const color::Rgb w = color::matmul(white.xyz_to_rgb, white.sun_white);
   for (double c : w) EXPECT_NEAR(c, 1.0, 1e-12);
-  LeeSpec s;
-  s.radius_min_um = s.radius_max_um = 100;
-  s.columns = 1;
-  s.angle_min_deg = 137;
-  s.angle_max_deg = 140;
-  s.rows = 4;
+  LeeSpec s = one_radius(100, 137, 140, 4);
+  s.size_spread = 0.1;
   s.wavelength_min_nm = s.wavelength_max_nm = 550;
   const LeeTable mono = atmos::compute_lee_table(s);
   for (int i = 0; i < mono.rows(); ++i) {
@@ -423,15 +404,9 @@ namespace {
 // end-to-end check of the units, the spectral weights, the white balance and the RGB matrices.
 // (For water, whose index falls 1% from 380 to 780 nm, the reflection is 4% bluer: R ~ (n-1)^2.)
 TEST(LeeUnits, ExternalReflectionIsColourlessAndFresnel) {
-  LeeSpec s;
+  LeeSpec s = one_radius(100, 100, 170, 141);
   s.theory = scatter::parse_theory("geometric:0");
   s.drop_medium = "const:1.333";
-  s.radius_min_um = s.radius_max_um = 100;
-  s.columns = 1;
-  s.angle_min_deg = 100;
-  s.angle_max_deg = 170;
-  s.rows = 141;
-  s.size_spread = 0;
   const LeeTable t = atmos::compute_lee_table(s);
   const auto air = optics::find_medium("air");
   const double n = 1.333 / air->n(560);
@@ -451,13 +426,7 @@ TEST(LeeUnits, ExternalReflectionIsColourlessAndFresnel) {
 // are averages over a cell ending at the axis; the cells differ in shape, and the glory of 10 um
 // droplets is smooth across one cell at 1024 rows).
 TEST(LeeLayout, CosineAxisEndsAreMirrored) {
-  LeeSpec s;
-  s.radius_min_um = s.radius_max_um = 10;
-  s.columns = 1;
-  s.angle_min_deg = 170;
-  s.angle_max_deg = 180;
-  s.rows = 1024;
-  s.size_spread = 0;
+  LeeSpec s = one_radius(10, 170, 180, 1024);
   s.sun_disk_deg = 0;
   s.wavelength_min_nm = 550;  // 200 wavelengths in 1 nm: 200 evaluations, each at its own point of
   s.wavelength_max_nm = 551;  // every cell, so the cells are well averaged
@@ -482,12 +451,13 @@ TEST(LeeLayout, CosineAxisEndsAreMirrored) {
 
 // A column's value does not depend on how many columns there are (each column's evaluations are
 // spread over its cells and the sun's disk whatever their count; with the count in the sequence
-// index, 610 columns once covered 3% of each cell): the same radius in tables of 600 and 610 columns
-// agrees within the sampling noise (3%, one radius, 40 wavelengths, 16 coarse rows).
+// index, 233 columns -- a Fibonacci number, frac(233 phi) = 0.002 -- once covered 7.5% of each cell
+// and 610 columns 3%): the scatter between columns of one radius (sampling noise: 40 wavelengths,
+// 16 coarse rows, a point sun) is the same for 230 and 233 columns.
 TEST(LeeLayout, ColumnCountDoesNotMatter) {
   LeeSpec s;
-  s.radius_min_um = 300;
-  s.radius_max_um = 300.000001;
+  s.radius_min_um = 100;
+  s.radius_max_um = 100.000001;
   s.angle_min_deg = 130;
   s.angle_max_deg = 145;
   s.rows = 16;
@@ -495,7 +465,7 @@ TEST(LeeLayout, ColumnCountDoesNotMatter) {
   s.sun_disk_deg = 0;
   double spread[2];
   int k = 0;
-  for (int columns : {600, 610}) {
+  for (int columns : {230, 233}) {
     s.columns = columns;
     const LeeTable t = atmos::compute_lee_table(s);
     // Scatter between the (physically identical) columns at the bow's row.
@@ -506,20 +476,18 @@ TEST(LeeLayout, ColumnCountDoesNotMatter) {
     }
     spread[k++] = (hi - lo) / hi;
   }
-  EXPECT_LT(spread[0], 0.3);
-  EXPECT_LT(spread[1], 0.3);
-  EXPECT_LT(std::abs(spread[0] - spread[1]), 0.1);
+  // Measured: 0.126 for both (with the count in the index: 0.155 and 0.267).
+  std::printf("scatter between identical columns: %.3f (230), %.3f (233)\n", spread[0], spread[1]);
+  EXPECT_LT(spread[0], 0.2);
+  EXPECT_LT(spread[1], 0.2);
+  EXPECT_LT(std::abs(spread[0] - spread[1]), 0.03);
 }
 
 // The size distribution's integral: 10 um droplets with a 10% gamma spread at one wavelength and a
 // point sun, against a direct quadrature of the gamma weights n(a) a^2 with 4000 midpoints over
 // +-8 widths (each node its own Mie solution). The table's grid at sampling 4 agrees within 0.5%.
 TEST(LeeConvergence, SizeSpreadAgainstDirectQuadrature) {
-  LeeSpec s;
-  s.radius_min_um = s.radius_max_um = 10;
-  s.columns = 1;
-  s.angle_min_deg = s.angle_max_deg = 142;
-  s.rows = 1;
+  LeeSpec s = one_radius(10, 142, 142, 1);
   s.size_spread = 0.1;
   s.sun_disk_deg = 0;
   s.wavelength_min_nm = s.wavelength_max_nm = 550;
@@ -550,13 +518,7 @@ TEST(LeeConvergence, SizeSpreadAgainstDirectQuadrature) {
 // the primary bow of 1000 um drops (about half a degree wide under the disk) peaks a little higher,
 // by 0.5-5%.
 TEST(LeeLayout, LimbDarkeningSharpensTheBow) {
-  LeeSpec s;
-  s.radius_min_um = s.radius_max_um = 1000;
-  s.columns = 1;
-  s.angle_min_deg = 136;
-  s.angle_max_deg = 141;
-  s.rows = 201;
-  s.size_spread = 0;
+  LeeSpec s = one_radius(1000, 136, 141, 201);
   const LeeTable plain = atmos::compute_lee_table(s);
   s.limb_darkening = true;
   const LeeTable limb = atmos::compute_lee_table(s);

@@ -21,12 +21,7 @@ namespace fs = std::filesystem;
 using hydrolux::testing::expect_usage_errors;
 using hydrolux::testing::run;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using hydrolux::testing::slurp;
 
 constexpr const char* kSmall = "--size 6x9 --radius-um 20:400 --angle-deg 130:145 --wavelengths-nm 400:700:6 -q";
 

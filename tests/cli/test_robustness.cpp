@@ -27,12 +27,7 @@ namespace fs = std::filesystem;
 using hydrolux::testing::lines;
 using hydrolux::testing::run_argv;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using hydrolux::testing::slurp;
 void spit(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 std::string trim(std::string s) {

@@ -27,12 +27,7 @@ using hydrolux::testing::lines;
 using hydrolux::testing::run_argv;
 using hydrolux::testing::spawn;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using hydrolux::testing::slurp;
 
 std::vector<std::string> listing(const fs::path& d) {
   std::vector<std::string> n;

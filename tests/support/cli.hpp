@@ -55,6 +55,14 @@ inline Result run(const std::string& args) {
   return r;
 }
 
+// A whole file's bytes ("" if it cannot be read).
+inline std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 inline std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
 
 // Bad input: exit code 2, exactly one line on stderr that names the flag, nothing on stdout. `cases`

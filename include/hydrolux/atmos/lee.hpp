@@ -92,6 +92,10 @@ struct LeeSpec {
 // 1-50 um over 160-180.
 LeeSpec default_lee_spec(LeeTableKind kind);
 
+// One radius's profile: one column of drops of exactly `radius_um` (no spread) over [a0, a1]
+// degrees in `rows` rows, the kind's other defaults.
+LeeSpec profile_spec(LeeTableKind kind, double radius_um, double a0, double a1, int rows);
+
 // Checks a spec before any work: DomainError naming the quantity ("radius_um", "angle_deg",
 // "columns", "rows", "sun_disk_deg", "size_spread", "wavelength_nm", "wavelengths", "sampling",
 // "size_parameter", "temperature_c") or Error for a theory that cannot make the table (Airy theory
