@@ -9,7 +9,6 @@
 #include <atomic>
 #include <functional>
 #include <cmath>
-#include <numeric>
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
@@ -43,9 +42,11 @@ constexpr double kKey = 0.18;
 // left out hold less than 1e-8 of its drops' area).
 constexpr double kNegligibleWeight = 1e-9;
 
-double deg(double rad) { return rad * 180 / kPiD; }
-double rad_to_deg_acos(double c) { return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / kPiD; }
-double rad(double d) { return d * kPiD / 180; }
+// The wave theories (Mie, one Debye order) sum partial waves over cos theta; their intensity has the
+// Mie ripple. Airy theory and geometric optics take theta and have none.
+bool is_wave_theory(const scatter::Theory& t) {
+  return t.kind == scatter::TheoryKind::Mie || t.kind == scatter::TheoryKind::Debye;
+}
 
 // Fractional part of a + b n, for the low-discrepancy sequences.
 double frac(double v) { return v - std::floor(v); }
@@ -99,9 +100,9 @@ class RadiusGrid {
     density_ = density;
   }
   int nodes() const { return nodes_; }
-  // ln a of node j, and the width in ln a it stands for.
+  // ln a of node j, and the width in ln a a node at ln a stands for.
   double ln_radius(std::size_t j, double shift) const { return inverse(double(j) + shift); }
-  double width(std::size_t j, double shift) const { return 1 / density_(ln_radius(j, shift)); }
+  double width_at(double ln_a) const { return 1 / density_(ln_a); }
   // The nodes whose ln a lies in [l0, l1], as [first, last] (clamped to the grid).
   std::array<std::size_t, 2> nodes_between(double l0, double l1, double shift) const {
     const double u0 = std::floor(forward(l0) - shift), u1 = std::ceil(forward(l1) - shift);
@@ -141,7 +142,7 @@ RadiusGrid shared_grid(const LeeSpec& s, double k_max) {
   const double w = s.size_spread;
   return RadiusGrid(std::log(std::min(s.radius_min_um, s.radius_max_um) * 1e-6) - kTailSigmas * w,
                     std::log(std::max(s.radius_min_um, s.radius_max_um) * 1e-6) + kTailSigmas * w, w, s.sampling, k_max,
-                    s.theory.kind == scatter::TheoryKind::Mie || s.theory.kind == scatter::TheoryKind::Debye);
+                    is_wave_theory(s.theory));
 }
 
 // The most cells (angles per evaluation) and values per array a table may need: 2^16 cells, and
@@ -163,7 +164,6 @@ struct AngleCells {
   bool cosine = false;
   // Row i's kernel: (cell, weight) pairs.
   std::vector<std::vector<std::pair<int, double>>> kernel;
-  double axis_value(double theta_deg) const { return cosine ? std::cos(rad(theta_deg)) : theta_deg; }
 };
 
 // Inverse CDF of the distance rho / R from the sun's centre of a point drawn by radiance over the
@@ -293,7 +293,7 @@ void validate(const LeeSpec& s) {
     (void)drop->index(nm, s.temperature_c);
     (void)air->n(nm);
   }
-  const bool wave_theory = s.theory.kind == scatter::TheoryKind::Mie || s.theory.kind == scatter::TheoryKind::Debye;
+  const bool wave_theory = is_wave_theory(s.theory);
   const double x_max = 2 * kPiD * largest_radius_m(s) * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
   const double x_min = 2 * kPiD * smallest_radius_m(s) * air->n(s.wavelength_max_nm) / (s.wavelength_max_nm * 1e-9);
   const double x_limit = wave_theory ? scatter::kMaxSizeParameter : scatter::kMaxGeometricSizeParameter;
@@ -309,13 +309,13 @@ void validate(const LeeSpec& s) {
   double cells = 1;
   if (s.rows > 1) {
     const bool cosine = s.axis == AngleAxis::cosine;
-    const double span = cosine ? std::cos(rad(s.angle_min_deg)) - std::cos(rad(s.angle_max_deg))
+    const double span = cosine ? std::cos(deg_to_rad(s.angle_min_deg)) - std::cos(deg_to_rad(s.angle_max_deg))
                                : s.angle_max_deg - s.angle_min_deg;
-    const double reach = cosine ? rad(s.sun_disk_deg) / 2 : s.sun_disk_deg / 2;  // |d cos| <= |d theta|
+    const double reach = cosine ? deg_to_rad(s.sun_disk_deg) / 2 : s.sun_disk_deg / 2;  // |d cos| <= |d theta|
     cells = s.rows + 2 * (reach / (span / (s.rows - 1)) + 2);
     if (cells > kMaxCells) {
       const double min_span = 2 * reach * (s.rows - 1) / (kMaxCells - s.rows - 4);
-      const double lo = cosine ? rad_to_deg_acos(std::cos(rad(s.angle_min_deg)) - min_span) : s.angle_min_deg + min_span;
+      const double lo = cosine ? rad_to_deg(safe_acos(std::cos(deg_to_rad(s.angle_min_deg)) - min_span)) : s.angle_min_deg + min_span;
       throw DomainError("angle_deg", s.angle_max_deg, lo, 180.0,
                         fmt::format("{} rows under the sun's {:g} degree disk: the angles must span at least {:.3g} "
                                     "{} (at most {:g} row spacings may fit in the disk)",
@@ -353,8 +353,8 @@ std::vector<double> row_angles_deg(const LeeSpec& s) {
       a[std::size_t(i)] = s.angle_min_deg + t * (s.angle_max_deg - s.angle_min_deg);
     } else {
       // cos theta increases downward: row 0 holds the largest angle.
-      const double c0 = std::cos(rad(s.angle_max_deg)), c1 = std::cos(rad(s.angle_min_deg));
-      a[std::size_t(i)] = deg(std::acos(std::clamp(c0 + t * (c1 - c0), -1.0, 1.0)));
+      const double c0 = std::cos(deg_to_rad(s.angle_max_deg)), c1 = std::cos(deg_to_rad(s.angle_min_deg));
+      a[std::size_t(i)] = rad_to_deg(safe_acos(c0 + t * (c1 - c0)));
     }
   }
   if (s.rows > 1) {
@@ -384,12 +384,12 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   t.cos_angle.resize(rows);
   std::vector<double> sin_angle(rows);
   for (std::size_t i = 0; i < rows; ++i) {
-    t.cos_angle[i] = std::cos(rad(t.angle_deg[i]));
-    sin_angle[i] = std::sin(rad(t.angle_deg[i]));
+    t.cos_angle[i] = std::cos(deg_to_rad(t.angle_deg[i]));
+    sin_angle[i] = std::sin(deg_to_rad(t.angle_deg[i]));
   }
   if (spec.axis == AngleAxis::cosine && rows > 1) {
     // The exact sample positions of the cosine axis (acos and cos do not round-trip).
-    const double c0 = std::cos(rad(spec.angle_max_deg)), c1 = std::cos(rad(spec.angle_min_deg));
+    const double c0 = std::cos(deg_to_rad(spec.angle_max_deg)), c1 = std::cos(deg_to_rad(spec.angle_min_deg));
     for (std::size_t i = 0; i < rows; ++i) t.cos_angle[i] = c0 + double(i) / double(rows - 1) * (c1 - c0);
   }
 
@@ -439,7 +439,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   const double disk_u0 = seed_fraction(spec.seed, 1), disk_v0 = seed_fraction(spec.seed, 2);
   const double shift0 = seed_fraction(spec.seed, 3), jitter0 = seed_fraction(spec.seed, 4);
   const SunDiskSampler disk(spec.limb_darkening);
-  const double sun_radius = rad(spec.sun_disk_deg) / 2;
+  const double sun_radius = deg_to_rad(spec.sun_disk_deg) / 2;
   const auto disk_point = [&](double n) {  // (cos rho, sin rho cos phi) of the n-th point
     const double rho = sun_radius * disk.radius_fraction(frac(disk_u0 + n * a1));
     const double phi = 2 * kPiD * frac(disk_v0 + n * a2);
@@ -463,7 +463,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
       for (int q = 0; q < points; ++q) {
         const auto d = sun_radius > 0 ? disk_point(double(q)) : std::array<double, 2>{1.0, 0.0};
         const double mu = std::clamp(t.cos_angle[i] * d[0] + sin_angle[i] * d[1], -1.0, 1.0);
-        const double v = cells.cosine ? mu : deg(std::acos(mu));
+        const double v = cells.cosine ? mu : rad_to_deg(std::acos(mu));
         const int cell = int(std::floor((v - cells.v0) / cells.dv + 0.5));
         auto it = std::find_if(share.begin(), share.end(), [cell](const auto& e) { return e.first == cell; });
         if (it == share.end()) it = share.insert(share.end(), {cell, 0.0});
@@ -480,7 +480,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   const std::size_t R = std::size_t(cells.count);
   // The point at fraction f of cell c (c counted from cells.first) as theta (radians) and mu = cos
   // theta; only what the theory needs is computed (Mie sums take mu, the ray theories theta).
-  const bool wants_mu = spec.theory.kind == scatter::TheoryKind::Mie || spec.theory.kind == scatter::TheoryKind::Debye;
+  const bool wants_mu = is_wave_theory(spec.theory);
   const auto cell_point = [&](std::size_t c, double f, double& theta, double& mu) {
     const double v = cells.v0 + (double(int(c) + cells.first) + f - 0.5) * cells.dv;
     if (cells.cosine) {
@@ -489,12 +489,11 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
       return;
     }
     const double d = v < 0 ? -v : (v > 180 ? 360 - v : v);  // beyond an axis, the mirror angle
-    theta = rad(d);
+    theta = deg_to_rad(d);
     if (wants_mu) mu = std::cos(theta);
   };
 
   // Estimated work per wavelength (for progress): terms ~ x for the wave theories.
-  const bool wave_theory = spec.theory.kind == scatter::TheoryKind::Mie || spec.theory.kind == scatter::TheoryKind::Debye;
   const auto shift_of = [&](int k) { return frac(shift0 + k * kGolden); };
   const auto node_radius_m = [&](std::size_t j, int k) {
     return per_column ? t.radius_um[j] * 1e-6 : std::exp(grid.ln_radius(j, shift_of(k)));
@@ -504,11 +503,12 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   for (int k = 0; k < K; ++k) {
     double sum = 0;
     for (std::size_t j = 0; j < J; j += std::max<std::size_t>(1, J / 64))
-      sum += wave_theory ? 10 + 2 * kPiD * node_radius_m(j, k) / (t.wavelengths_nm[std::size_t(k)] * 1e-9) : 1.0;
+      sum += wants_mu ? 10 + 2 * kPiD * node_radius_m(j, k) / (t.wavelengths_nm[std::size_t(k)] * 1e-9) : 1.0;
     k_work[std::size_t(k)] = sum;
     total_work += sum;
   }
 
+  std::vector<double> node_ln(J), node_a(J), node_width(J);  // this wavelength's nodes
   std::vector<double> cell_xyz(cols * R * 3, 0.0);  // per column and cell, before the disk kernel
   std::vector<double> node_values(J * R);          // T at each node and cell, this wavelength
   std::vector<char> node_used(J, 1);
@@ -525,6 +525,14 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
     const scatter::Complex m = n_drop / n_air;
     const double wavenumber = 2 * kPiD * n_air / (nm * 1e-9);
     const double shift = shift_of(k);
+    // This wavelength's nodes: radius and width in ln a (each an inverse of the grid's cumulative
+    // density: found once here, not once per column that uses the node).
+    for (std::size_t j = 0; j < J; ++j) {
+      const double ln_a = per_column ? std::log(t.radius_um[j] * 1e-6) : grid.ln_radius(j, shift);
+      node_ln[j] = ln_a;
+      node_a[j] = std::exp(ln_a);
+      node_width[j] = per_column ? 1.0 : grid.width_at(ln_a);
+    }
 
     // Each column's weights over the nodes: number density per unit ln a (n(a) a) x the node's width
     // in ln a x a^2 (projected area), summed to 1.
@@ -542,9 +550,8 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
           double* cw = &column_weight[c * J];
           double sum = 0;
           for (std::size_t j = first; j <= last; ++j) {
-            const double ln_a = grid.ln_radius(j, shift);
-            const double v = std::exp((alpha + 2) * (ln_a - ln_peak) - (std::exp(ln_a) - peak_a) / beta);
-            cw[j] = v > kNegligibleWeight ? v * grid.width(j, shift) : 0.0;
+            const double v = std::exp((alpha + 2) * (node_ln[j] - ln_peak) - (node_a[j] - peak_a) / beta);
+            cw[j] = v > kNegligibleWeight ? v * node_width[j] : 0.0;
             sum += cw[j];
           }
           if (!(sum > 0))
@@ -575,8 +582,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
         for (std::size_t j = range.begin(); j != range.end(); ++j) {
           double* out = &node_values[j * R];
           if (!node_used[j]) continue;
-          const double a = node_radius_m(j, k);
-          const double x = wavenumber * a;
+          const double x = wavenumber * node_a[j];
           // Each node's evaluations are consecutive in the sequences (wavelength fastest), so the
           // K points one column gets are spread over the cell and the disk for any J.
           const double n = double(j * std::size_t(K) + std::size_t(k));
