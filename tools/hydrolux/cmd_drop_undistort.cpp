@@ -42,24 +42,6 @@ CLI::Validator drop_center_validator() {
       "X,Y");
 }
 
-// --size "WxH": whole numbers in [1, 16384].
-std::optional<std::array<int, 2>> parse_size(const std::string& text) {
-  const auto p = parse::pair(text, 'x');
-  if (!p) return std::nullopt;
-  for (double v : *p)
-    if (v != std::floor(v) || v < 1 || v > 16384) return std::nullopt;
-  return std::array<int, 2>{int((*p)[0]), int((*p)[1])};
-}
-
-CLI::Validator size_validator() {
-  return CLI::Validator(
-      [](std::string& s) -> std::string {
-        if (!parse_size(s)) return fmt::format("'{}' is not WxH (whole numbers in [1, 16384], e.g. 640x480)", s);
-        return {};
-      },
-      "WxH");
-}
-
 int run_undistort(const UndistortArgs& a) {
   // Everything that can be checked without reading or computing, first: the input is a regular
   // file, the output's folder takes a new file and the output is not the input.

@@ -163,26 +163,17 @@ int run_lee(const LeeArgs& a) {
     s.angle_max_deg = r[1];
   }
   if (single) s.columns = 1;
-  const auto check_angle_span = [&] {
-    if (s.rows > 1 && s.angle_min_deg == s.angle_max_deg)
-      throw Error(fmt::format("--angle-deg {}: a table of {} rows needs A < B (or --size Wx1 for one angle)",
-                              a.angle_deg ? *a.angle_deg : "", s.rows));
-  };
   if (a.size) {
-    const auto wh = parse::pair(*a.size, 'x');
-    const auto bad = [&] {
-      return Error(fmt::format("--size '{}': expected WxH, whole numbers of pixels in [1, 16384]", *a.size));
-    };
-    if (!wh || (*wh)[0] != std::floor((*wh)[0]) || (*wh)[1] != std::floor((*wh)[1]) || (*wh)[0] < 1 ||
-        (*wh)[1] < 1 || (*wh)[0] > 16384 || (*wh)[1] > 16384)
-      throw bad();
-    s.columns = int((*wh)[0]);
-    s.rows = int((*wh)[1]);
+    const auto wh = parse_size(*a.size);  // checked by the option's validator
+    s.columns = (*wh)[0];
+    s.rows = (*wh)[1];
     if (single && s.columns != 1)
       throw Error(fmt::format("--size {}: a single --radius-um {} makes one column; give --size 1x{}", *a.size,
                               *a.radius_um, s.rows));
   }
-  check_angle_span();
+  if (s.rows > 1 && s.angle_min_deg == s.angle_max_deg)
+    throw Error(fmt::format("--angle-deg {}: a table of {} rows needs A < B (or --size Wx1 for one angle)",
+                            a.angle_deg ? *a.angle_deg : "", s.rows));
   s.radius_scale = a.radius_scale == "log" ? atmos::RadiusScale::log : atmos::RadiusScale::linear;
   s.axis = a.axis == "angle" ? atmos::AngleAxis::angle : atmos::AngleAxis::cosine;
   s.sun_disk_deg = a.sun_disk_deg;
@@ -323,7 +314,8 @@ Command add_lee(CLI::App& app) {
   sub->add_option("--axis", args->axis, "Rows in scattering angle (angle) or in its cosine (cos)")
       ->check(CLI::IsMember({"angle", "cos"}))
       ->capture_default_str();
-  sub->add_option("--size", args->size, "Table size WxH in pixels: W radii, H angles [512x1024; 1xH for one radius]");
+  sub->add_option("--size", args->size, "Table size WxH in pixels: W radii, H angles [512x1024; 1xH for one radius]")
+      ->check(size_validator());
   sub->add_option("--sun-disk-deg", args->sun_disk_deg, "The sun's angular diameter in degrees (0: a point)")
       ->check(number_in(0, 5, "deg"))
       ->capture_default_str();

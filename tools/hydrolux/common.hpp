@@ -4,6 +4,7 @@
 // read and written through the library's one safe path (io/files.hpp).
 #include <CLI/CLI.hpp>
 
+#include <array>
 #include <complex>
 #include <functional>
 #include <map>
@@ -63,6 +64,11 @@ CLI::Validator positive_number(double hi, const std::string& unit = {});
 // A whole number in [lo, hi]. Attach it with ->transform(), not ->check(): "1e3" is accepted and
 // rewritten to "1000" for CLI11's integer conversion, which only a transform may do.
 CLI::Validator integer_in(long long lo, long long hi, const std::string& unit = {});
+
+// An image or table size "WxH": whole numbers in [1, 16384]; nullopt otherwise. The validator
+// gives the one-line error for a --size flag.
+std::optional<std::array<int, 2>> parse_size(const std::string& text);
+CLI::Validator size_validator();
 
 // ---- text forms, naming the flag in their errors (hydrolux::Error) ----
 
