@@ -404,9 +404,22 @@ bool OutputDirectory::committed() const { return s_->committed; }
 void OutputDirectory::protect(std::vector<fs::path> inputs) { s_->protected_inputs = std::move(inputs); }
 
 void OutputDirectory::write(const std::string& name, std::string_view bytes) {
-  if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos)
-    throw IoError(fmt::format("{}: '{}' is not a plain file name", s_->name(), name));
+  // A plain name, or one subfolder and a plain name ("glsl/sky.glsl").
+  const auto plain = [](std::string_view n) {
+    return !n.empty() && n != "." && n != ".." && n.find('/') == std::string_view::npos;
+  };
+  const auto slash = name.find('/');
+  const std::string sub = slash == std::string::npos ? std::string() : name.substr(0, slash);
+  if (slash == std::string::npos ? !plain(name) : !(plain(sub) && plain(std::string_view(name).substr(slash + 1))))
+    throw IoError(fmt::format("{}: '{}' is not a plain file name (or one subfolder and a file name)", s_->name(), name));
   if (s_->committed || s_->staging.empty()) throw IoFailure(fmt::format("{}: the folder was already committed", s_->name()));
+  if (!sub.empty()) {
+    std::error_code ec;
+    fs::create_directory(s_->staging / sub, ec);
+    if (ec)
+      throw IoFailure(fmt::format("{}: creating the subfolder {} failed: {}; {} is unchanged", s_->name(), sub,
+                                  ec.message(), s_->target.string()));
+  }
   const fs::path file = s_->staging / name;
   int fd;
   {
@@ -450,13 +463,25 @@ void OutputDirectory::commit() {
     if (::rename(s_->staging.c_str(), s_->target.c_str()) != 0)
       throw IoFailure(fmt::format("{}: moving the finished folder into place failed: {}", s_->name(), os_error(errno)));
   } else {
-    // A file cannot replace a folder: refused before anything moves, so no mix is left.
+    // A file cannot replace a folder, nor a subfolder a file: refused before anything moves, so no
+    // mix is left.
+    std::vector<std::string> subs;
     for (const auto& f : s_->files) {
       struct stat dst {};
       if (::lstat((s_->target / f).c_str(), &dst) == 0 && S_ISDIR(dst.st_mode))
         throw IoError(fmt::format("{}: {} is a folder and cannot be replaced by a file; nothing was replaced",
                                   s_->name(), f));
+      const auto slash = f.find('/');
+      if (slash == std::string::npos) continue;
+      const std::string sub = f.substr(0, slash);
+      if (std::find(subs.begin(), subs.end(), sub) == subs.end()) subs.push_back(sub);
+      struct stat sd {};
+      if (::lstat((s_->target / sub).c_str(), &sd) == 0 && !S_ISDIR(sd.st_mode))
+        throw IoError(fmt::format("{}: {} is a file and cannot become a folder; nothing was replaced", s_->name(), sub));
     }
+    for (const auto& sub : subs)
+      if (::mkdir((s_->target / sub).c_str(), 0777) != 0 && errno != EEXIST)
+        throw IoFailure(fmt::format("{}: creating {} failed: {}", s_->name(), sub, os_error(errno)));
     std::size_t moved = 0;
     for (const auto& f : s_->files) {
       if (::rename((s_->staging / f).c_str(), (s_->target / f).c_str()) != 0)
@@ -464,6 +489,7 @@ void OutputDirectory::commit() {
                                     os_error(errno), moved, s_->files.size()));
       ++moved;
     }
+    for (const auto& sub : subs) ::rmdir((s_->staging / sub).c_str());
     ::rmdir(s_->staging.c_str());
   }
   untrack_locked(r, s_->staging);

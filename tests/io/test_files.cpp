@@ -374,6 +374,39 @@ TEST_F(Files, OutputDirectoryStagesAndCommits) {
   EXPECT_EQ(slurp(dir_ / "deep" / "gallery" / "a.svg"), "A2");
   EXPECT_TRUE(fs::is_directory(dir_ / "deep" / "gallery" / "index.html.d"));
   EXPECT_EQ(names(dir_ / "deep" / "gallery").size(), 4u);  // the staging folder is gone
+  {
+    // One level of subfolders: new, then into an existing folder (other files kept); a subfolder
+    // name that is a file in the destination is refused before anything moves; nested or
+    // climbing names are refused.
+    OutputDirectory out(dir_ / "assets");
+    out.write("glsl/sky.glsl", "S1");
+    out.write("top.json", "T1");
+    EXPECT_THROW(out.write("a/b/c", "x"), IoError);
+    EXPECT_THROW(out.write("../escape", "x"), IoError);
+    EXPECT_THROW(out.write("glsl/", "x"), IoError);
+    out.commit();
+  }
+  EXPECT_EQ(slurp(dir_ / "assets" / "glsl" / "sky.glsl"), "S1");
+  spit(dir_ / "assets" / "glsl" / "mine.glsl", "mine");
+  {
+    OutputDirectory out(dir_ / "assets");
+    out.write("glsl/sky.glsl", "S2");
+    out.write("hlsl/sky.hlsl", "H2");
+    out.commit();
+  }
+  EXPECT_EQ(slurp(dir_ / "assets" / "glsl" / "sky.glsl"), "S2");
+  EXPECT_EQ(slurp(dir_ / "assets" / "glsl" / "mine.glsl"), "mine");
+  EXPECT_EQ(slurp(dir_ / "assets" / "hlsl" / "sky.hlsl"), "H2");
+  EXPECT_EQ(names(dir_ / "assets").size(), 3u);  // glsl, hlsl, top.json: no staging left
+  spit(dir_ / "assets" / "wgsl", "a file");
+  {
+    OutputDirectory out(dir_ / "assets");
+    out.write("glsl/sky.glsl", "S3");
+    out.write("wgsl/sky.wgsl", "W3");
+    EXPECT_THROW(out.commit(), IoError);
+  }
+  EXPECT_EQ(slurp(dir_ / "assets" / "glsl" / "sky.glsl"), "S2");
+  EXPECT_EQ(names(dir_ / "assets").size(), 4u);
   EXPECT_THROW(OutputDirectory(dir_ / "deep" / "gallery" / "a.svg"), IoError);  // a file
   fs::create_directory_symlink("nowhere", dir_ / "dangling-gallery");
   EXPECT_THROW(OutputDirectory(dir_ / "dangling-gallery"), IoError);  // found now, not at the end

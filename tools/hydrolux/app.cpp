@@ -127,6 +127,8 @@ std::vector<Command> add_all_commands(CLI::App& app) {
   for (auto& c : add_drop(app)) commands.push_back(std::move(c));
   commands.push_back(add_rainphys(app));
   commands.push_back(add_lee(app));
+  commands.push_back(add_sky(app));
+  commands.push_back(add_export(app));
   commands.push_back(add_gallery(app));
   return commands;
 }

@@ -17,6 +17,7 @@
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/version.hpp"
 #include "image_plugin.hpp"
+#include "lee_files.hpp"
 #include "progress.hpp"
 
 namespace hydrolux::cli {
@@ -54,90 +55,6 @@ std::array<double, 2> parse_span(const std::string& text, const std::string& fla
   if (!p || (*p)[1] < (*p)[0])
     throw Error(fmt::format("{} '{}': expected A:B ({}, A <= B){}", flag, text, unit, single_ok ? " or one value" : ""));
   return *p;
-}
-
-nlohmann::json to_json(const std::vector<double>& v) {
-  nlohmann::json a = nlohmann::json::array();
-  for (double x : v) a.push_back(x);
-  return a;
-}
-
-nlohmann::json sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im, const std::string& exr_name,
-                       const std::string& png_name) {
-  const auto& s = t.spec;
-  nlohmann::json j;
-  j["format"] = "hydrolux-lee-table";
-  j["format_version"] = 1;
-  j["hydrolux_version"] = kVersion;
-  j["table"] = atmos::table_kind_name(s.table);
-  j["theory"] = scatter::theory_name(s.theory);
-  j["quantity"] =
-      "T = <dsigma_sca/dOmega> / <pi a^2>: radiance scattered once per unit incident irradiance per unit "
-      "projected-area optical depth of the drops (L = E_sun * tau_geo * T; tau_geo = path * sum pi a^2 n(a), "
-      "= tau_ext / 2 for drops much larger than the wavelength); averaged over the size distribution, the sun's "
-      "disk and the spectrum; not normalised per column";
-  j["units"] = "sr^-1";
-  j["files"] = {{"exr", exr_name}, {"png", png_name}};
-  j["width"] = t.columns();
-  j["height"] = t.rows();
-  j["layout"] = {
-      {"x", "radius: column i holds radius_um[i], increasing to the right"},
-      {"y", s.axis == atmos::AngleAxis::angle ? "scattering angle: row j holds angle_deg[j], increasing downward"
-                                              : "cosine of the scattering angle: row j holds cos_angle[j], increasing "
-                                                "downward (cos_angle = dot(view ray, direction to the sun))"},
-      {"sample", "pixel (i, j) is centred on radius_um[i] and its row's angle (sample texel centres: u = (i + 0.5) "
-                 "/ width, v = (j + 0.5) / height); its value is averaged over the sun's disk and over its row's "
-                 "cell, one row spacing wide along the y axis (a box filter, so fringes finer than the table average "
-                 "out instead of aliasing); each column is one size distribution"},
-      {"scattering_angle", "0 = forward (looking toward the sun through the drops), 180 = the antisolar point"}};
-  j["axis"] = atmos::angle_axis_name(s.axis);
-  j["radius_scale"] = atmos::radius_scale_name(s.radius_scale);
-  j["radius_um"] = to_json(t.radius_um);
-  if (s.axis == atmos::AngleAxis::angle)
-    j["angle_deg"] = to_json(t.angle_deg);
-  else
-    j["cos_angle"] = to_json(t.cos_angle);
-  j["channels"] = {
-      {"exr", {"R", "G", "B", "XYZ.X", "XYZ.Y", "XYZ.Z"}},
-      {"R,G,B", "linear RGB, desaturated into the gamut toward the white point at constant luminance"},
-      {"XYZ", "CIE 1931 X, Y, Z, unmapped, relative to the sun's luminance (Y = luminance in sr^-1)"}};
-  j["color_space"] = {
-      {"rgb", color::rgb_space_name(s.rgb_space)},
-      {"white", "D65"},
-      {"adaptation", "Bradford, from the sun's white (sun_white_xyz) to D65: sunlight itself is RGB (1,1,1) x "
-                     "its luminance"},
-      {"gamut_mapping", "a colour with a negative component becomes Y (1,1,1) + s (rgb - Y (1,1,1)) with the "
-                        "largest s in [0,1] that makes it non-negative (constant luminance Y)"},
-      {"sun_white_xyz", {t.sun_white.X, t.sun_white.Y, t.sun_white.Z}},
-      {"xyz_to_rgb", {{t.xyz_to_rgb[0][0], t.xyz_to_rgb[0][1], t.xyz_to_rgb[0][2]},
-                      {t.xyz_to_rgb[1][0], t.xyz_to_rgb[1][1], t.xyz_to_rgb[1][2]},
-                      {t.xyz_to_rgb[2][0], t.xyz_to_rgb[2][1], t.xyz_to_rgb[2][2]}}}};
-  j["spectrum"] = {{"observer", "CIE 1931 2-degree"},
-                   {"sun", s.sun.name()},
-                   {"wavelength_min_nm", s.wavelength_min_nm},
-                   {"wavelength_max_nm", s.wavelength_max_nm},
-                   {"wavelengths_nm", to_json(t.wavelengths_nm)}};
-  j["sun_disk"] = {{"diameter_deg", s.sun_disk_deg}, {"limb_darkening", s.limb_darkening}};
-  if (s.limb_darkening) j["sun_disk"]["limb_darkening_u"] = atmos::kLimbDarkeningU;
-  j["size_distribution"] = s.size_spread > 0
-                               ? nlohmann::json{{"kind", "gamma"},
-                                                {"radius", "number-weighted mean radius"},
-                                                {"relative_width", s.size_spread}}
-                               : nlohmann::json{{"kind", "monodisperse"}};
-  j["medium"] = {{"drop", s.drop_medium}, {"surrounding", s.surrounding_medium}};
-  if (s.temperature_c) j["medium"]["temperature_c"] = *s.temperature_c;
-  j["sampling"] = {{"multiplier", s.sampling},
-                   {"wavelengths", t.work.wavelengths},
-                   {"radius_nodes", t.work.radius_nodes},
-                   {"angle_cells", t.work.cells},
-                   {"seed", s.seed}};
-  j["work"] = {{"evaluations", t.work.evaluations}, {"terms", t.work.terms}, {"term_angles", t.work.term_angles}};
-  j["png"] = {{"tone_mapping", "Reinhard et al. 2002 photographic operator on luminance, hue kept: exposure = 0.18 / "
-                               "log-average luminance; L' = L (1 + L/white^2) / (1 + L), white = 99.9th percentile "
-                               "of the exposed luminance; clipped to [0,1]; sRGB curve; 8 bits"},
-              {"exposure", im.exposure},
-              {"white", im.white}};
-  return j;
 }
 
 int run_lee(const LeeArgs& a) {
@@ -270,14 +187,10 @@ int run_lee(const LeeArgs& a) {
     if (!std::cout) throw IoFailure("writing the profile to standard output failed");
   }
   if (!a.output.empty()) {
-    Image lin(t.columns(), t.rows(), 6);
-    lin.pixels.assign(im.linear.begin(), im.linear.end());
-    lin.channel_names = {"R", "G", "B", "XYZ.X", "XYZ.Y", "XYZ.Z"};
-    Image disp(t.columns(), t.rows(), 3);
-    disp.pixels.assign(im.display.begin(), im.display.end());
-    write_output_image(*exr, lin);
-    write_output_image(*png, disp);
-    side->write(sidecar(t, im, std::filesystem::path(a.output).filename().string(),
+    const LeeFileBytes bytes = encode_lee_files(t, im);
+    exr->file->write(bytes.exr);
+    png->file->write(bytes.png);
+    side->write(lee_sidecar(t, im, std::filesystem::path(a.output).filename().string(),
                         std::filesystem::path(png_path).filename().string())
                     .dump(1) +
                 "\n");

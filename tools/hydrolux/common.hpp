@@ -54,6 +54,8 @@ Command add_drop_render(CLI::App& drop);
 Command add_drop_undistort(CLI::App& drop);
 Command add_rainphys(CLI::App& app);
 Command add_lee(CLI::App& app);
+Command add_sky(CLI::App& app);
+Command add_export(CLI::App& app);
 
 // ---- validators: each gives "'<value>' ... valid range [lo, hi] <unit>" ----
 

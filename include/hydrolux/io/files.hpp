@@ -104,7 +104,8 @@ class OutputDirectory {
   OutputDirectory& operator=(const OutputDirectory&) = delete;
 
   const std::filesystem::path& target() const;
-  // Writes one file (a plain name, no folders) into the staging folder, synced. IoFailure on error.
+  // Writes one file into the staging folder, synced: a plain name, or one subfolder and a plain name
+  // ("glsl/sky.glsl"; the subfolder is created). IoFailure on error.
   void write(const std::string& name, std::string_view bytes);
   // The names written so far, in order.
   const std::vector<std::string>& files() const;

@@ -1,0 +1,194 @@
+#pragma once
+// The CPU reference compositor: a rainbow, secondary bow, fogbow or corona put into a daylight
+// scene from the Lee tables (atmos/lee.hpp), per pixel, in absolute units; and seed 002's two
+// real-time shortcuts (a baked cube map, a tessellated half dome), emulated exactly so their error
+// against the per-pixel answer can be measured. docs/sky.md states the model; the GLSL and HLSL
+// that `hydrolux export` writes (data/shaders/) implement the same equations, and the web test
+// compares the browser's frame with this one.
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/core/image.hpp"
+#include "hydrolux/core/vec.hpp"
+#include "hydrolux/scene/environment.hpp"
+#include "hydrolux/scene/sky_model.hpp"
+
+namespace hydrolux::scene {
+
+// ---- Lee tables as the compositor reads them ----------------------------------------------
+
+// A Lee table's linear RGB (sr^-1, gamut-mapped as in its EXR), rows uniform on their axis.
+struct BowTable {
+  atmos::LeeTableKind kind = atmos::LeeTableKind::rainbow;
+  atmos::AngleAxis axis = atmos::AngleAxis::angle;
+  std::vector<double> radius_um;      // per column, increasing
+  double row_first = 0, row_last = 0; // row 0's and the last row's axis value (degrees or cosine)
+  int rows = 0;
+  std::vector<float> rgb;             // rows x columns x 3, row-major
+  int columns() const { return int(radius_um.size()); }
+  // The scattering angles the rows span, degrees, increasing.
+  std::array<double, 2> angle_range_deg() const;
+};
+
+// From a computed table (its gamut-mapped RGB).
+BowTable bow_table(const atmos::LeeTable& t);
+// From a table's parts (a read EXR and its sidecar): checks the sizes agree, the radii increase and
+// the rows are uniform on their axis (to 1e-6 of the span). Throws Error naming what is wrong.
+BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<double> radius_um,
+                   const std::vector<double>& row_values, std::vector<float> rgb);
+
+// One radius's column of a table, interpolated linearly in ln(radius) (the radius clamped to the
+// table's range; `empty` when `outside_is_empty` and the radius lies outside it).
+struct BowSlice {
+  atmos::LeeTableKind kind = atmos::LeeTableKind::rainbow;
+  bool cosine_axis = false;
+  float first = 0, last = 0;  // axis values of the first and last row
+  int rows = 0;
+  std::vector<float> rgb;     // rows x 3
+  bool empty() const { return rows == 0; }
+  // Linear between row centres on the axis; 0 outside [first, last]. `cos_theta` and `theta_deg`
+  // are the same angle (the caller has both).
+  void lookup(float cos_theta, float theta_deg, float out[3]) const {
+    out[0] = out[1] = out[2] = 0;
+    if (rows == 0) return;
+    const float a = cosine_axis ? cos_theta : theta_deg;
+    const float lo = first < last ? first : last, hi = first < last ? last : first;
+    if (!(a >= lo && a <= hi)) return;
+    if (rows == 1) {
+      out[0] = rgb[0], out[1] = rgb[1], out[2] = rgb[2];
+      return;
+    }
+    float p = (a - first) / (last - first) * float(rows - 1);
+    p = p < 0 ? 0 : (p > float(rows - 1) ? float(rows - 1) : p);
+    int i = int(p);
+    if (i > rows - 2) i = rows - 2;
+    const float f = p - float(i);
+    const float* v = &rgb[std::size_t(i) * 3];
+    out[0] = v[0] + f * (v[3] - v[0]);
+    out[1] = v[1] + f * (v[4] - v[1]);
+    out[2] = v[2] + f * (v[5] - v[2]);
+  }
+};
+BowSlice slice_at_radius(const BowTable& t, double radius_um, bool outside_is_empty = false);
+
+// ---- the scene ----------------------------------------------------------------------------
+
+struct Camera {
+  double fov_deg = 90;  // horizontal, (0, 180)
+  double azimuth_deg = 0, elevation_deg = 10;
+  int width = 1280, height = 720;
+};
+
+enum class Blend { physical, whitepaper };
+enum class BowMode { per_pixel, cube_map, half_dome };
+std::string_view blend_name(Blend b);
+std::string_view bow_mode_name(BowMode m);
+
+struct SkySettings {
+  Camera camera;
+  double sun_azimuth_deg = 180, sun_elevation_deg = 25;
+  double turbidity = 2.5;
+  double radius_um = 500;
+  double rain_rate_mmh = 5;
+  double curtain_near_m = 1000, curtain_far_m = 3000;
+  Vec3 light_color{1.0};
+  bool secondary = true, corona = false;
+  Blend blend = Blend::physical;
+  BowMode mode = BowMode::per_pixel;
+  int cube_face_size = 512;          // texels per cube face side
+  int dome_rings = 90, dome_segments = 180;
+};
+// Throws DomainError naming the setting ("fov_deg", "rain_rate_mmh", ...).
+void validate(const SkySettings& s);
+
+// Secondary-bow window (docs/sky.md): 1 with the secondary on; else smoothstep(132, 136, theta).
+float secondary_weight(bool secondary_on, float theta_deg);
+
+// The rain's projected-area coefficient beta_geo = pi M2 (m^-1) of Marshall-Palmer rain.
+double rain_beta_geo_per_m(double rain_rate_mmh);
+
+// A cube map of the bow colour for one sun direction and radius (OpenGL face order +X -X +Y -Y +Z
+// -Z and orientation), bilinear within a face.
+struct CubeMap {
+  int size = 0;
+  std::vector<float> rgb;  // 6 x size x size x 3
+  void lookup(const Vec3T<float>& dir, float out[3]) const;
+};
+
+class SkyCompositor {
+ public:
+  // `rainbow` covers the bow side (90-180 degrees); `corona` the forward side, empty when absent.
+  // `environment`, when given, replaces the analytic sky and ground (its radiance x
+  // environment_scale, taken as cd/m^2). Bakes the cube map or builds the dome when `mode` asks.
+  SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowSlice corona,
+                std::shared_ptr<const Environment> environment = nullptr, double environment_scale = 1);
+
+  // The composited frame (RGB, cd/m^2). `moisture` (optional, channel 0 in [0, 1], any size:
+  // sampled bilinearly at pixel centres) scales the rain's optical depth. Uses every core.
+  Image render(const Image* moisture = nullptr) const;
+  // The same into `out`, whose storage is reused when it already has the frame's size (a frame
+  // loop allocates nothing).
+  void render_into(Image& out, const Image* moisture = nullptr) const;
+  // The bow colour T(theta) w(theta) at each pixel (RGB, sr^-1) as the current mode computes it:
+  // what the optimisations approximate.
+  Image bow_colour() const;
+
+  const SkySettings& settings() const { return s_; }
+  const SunSky& sun_sky() const { return sky_; }
+  Vec3 sun_direction() const { return sun_; }
+  double beta_geo_per_m() const { return beta_geo_; }
+  double bake_seconds() const { return bake_seconds_; }
+
+ private:
+  void bow_at(const Vec3T<float>& d, float c, float theta_deg, float out[3]) const;
+  void bow_pixel(const Vec3T<float>& d, float c, float theta_deg, float out[3]) const;
+  float dome_theta(const Vec3T<float>& d, bool& covered) const;
+
+  SkySettings s_;
+  BowSlice rainbow_, corona_;
+  std::shared_ptr<const Environment> env_;
+  double env_scale_ = 1;
+  SunSky sky_;
+  Vec3 sun_{0}, fwd_{0}, right_{0}, up_{0};
+  double beta_geo_ = 0;
+  CubeMap cube_;
+  std::vector<Vec3T<float>> dome_;  // (rings + 1) x segments vertices
+  Vec3T<float> dome_e1_{0}, dome_e2_{0}, dome_axis_{0};
+  double bake_seconds_ = 0;
+  // The sky's two Perez factors tabulated per frame (Y, x, y interleaved): over cos t in [0, 1]
+  // and over gamma in [0, pi], linear between entries (relative error < 1e-5).
+  std::vector<float> sky_zenith_factor_, sky_sun_factor_;
+};
+
+// acos for float, Abramowitz and Stegun 4.4.46 (|error| <= 2e-8 rad), branch-light.
+inline float fast_acos(float x) {
+  const float ax = x < 0 ? -x : x;
+  float p = -0.0012624911f;
+  p = p * ax + 0.0066700901f;
+  p = p * ax - 0.0170881256f;
+  p = p * ax + 0.0308918810f;
+  p = p * ax - 0.0501743046f;
+  p = p * ax + 0.0889789874f;
+  p = p * ax - 0.2145988016f;
+  p = p * ax + 1.5707963050f;
+  const float r = std::sqrt(1.0f - (ax > 1 ? 1.0f : ax)) * p;
+  return x < 0 ? 3.14159265358979f - r : r;
+}
+
+// Tone mapping of docs/sky.md: x = 0.6 L / l_ref per channel, extended Reinhard with white 6,
+// clamped to [0, 1] (linear display values; the PNG encoder applies the sRGB curve).
+Image tone_map(const Image& radiance, double l_ref);
+
+// Errors of an approximate bow colour against the reference, relative to the reference's peak
+// luminance: the largest channel difference and the RMS over pixels and channels.
+struct BowError {
+  double max_rel = 0, rms_rel = 0;
+};
+BowError bow_error(const Image& approx, const Image& reference);
+// PSNR (dB) of two images of [0, 1] values, over every channel: 10 log10(1 / MSE).
+double psnr(const Image& a, const Image& b);
+
+}  // namespace hydrolux::scene

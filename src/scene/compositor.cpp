@@ -1,0 +1,572 @@
+#include "hydrolux/scene/compositor.hpp"
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/math.hpp"
+#include "hydrolux/scatter/size_distribution.hpp"
+
+namespace hydrolux::scene {
+
+namespace {
+
+using V3f = Vec3T<float>;
+
+constexpr float kDegPerRad = float(180.0 / kPi<double>);
+constexpr double kExtinctionEfficiency = 2.0;  // Q_ext of drops much larger than the wavelength
+constexpr double kCoronaMaxDeg = 20.0;         // the forward side the corona table covers
+constexpr int kSkyTable = 4096;                // intervals of the sky's tabulated Perez factors
+
+// Linear interpolation in a table of kSkyTable + 1 RGB-like triples over [0, 1].
+inline void table3(const float* t, float x, float out[3]) {
+  float p = x * float(kSkyTable);
+  p = p < 0 ? 0 : (p > float(kSkyTable) ? float(kSkyTable) : p);
+  int i = int(p);
+  i = i > kSkyTable - 1 ? kSkyTable - 1 : i;
+  const float f = p - float(i);
+  const float* a = t + std::size_t(i) * 3;
+  out[0] = a[0] + f * (a[3] - a[0]);
+  out[1] = a[1] + f * (a[4] - a[1]);
+  out[2] = a[2] + f * (a[5] - a[2]);
+}
+
+V3f to_f(const Vec3& v) { return {float(v.x), float(v.y), float(v.z)}; }
+
+float smoothstep(float e0, float e1, float x) {
+  const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
+  return t * t * (3 - 2 * t);
+}
+
+// OpenGL cube faces: the direction through face coordinates (sc, tc) in [-1, 1].
+V3f face_direction(int face, float sc, float tc) {
+  switch (face) {
+    case 0: return {1, -tc, -sc};
+    case 1: return {-1, -tc, sc};
+    case 2: return {sc, 1, tc};
+    case 3: return {sc, -1, -tc};
+    case 4: return {sc, -tc, 1};
+    default: return {-sc, -tc, -1};
+  }
+}
+
+// One row of view rays, structure of arrays: the unit direction, its cosine to the sun and the
+// angle (radians). Branch-free, so the compiler vectorises it; compiled for AVX-512 and AVX2 too
+// on x86-64 (the baseline is SSE2), chosen when the program loads.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx512f", "avx2", "default")))
+#endif
+void row_rays(int n, float px0, float dpx, float py, const float* __restrict f, const float* __restrict r,
+              const float* __restrict u, const float* __restrict sun, float* __restrict dx, float* __restrict dy,
+              float* __restrict dz, float* __restrict c, float* __restrict gamma) {
+  const float bx = f[0] + py * u[0], by = f[1] + py * u[1], bz = f[2] + py * u[2];
+  for (int i = 0; i < n; ++i) {
+    const float px = px0 + float(i) * dpx;
+    const float x = bx + px * r[0], y = by + px * r[1], z = bz + px * r[2];
+    const float inv = 1.0f / std::sqrt(x * x + y * y + z * z);
+    const float ux = x * inv, uy = y * inv, uz = z * inv;
+    float cc = ux * sun[0] + uy * sun[1] + uz * sun[2];
+    cc = cc < -1.0f ? -1.0f : (cc > 1.0f ? 1.0f : cc);
+    dx[i] = ux, dy[i] = uy, dz[i] = uz, c[i] = cc;
+    gamma[i] = fast_acos(cc);
+  }
+}
+
+}  // namespace
+
+// ---- tables --------------------------------------------------------------------------------
+
+std::array<double, 2> BowTable::angle_range_deg() const {
+  double a = row_first, b = row_last;
+  if (axis == atmos::AngleAxis::cosine) {
+    a = rad_to_deg(safe_acos(row_first));
+    b = rad_to_deg(safe_acos(row_last));
+  }
+  return {std::min(a, b), std::max(a, b)};
+}
+
+BowTable bow_table(const atmos::LeeTable& t) {
+  BowTable b;
+  b.kind = t.spec.table;
+  b.axis = t.spec.axis;
+  b.radius_um = t.radius_um;
+  b.rows = t.rows();
+  const auto& rows = t.spec.axis == atmos::AngleAxis::angle ? t.angle_deg : t.cos_angle;
+  b.row_first = rows.front();
+  b.row_last = rows.back();
+  b.rgb.resize(std::size_t(t.rows()) * t.columns() * 3);
+  for (int r = 0; r < t.rows(); ++r)
+    for (int c = 0; c < t.columns(); ++c) {
+      const auto v = t.rgb(r, c);
+      for (int k = 0; k < 3; ++k) b.rgb[(std::size_t(r) * t.columns() + c) * 3 + k] = float(v[k]);
+    }
+  return b;
+}
+
+BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<double> radius_um,
+                   const std::vector<double>& row_values, std::vector<float> rgb) {
+  if (radius_um.empty() || row_values.empty()) throw Error("a Lee table needs at least one radius and one row");
+  for (std::size_t i = 1; i < radius_um.size(); ++i)
+    if (!(radius_um[i] > radius_um[i - 1])) throw Error("the table's radii must increase");
+  if (!(radius_um.front() > 0)) throw Error("the table's radii must be positive");
+  if (rgb.size() != radius_um.size() * row_values.size() * 3)
+    throw Error(fmt::format("the table holds {} values; {} radii x {} rows x 3 channels need {}", rgb.size(),
+                            radius_um.size(), row_values.size(), radius_um.size() * row_values.size() * 3));
+  const double first = row_values.front(), last = row_values.back();
+  const int n = int(row_values.size());
+  const double lo = axis == atmos::AngleAxis::angle ? 0 : -1, hi = axis == atmos::AngleAxis::angle ? 180 : 1;
+  for (int i = 0; i < n; ++i) {
+    const double v = row_values[std::size_t(i)];
+    if (!(v >= lo && v <= hi))
+      throw Error(fmt::format("row {} lies at {}, outside [{}, {}]", i, v, lo, hi));
+    if (n > 1) {
+      const double expect = first + (last - first) * i / (n - 1);
+      if (std::abs(v - expect) > 1e-6 * std::max(std::abs(last - first), 1e-12))
+        throw Error(fmt::format("the table's rows are not uniform on their axis (row {}: {} where {} was expected)", i,
+                                v, expect));
+    }
+  }
+  if (n > 1 && first == last) throw Error("the table's rows all lie at one angle");
+  for (float v : rgb)
+    if (!std::isfinite(v)) throw Error("the table holds a value that is not a finite number");
+  BowTable b;
+  b.kind = kind;
+  b.axis = axis;
+  b.radius_um = std::move(radius_um);
+  b.row_first = first;
+  b.row_last = last;
+  b.rows = n;
+  b.rgb = std::move(rgb);
+  return b;
+}
+
+BowSlice slice_at_radius(const BowTable& t, double radius_um, bool outside_is_empty) {
+  BowSlice s;
+  const auto& r = t.radius_um;
+  if (outside_is_empty && (radius_um < r.front() * (1 - 1e-9) || radius_um > r.back() * (1 + 1e-9))) return s;
+  s.kind = t.kind;
+  s.cosine_axis = t.axis == atmos::AngleAxis::cosine;
+  s.first = float(t.row_first);
+  s.last = float(t.row_last);
+  s.rows = t.rows;
+  s.rgb.resize(std::size_t(t.rows) * 3);
+  const int cols = t.columns();
+  int c0 = 0;
+  double f = 0;
+  if (cols > 1) {
+    const double x = std::log(std::clamp(radius_um, r.front(), r.back()));
+    c0 = int(std::upper_bound(r.begin(), r.end(), std::exp(x)) - r.begin()) - 1;
+    c0 = std::clamp(c0, 0, cols - 2);
+    f = std::clamp((x - std::log(r[c0])) / (std::log(r[c0 + 1]) - std::log(r[c0])), 0.0, 1.0);
+  }
+  for (int row = 0; row < t.rows; ++row)
+    for (int k = 0; k < 3; ++k) {
+      const float a = t.rgb[(std::size_t(row) * cols + c0) * 3 + k];
+      const float b = cols > 1 ? t.rgb[(std::size_t(row) * cols + c0 + 1) * 3 + k] : a;
+      s.rgb[std::size_t(row) * 3 + k] = float(a + f * (b - a));
+    }
+  return s;
+}
+
+// ---- settings ------------------------------------------------------------------------------
+
+std::string_view blend_name(Blend b) { return b == Blend::physical ? "physical" : "whitepaper"; }
+std::string_view bow_mode_name(BowMode m) {
+  return m == BowMode::per_pixel ? "per-pixel" : m == BowMode::cube_map ? "cube-map" : "half-dome";
+}
+
+void validate(const SkySettings& s) {
+  const auto check = [](const char* q, double v, double lo, double hi, const char* why = "") {
+    if (!(v >= lo && v <= hi)) throw DomainError(q, v, lo, hi, why);
+  };
+  check("fov_deg", s.camera.fov_deg, 1, 170);
+  check("view_azimuth_deg", s.camera.azimuth_deg, -360, 360);
+  check("view_elevation_deg", s.camera.elevation_deg, -89, 89);
+  check("width", s.camera.width, 1, 16384);
+  check("height", s.camera.height, 1, 16384);
+  check("sun_azimuth_deg", s.sun_azimuth_deg, -360, 360);
+  check("sun_elevation_deg", s.sun_elevation_deg, 0, 90);
+  check("turbidity", s.turbidity, kMinTurbidity, kMaxTurbidity);
+  check("radius_um", s.radius_um, 0.1, 5000);
+  check("rain_rate_mmh", s.rain_rate_mmh, 0, 500);
+  check("curtain_near_m", s.curtain_near_m, 0, 1e6);
+  check("curtain_far_m", s.curtain_far_m, s.curtain_near_m, 1e6, "the far edge must not be nearer than the near one");
+  for (int k = 0; k < 3; ++k) check("light_color", s.light_color[k], 0, 1e3);
+  check("cube_face_size", s.cube_face_size, 4, 4096);
+  check("dome_rings", s.dome_rings, 2, 4096);
+  check("dome_segments", s.dome_segments, 3, 8192);
+}
+
+float secondary_weight(bool secondary_on, float theta_deg) {
+  return secondary_on ? 1.0f : smoothstep(132.0f, 136.0f, theta_deg);
+}
+
+double rain_beta_geo_per_m(double rain_rate_mmh) {
+  if (rain_rate_mmh <= 0) return 0;
+  // Marshall and Palmer's own count: 8e6 m^-4 per metre of diameter is 1.6e7 per metre of radius.
+  const auto d = scatter::SizeDistribution::marshall_palmer(rain_rate_mmh, 1.6e7);
+  return kPi<double> * d.moment(2);
+}
+
+// ---- cube map -------------------------------------------------------------------------------
+
+void CubeMap::lookup(const V3f& d, float out[3]) const {
+  const float ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+  int face;
+  float sc, tc, ma;
+  if (ax >= ay && ax >= az) {
+    face = d.x > 0 ? 0 : 1;
+    ma = ax;
+    sc = d.x > 0 ? -d.z : d.z;
+    tc = -d.y;
+  } else if (ay >= az) {
+    face = d.y > 0 ? 2 : 3;
+    ma = ay;
+    sc = d.x;
+    tc = d.y > 0 ? d.z : -d.z;
+  } else {
+    face = d.z > 0 ? 4 : 5;
+    ma = az;
+    sc = d.z > 0 ? d.x : -d.x;
+    tc = -d.y;
+  }
+  const float n = float(size);
+  const float x = std::clamp((sc / ma + 1) * 0.5f * n - 0.5f, 0.0f, n - 1);
+  const float y = std::clamp((tc / ma + 1) * 0.5f * n - 0.5f, 0.0f, n - 1);
+  const int x0 = std::min(int(x), size - 2 < 0 ? 0 : size - 2), y0 = std::min(int(y), size - 2 < 0 ? 0 : size - 2);
+  const int x1 = std::min(x0 + 1, size - 1), y1 = std::min(y0 + 1, size - 1);
+  const float fx = x - float(x0), fy = y - float(y0);
+  const auto at = [&](int xx, int yy, int k) {
+    return rgb[((std::size_t(face) * size + yy) * size + xx) * 3 + k];
+  };
+  for (int k = 0; k < 3; ++k) {
+    const float a = at(x0, y0, k) + fx * (at(x1, y0, k) - at(x0, y0, k));
+    const float b = at(x0, y1, k) + fx * (at(x1, y1, k) - at(x0, y1, k));
+    out[k] = a + fy * (b - a);
+  }
+}
+
+// ---- the compositor -------------------------------------------------------------------------
+
+SkyCompositor::SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowSlice corona,
+                             std::shared_ptr<const Environment> environment, double environment_scale)
+    : s_(settings), rainbow_(std::move(rainbow)), corona_(std::move(corona)), env_(std::move(environment)),
+      env_scale_(environment_scale) {
+  validate(s_);
+  if (!(environment_scale >= 0 && std::isfinite(environment_scale)))
+    throw DomainError("environment_scale", environment_scale, 0, 1e12);
+  sky_ = make_sun_sky(s_.sun_elevation_deg, s_.turbidity);
+  sun_ = direction_from_angles(s_.sun_azimuth_deg, s_.sun_elevation_deg);
+  fwd_ = direction_from_angles(s_.camera.azimuth_deg, s_.camera.elevation_deg);
+  right_ = glm::normalize(glm::cross(Vec3{0, 1, 0}, fwd_));
+  up_ = glm::cross(fwd_, right_);
+  beta_geo_ = rain_beta_geo_per_m(s_.rain_rate_mmh);
+  sky_zenith_factor_.resize(std::size_t(kSkyTable + 1) * 3);
+  sky_sun_factor_.resize(std::size_t(kSkyTable + 1) * 3);
+  for (int i = 0; i <= kSkyTable; ++i) {
+    const double cos_t = std::max(double(i) / kSkyTable, 0.01);
+    const double gamma = kPi<double> * i / kSkyTable;
+    for (int k = 0; k < 3; ++k) {
+      const auto& p = sky_.perez[std::size_t(k)];
+      sky_zenith_factor_[std::size_t(i) * 3 + k] = float(1 + p.A * std::exp(p.B / cos_t));
+      sky_sun_factor_[std::size_t(i) * 3 + k] = float(1 + p.C * std::exp(p.D * gamma) + p.E * sqr(std::cos(gamma)));
+    }
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  if (s_.mode == BowMode::cube_map) {
+    const int n = s_.cube_face_size;
+    cube_.size = n;
+    cube_.rgb.assign(std::size_t(6) * n * n * 3, 0.f);
+    const V3f sun = to_f(sun_);
+    tbb::parallel_for(0, 6 * n, [&](int fy) {
+      const int face = fy / n, y = fy % n;
+      for (int x = 0; x < n; ++x) {
+        const float sc = 2 * (float(x) + 0.5f) / float(n) - 1, tc = 2 * (float(y) + 0.5f) / float(n) - 1;
+        const V3f d = glm::normalize(face_direction(face, sc, tc));
+        const float c = std::clamp(glm::dot(d, sun), -1.0f, 1.0f);
+        float v[3];
+        bow_at(d, c, std::acos(c) * kDegPerRad, v);
+        float* o = &cube_.rgb[((std::size_t(face) * n + y) * n + x) * 3];
+        o[0] = v[0], o[1] = v[1], o[2] = v[2];
+      }
+    });
+  } else if (s_.mode == BowMode::half_dome) {
+    // The dome's axis is the antisolar direction; ring i lies alpha_i = 90 i / rings degrees from it.
+    const Vec3 axis = -sun_;
+    const Vec3 helper = std::abs(axis.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    const Vec3 e1 = glm::normalize(glm::cross(helper, axis));
+    const Vec3 e2 = glm::cross(axis, e1);
+    dome_axis_ = to_f(axis);
+    dome_e1_ = to_f(e1);
+    dome_e2_ = to_f(e2);
+    const int R = s_.dome_rings, S = s_.dome_segments;
+    dome_.resize(std::size_t(R + 1) * S);
+    for (int i = 0; i <= R; ++i) {
+      const double a = deg_to_rad(90.0 * i / R);
+      for (int j = 0; j < S; ++j) {
+        const double p = 2 * kPi<double> * j / S;
+        dome_[std::size_t(i) * S + j] =
+            to_f(axis * std::cos(a) + (e1 * std::cos(p) + e2 * std::sin(p)) * std::sin(a));
+      }
+    }
+  }
+  bake_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Per pixel (the reference): the tables at theta.
+void SkyCompositor::bow_at(const V3f& /*d*/, float c, float theta_deg, float out[3]) const {
+  rainbow_.lookup(c, theta_deg, out);
+  const float w = secondary_weight(s_.secondary, theta_deg);
+  out[0] *= w, out[1] *= w, out[2] *= w;
+  if (s_.corona && !corona_.empty() && theta_deg <= float(kCoronaMaxDeg)) {
+    float v[3];
+    corona_.lookup(c, theta_deg, v);
+    out[0] += v[0], out[1] += v[1], out[2] += v[2];
+  }
+}
+
+// The half dome: the ray meets the flat triangle of the tessellation whose corners carry theta;
+// the GPU's perspective-correct interpolation is the barycentric blend at that point.
+float SkyCompositor::dome_theta(const V3f& d, bool& covered) const {
+  covered = false;
+  const float ca = glm::dot(d, dome_axis_);
+  if (ca < 0) return 0;
+  const int R = s_.dome_rings, S = s_.dome_segments;
+  const float alpha = std::acos(std::min(ca, 1.0f)) * kDegPerRad;
+  float phi = std::atan2(glm::dot(d, dome_e2_), glm::dot(d, dome_e1_));
+  if (phi < 0) phi += float(2 * kPi<double>);
+  const int i0 = std::min(int(alpha / 90.0f * float(R)), R - 1);
+  const int j0 = std::min(int(phi / float(2 * kPi<double>) * float(S)), S - 1);
+  const auto vert = [&](int i, int j) { return dome_[std::size_t(i) * S + ((j % S) + S) % S]; };
+  const auto ring_theta = [&](int i) { return 180.0f - 90.0f * float(i) / float(R); };
+  // Moller-Trumbore from the origin along d; returns the interpolated theta when the ray hits.
+  const auto hit = [&](int ia, int ja, int ib, int jb, int ic, int jc, float& theta) {
+    const V3f a = vert(ia, ja), b = vert(ib, jb), c = vert(ic, jc);
+    const V3f e1 = b - a, e2 = c - a;
+    const V3f p = glm::cross(d, e2);
+    const float det = glm::dot(e1, p);
+    if (std::abs(det) < 1e-12f) return false;
+    const V3f t = -a;
+    const float u = glm::dot(t, p) / det;
+    const V3f q = glm::cross(t, e1);
+    const float v = glm::dot(d, q) / det;
+    constexpr float eps = -1e-5f;
+    if (u < eps || v < eps || u + v > 1 - eps) return false;
+    if (glm::dot(e2, q) / det <= 0) return false;
+    theta = (1 - u - v) * ring_theta(ia) + u * ring_theta(ib) + v * ring_theta(ic);
+    return true;
+  };
+  float theta = 0;
+  for (int di : {0, -1, 1}) {
+    const int i = i0 + di;
+    if (i < 0 || i >= R) continue;
+    for (int dj : {0, -1, 1}) {
+      const int j = j0 + dj;
+      if (hit(i, j, i + 1, j, i + 1, j + 1, theta) || (i > 0 && hit(i, j, i + 1, j + 1, i, j + 1, theta))) {
+        covered = true;
+        return theta;
+      }
+    }
+  }
+  return 0;
+}
+
+// The bow colour at one pixel in the current mode.
+void SkyCompositor::bow_pixel(const V3f& d, float c, float theta, float o[3]) const {
+  if (s_.mode == BowMode::cube_map) {
+    cube_.lookup(d, o);
+  } else if (s_.mode == BowMode::half_dome) {
+    bool covered = false;
+    const float t = dome_theta(d, covered);
+    o[0] = o[1] = o[2] = 0;
+    if (covered) {
+      const float ct = std::cos(t / kDegPerRad);
+      rainbow_.lookup(ct, t, o);
+      const float w = secondary_weight(s_.secondary, t);
+      o[0] *= w, o[1] *= w, o[2] *= w;
+    }
+    if (s_.corona && !corona_.empty() && theta <= float(kCoronaMaxDeg)) {
+      float v[3];
+      corona_.lookup(c, theta, v);
+      o[0] += v[0], o[1] += v[1], o[2] += v[2];
+    }
+  } else {
+    bow_at(d, c, theta, o);
+  }
+}
+
+Image SkyCompositor::bow_colour() const {
+  const int W = s_.camera.width, H = s_.camera.height;
+  Image out(W, H, 3);
+  const V3f f = to_f(fwd_), r = to_f(right_), u = to_f(up_), sun = to_f(sun_);
+  const float tx = float(std::tan(deg_to_rad(s_.camera.fov_deg) / 2)), ty = tx * float(H) / float(W);
+  tbb::parallel_for(0, H, [&](int j) {
+    const float py = (1 - 2 * (float(j) + 0.5f) / float(H)) * ty;
+    for (int i = 0; i < W; ++i) {
+      const float px = (2 * (float(i) + 0.5f) / float(W) - 1) * tx;
+      const V3f d = glm::normalize(f + px * r + py * u);
+      const float c = std::clamp(glm::dot(d, sun), -1.0f, 1.0f);
+      bow_pixel(d, c, fast_acos(c) * kDegPerRad, &out.pixels[(std::size_t(j) * W + i) * 3]);
+    }
+  });
+  return out;
+}
+
+Image SkyCompositor::render(const Image* moisture) const {
+  Image out;
+  render_into(out, moisture);
+  return out;
+}
+
+void SkyCompositor::render_into(Image& out, const Image* moisture) const {
+  const int W = s_.camera.width, H = s_.camera.height;
+  if (out.width != W || out.height != H || out.channels != 3 || out.pixels.size() != std::size_t(W) * H * 3)
+    out = Image(W, H, 3);
+  out.channel_names.clear();
+  const V3f f = to_f(fwd_), r = to_f(right_), u = to_f(up_), sun = to_f(sun_);
+  const float tx = float(std::tan(deg_to_rad(s_.camera.fov_deg) / 2)), ty = tx * float(H) / float(W);
+
+  // The frame's constants, float.
+  const float Z[3] = {float(sky_.zenith_Y_kcd * 1000 / sky_.perez_at_sun[0]),
+                      float(sky_.zenith_x / sky_.perez_at_sun[1]), float(sky_.zenith_y / sky_.perez_at_sun[2])};
+  float M[3][3];
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) M[a][b] = float(sky_.xyz_to_rgb[std::size_t(a)][std::size_t(b)]);
+  const V3f ground = to_f(sky_.ground_rgb);
+  const double omega_sun = 2 * kPi<double> * (1 - std::cos(deg_to_rad(kSunAngularRadiusDeg)));
+  const V3f sun_disk = to_f(sky_.sun_rgb / omega_sun);
+  const float cos_sun_radius = float(std::cos(deg_to_rad(kSunAngularRadiusDeg)));
+  const V3f light = to_f(sky_.sun_rgb * s_.light_color);
+  const float beta = float(beta_geo_), d0 = float(s_.curtain_near_m), d1 = float(s_.curtain_far_m);
+  const float h_cam = float(kCameraHeightM), q = float(kExtinctionEfficiency);
+  const float inv_lref = float(1.0 / sky_.l_ref);
+  const bool physical = s_.blend == Blend::physical;
+  const float inv_pi = float(1 / kPi<double>);
+  // Above the horizon every ray crosses the whole curtain: one transmittance for the sky.
+  const float sky_trans = std::exp(-q * beta * std::max(d1 - d0, 0.0f));
+  const float* zt = sky_zenith_factor_.data();
+  const float* gt = sky_sun_factor_.data();
+  const float fa[3] = {f.x, f.y, f.z}, ra[3] = {r.x, r.y, r.z}, ua[3] = {u.x, u.y, u.z}, sa[3] = {sun.x, sun.y, sun.z};
+  tbb::enumerable_thread_specific<std::vector<float>> scratch;
+
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int j = rows.begin(); j != rows.end(); ++j) {
+      const float py = (1 - 2 * (float(j) + 0.5f) / float(H)) * ty;
+      float* row = &out.pixels[std::size_t(j) * W * 3];
+      auto& buf = scratch.local();
+      buf.resize(std::size_t(W) * 5);
+      float *bx = buf.data(), *by = bx + W, *bz = by + W, *bc = bz + W, *bg_ = bc + W;
+      row_rays(W, (1.0f / float(W) - 1) * tx, 2 * tx / float(W), py, fa, ra, ua, sa, bx, by, bz, bc, bg_);
+      for (int i = 0; i < W; ++i) {
+        const V3f d{bx[i], by[i], bz[i]};
+        const float c = bc[i];
+        const float gamma = bg_[i];
+        const float theta = gamma * kDegPerRad;
+        // The background.
+        V3f bg;
+        if (env_) {
+          bg = to_f(env_->radiance(Vec3(d)) * env_scale_);
+        } else if (d.y >= 0) {
+          float zf[3], gf[3];
+          table3(zt, d.y, zf);
+          table3(gt, gamma * inv_pi, gf);
+          const float Y = Z[0] * zf[0] * gf[0], x = Z[1] * zf[1] * gf[1], y = Z[2] * zf[2] * gf[2];
+          const float X = x / y * Y, Zc = (1 - x - y) / y * Y;
+          bg = {M[0][0] * X + M[0][1] * Y + M[0][2] * Zc, M[1][0] * X + M[1][1] * Y + M[1][2] * Zc,
+                M[2][0] * X + M[2][1] * Y + M[2][2] * Zc};
+          if (c >= cos_sun_radius) bg = sun_disk;
+        } else {
+          bg = ground;
+        }
+        // The rain along the ray: the whole curtain above the horizon, cut by the ground below.
+        float m = 1;
+        if (moisture) {
+          const float mx = (float(i) + 0.5f) / float(W) * float(moisture->width) - 0.5f;
+          const float my = (float(j) + 0.5f) / float(H) * float(moisture->height) - 0.5f;
+          const int x0 = std::clamp(int(std::floor(mx)), 0, moisture->width - 1);
+          const int y0 = std::clamp(int(std::floor(my)), 0, moisture->height - 1);
+          const int x1 = std::min(x0 + 1, moisture->width - 1), y1 = std::min(y0 + 1, moisture->height - 1);
+          const float fx = std::clamp(mx - float(x0), 0.0f, 1.0f), fy = std::clamp(my - float(y0), 0.0f, 1.0f);
+          const auto at = [&](int xx, int yy) { return moisture->at(xx, yy, 0); };
+          const float a = at(x0, y0) + fx * (at(x1, y0) - at(x0, y0));
+          const float b = at(x0, y1) + fx * (at(x1, y1) - at(x0, y1));
+          m = std::clamp(a + fy * (b - a), 0.0f, 1.0f);
+        }
+        float trans = sky_trans;
+        if (d.y < 0 || m != 1) {
+          float path = d1 - d0;
+          if (d.y < 0) path = std::min(d1, h_cam / -d.y) - d0;
+          path = std::max(path, 0.0f);
+          trans = path > 0 && m > 0 ? std::exp(-q * beta * path * m) : 1.0f;
+        }
+        float* o = row + std::size_t(i) * 3;
+        if (trans == 1.0f) {
+          o[0] = bg.x, o[1] = bg.y, o[2] = bg.z;
+          continue;
+        }
+        float t[3];
+        bow_pixel(d, c, theta, t);
+        const float scatter = (1 - trans) / q;
+        for (int k = 0; k < 3; ++k) {
+          const float b = light[k] * t[k] * scatter;
+          o[k] = physical ? bg[k] * trans + b : bg[k] + b * (1 - std::clamp(bg[k] * inv_lref, 0.0f, 1.0f));
+        }
+      }
+    }
+  });
+}
+
+// ---- display and comparison -------------------------------------------------------------------
+
+Image tone_map(const Image& radiance, double l_ref) {
+  Image out(radiance.width, radiance.height, 3);
+  const float k = float(0.6 / l_ref);
+  constexpr float w2 = 36.0f;
+  for (std::size_t p = 0; p < std::size_t(radiance.width) * radiance.height; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const float x = std::max(radiance.pixels[p * radiance.channels + c], 0.0f) * k;
+      out.pixels[p * 3 + c] = std::clamp(x * (1 + x / w2) / (1 + x), 0.0f, 1.0f);
+    }
+  return out;
+}
+
+BowError bow_error(const Image& approx, const Image& reference) {
+  if (approx.width != reference.width || approx.height != reference.height || approx.channels < 3 ||
+      reference.channels < 3)
+    throw Error("bow_error: the images differ in size");
+  const auto w = color::luminance_weights(color::RgbSpace::rec709);
+  double peak = 0, max_d = 0, sum = 0;
+  const std::size_t n = std::size_t(reference.width) * reference.height;
+  for (std::size_t p = 0; p < n; ++p) {
+    const float* a = &approx.pixels[p * approx.channels];
+    const float* b = &reference.pixels[p * reference.channels];
+    peak = std::max(peak, w[0] * b[0] + w[1] * b[1] + w[2] * b[2]);
+    for (int c = 0; c < 3; ++c) {
+      const double d = double(a[c]) - double(b[c]);
+      max_d = std::max(max_d, std::abs(d));
+      sum += d * d;
+    }
+  }
+  if (peak <= 0) return {};
+  return {max_d / peak, std::sqrt(sum / double(3 * n)) / peak};
+}
+
+double psnr(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height || a.channels != b.channels) throw Error("psnr: the images differ in size");
+  double sum = 0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+    const double d = double(a.pixels[i]) - double(b.pixels[i]);
+    sum += d * d;
+  }
+  const double mse = sum / double(a.pixels.size());
+  return mse > 0 ? 10 * std::log10(1 / mse) : 1e9;
+}
+
+}  // namespace hydrolux::scene

@@ -1,0 +1,33 @@
+#pragma once
+// The files of a Lee table, shared by `hydrolux lee` (which writes them), `hydrolux export` (which
+// writes them into an asset folder, with a raw float32 copy for engines) and `hydrolux sky` (which
+// reads them back through --lut): the linear EXR, the display PNG and the JSON sidecar that holds
+// the exact axes.
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/scene/compositor.hpp"
+
+namespace hydrolux::cli {
+
+nlohmann::json to_json(const std::vector<double>& v);
+
+// The sidecar describing a table, its files named `exr_name` and `png_name`.
+nlohmann::json lee_sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im, const std::string& exr_name,
+                           const std::string& png_name);
+
+// The bytes of a table's files: EXR (R, G, B, XYZ.X, XYZ.Y, XYZ.Z), PNG, and the raw RGB as
+// little-endian float32 (rows x columns x 3, the EXR's R, G, B).
+struct LeeFileBytes {
+  std::string exr, png, f32;
+};
+LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im);
+
+// A table read back for the compositor: `exr_path` and the sidecar beside it (same name, .json).
+// Errors name `flag`, the file and what is wrong with it.
+scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_path);
+
+}  // namespace hydrolux::cli
