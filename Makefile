@@ -21,7 +21,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_af
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           $(if $(wildcard /usr/bin/llvm-symbolizer),ASAN_SYMBOLIZER_PATH=/usr/bin/llvm-symbolizer)
 
-.PHONY: all build deps configure demo test bench clean sanitize-build fuzz-build fuzz-smoke test-sanitize fuzz
+.PHONY: all build deps configure web demo test bench clean sanitize-build fuzz-build fuzz-smoke test-sanitize fuzz
 
 all: build
 
@@ -36,13 +36,29 @@ configure: $(BUILD_DIR)/build.ninja
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
+# The web demo's npm packages (three, vite, playwright-core) from web/package-lock.json: npm ci runs
+# again only when web/package.json or the lock file is newer than the last install.
+WEB_STAMP := web/node_modules/.hydrolux-installed
+$(WEB_STAMP): web/package.json web/package-lock.json
+	@node -e 'const [a] = process.versions.node.split(".").map(Number); if (a < 18) { console.error("web: node " + process.versions.node + " is too old for Vite 6 (needs 18+)"); process.exit(1); }'
+	cd web && npm ci --no-audit --no-fund
+	@touch $@
+
+web: deps
+	@$(MAKE) --no-print-directory $(WEB_STAMP)
+
+# The gallery, then the web demo's screenshot (headless chromium) into it as web_demo.png.
 demo: deps
 	@$(MAKE) --no-print-directory build
+	@$(MAKE) --no-print-directory $(WEB_STAMP)
 	$(BUILD_DIR)/bin/hydrolux gallery -o $(GALLERY_DIR)
+	node tests/web/e2e.mjs --screenshot-only --hydrolux $(BUILD_DIR)/bin/hydrolux --web web \
+	  --work $(BUILD_DIR)/web-demo --out $(GALLERY_DIR)
 
 # Every test through ctest, then a short run of each fuzz target (FUZZ_SMOKE_SECONDS each).
 test: deps
 	@$(MAKE) --no-print-directory build
+	@$(MAKE) --no-print-directory $(WEB_STAMP)
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 	@$(MAKE) --no-print-directory fuzz-smoke
 

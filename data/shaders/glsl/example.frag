@@ -1,0 +1,123 @@
+// hydrolux shaders: example.frag, a complete full-screen fragment shader (docs/sky.md): the sky,
+// the sun and the ground (or your scene), the rain curtain with the rainbow and the corona from the
+// Lee tables, the blend and the tone map. Prepend the header and the function files (see
+// hydrolux_common.glsl); draw one triangle or quad covering a width x height viewport (u_resolution).
+// The web demo runs exactly this file.
+//
+// Uniforms (units; how to fill them: README.md next to this folder):
+//   u_resolution        vec2(width, height) of the viewport in pixels
+//   u_cam_f, u_cam_r, u_cam_u   the camera's forward, right, up (world, unit): f = hx_dir(view_az,
+//                       view_el), r = normalize(cross(vec3(0, 1, 0), f)), u = cross(f, r)
+//   u_tan_half_fov      tan(horizontal field of view / 2)
+//   u_cam_height        the camera's height above the ground (1.7 m)
+//   u_sky               HxSky (hydrolux_sky.glsl) from sky.json at the sun's elevation
+//   u_l_ref             sky.json's l_ref at the sun's elevation (cd/m^2): the tone map's white
+//   u_light_color       RGB multiplier of the sunlight that makes the bow (1, 1, 1)
+//   u_rainbow, u_rainbow_rows, u_rainbow_cols   the rainbow table (rainbow.f32 + rainbow.json)
+//   u_corona, u_corona_rows, u_corona_cols      the corona table (corona.f32 + corona.json)
+//   u_radius_um         the drops' radius (um)
+//   u_secondary         1: keep the secondary bow; 0: remove it (w(theta))
+//   u_corona_on         1: add the corona (for radii within its table)
+//   u_blend             0: physical, 1: whitepaper
+//   u_beta_geo          the rain's projected-area coefficient pi M2 (m^-1; hydrolux_composite.glsl)
+//   u_curtain           vec2(d0, d1): the rain fills d0..d1 metres from the camera
+//   u_moisture          global moisture multiplier in [0, 1]
+//   u_moisture_noise    0: uniform moisture; up to 1: modulated by a procedural noise of direction
+//   u_bow_source        where T_rgb w comes from: 0 per pixel (the reference); 1 the cube map
+//                       u_bow_cube (looked up with the view direction, corona included); 2 the
+//                       screen-sized texture u_bow_screen (the half dome's pass) plus the corona
+//                       per pixel
+//   u_has_scene         1: u_scene holds your opaque objects: rgb = radiance (cd/m^2), a = the
+//                       distance (m) from the camera, 0 where there is none (sky/ground shows)
+//   u_output            0: tone-mapped sRGB display values; 1: linear radiance (cd/m^2) for your
+//                       own HDR pipeline (then blend and tone-map yourself)
+
+uniform vec2 u_resolution;
+uniform vec3 u_cam_f;
+uniform vec3 u_cam_r;
+uniform vec3 u_cam_u;
+uniform float u_tan_half_fov;
+uniform float u_cam_height;
+uniform HxSky u_sky;
+uniform float u_l_ref;
+uniform vec3 u_light_color;
+uniform sampler2D u_rainbow;
+uniform vec4 u_rainbow_rows;
+uniform vec4 u_rainbow_cols;
+uniform sampler2D u_corona;
+uniform vec4 u_corona_rows;
+uniform vec4 u_corona_cols;
+uniform float u_radius_um;
+uniform int u_secondary;
+uniform int u_corona_on;
+uniform int u_blend;
+uniform float u_beta_geo;
+uniform vec2 u_curtain;
+uniform float u_moisture;
+uniform float u_moisture_noise;
+uniform int u_bow_source;
+uniform samplerCube u_bow_cube;
+uniform sampler2D u_bow_screen;
+uniform int u_has_scene;
+uniform sampler2D u_scene;
+uniform int u_output;
+
+layout(location = 0) out vec4 hx_frag_color;
+
+// Value noise of a 3D point (hash of the lattice corners, smooth interpolation), in [0, 1].
+float hx_hash3(vec3 p) {
+  return fract(sin(dot(p, vec3(127.1, 311.7, 74.7))) * 43758.5453);
+}
+float hx_value_noise(vec3 p) {
+  vec3 i = floor(p), f = fract(p);
+  f = f * f * (3.0 - 2.0 * f);
+  float n000 = hx_hash3(i), n100 = hx_hash3(i + vec3(1, 0, 0));
+  float n010 = hx_hash3(i + vec3(0, 1, 0)), n110 = hx_hash3(i + vec3(1, 1, 0));
+  float n001 = hx_hash3(i + vec3(0, 0, 1)), n101 = hx_hash3(i + vec3(1, 0, 1));
+  float n011 = hx_hash3(i + vec3(0, 1, 1)), n111 = hx_hash3(i + vec3(1, 1, 1));
+  return mix(mix(mix(n000, n100, f.x), mix(n010, n110, f.x), f.y),
+             mix(mix(n001, n101, f.x), mix(n011, n111, f.x), f.y), f.z);
+}
+// Sheets of rain: noise stretched along the vertical, in [0, 1].
+float hx_moisture_pattern(vec3 v) {
+  vec3 p = vec3(v.x * 7.0, v.y * 1.5, v.z * 7.0);
+  float n = 0.6 * hx_value_noise(p) + 0.4 * hx_value_noise(p * 2.7 + 3.1);
+  return smoothstep(0.3, 0.7, n);
+}
+
+void main() {
+  vec2 pixel = vec2(gl_FragCoord.x, u_resolution.y - gl_FragCoord.y);  // from the top row
+  vec3 v = hx_camera_ray(pixel, u_resolution, u_cam_f, u_cam_r, u_cam_u, u_tan_half_fov);
+  float theta = hx_angle_deg(v, u_sky.sun_dir);
+
+  vec3 bg;
+  float d_hit = 1e30;
+  vec4 scene = u_has_scene != 0 ? texelFetch(u_scene, ivec2(gl_FragCoord.xy), 0) : vec4(0.0);
+  if (scene.a > 0.0) {
+    bg = scene.rgb;
+    d_hit = scene.a;
+  } else {
+    bg = hx_background(u_sky, v);
+  }
+
+  bool secondary = u_secondary != 0;
+  vec3 corona = hx_corona_term(u_corona, u_corona_rows, u_corona_cols, u_radius_um, theta,
+                               u_corona_on != 0);
+  vec3 T;
+  if (u_bow_source == 1) {
+    T = texture(u_bow_cube, v).rgb;
+  } else if (u_bow_source == 2) {
+    T = texelFetch(u_bow_screen, ivec2(gl_FragCoord.xy), 0).rgb + corona;
+  } else {
+    float column = hx_lee_column(u_rainbow_cols, u_radius_um);
+    T = hx_rainbow_term(u_rainbow, u_rainbow_rows, column, theta, secondary) + corona;
+  }
+
+  float moisture = u_moisture;
+  if (u_moisture_noise > 0.0) moisture *= mix(1.0, hx_moisture_pattern(v), u_moisture_noise);
+  float tau = hx_tau_geo(u_beta_geo, hx_rain_path(v, u_cam_height, u_curtain, d_hit), moisture);
+  vec3 bow = hx_bow_radiance(u_sky.sun_rgb * u_light_color, T, tau);
+  vec3 L = u_blend == 1 ? hx_blend_whitepaper(bg, bow, u_l_ref) : hx_blend_physical(bg, tau, bow);
+
+  hx_frag_color = vec4(u_output == 1 ? L : hx_tonemap(L, u_l_ref), 1.0);
+}

@@ -1,0 +1,37 @@
+// hydrolux shaders (HLSL): halfdome.hlsl, the half-dome optimisation; the same as
+// ../glsl/halfdome.vert and halfdome.frag (the mesh is described there): hx_halfdome_vs +
+// hx_halfdome_ps, drawn centred on the camera with no depth test into a screen-sized float target
+// cleared to 0, read by example.hlsl with u_bow_source = 2.
+#include "hydrolux_common.hlsl"
+#include "hydrolux_rainbow.hlsl"
+
+cbuffer HydroluxHalfDome : register(b0) {
+  row_major float4x4 u_view_proj;  // projection x view rotation (camera at the origin), mul(M, p)
+  float4 u_rainbow_rows, u_rainbow_cols;
+  float u_radius_um;
+  int u_secondary;
+};
+
+Texture2D<float4> u_rainbow : register(t0);
+
+struct HxDomeVertex {
+  float3 direction : POSITION;   // unit direction (world)
+  float theta : TEXCOORD0;       // its scattering angle (degrees)
+};
+struct HxDomeVaryings {
+  float4 position : SV_Position;
+  float theta : TEXCOORD0;
+};
+
+HxDomeVaryings hx_halfdome_vs(HxDomeVertex input) {
+  HxDomeVaryings output;
+  output.position = mul(u_view_proj, float4(input.direction, 1.0));
+  output.theta = input.theta;
+  return output;
+}
+
+float4 hx_halfdome_ps(HxDomeVaryings input) : SV_Target {
+  float column = hx_lee_column(u_rainbow_cols, u_radius_um);
+  return float4(hx_rainbow_term(u_rainbow, u_rainbow_rows, column, input.theta, u_secondary != 0),
+                1.0);
+}

@@ -1,0 +1,351 @@
+#!/usr/bin/env node
+// End-to-end test of the hydrolux web demo (web/): exports the assets with `hydrolux export`,
+// builds the page with Vite, serves it on 127.0.0.1 only, renders it in Debian's chromium
+// (headless, SwiftShader WebGL2) through playwright-core, and checks
+//   - WebGL2 rendered a non-blank frame with no console errors;
+//   - along the line from the antisolar point upward: the primary bow's red lies outside its blue,
+//     the secondary's the other way round, and Alexander's dark band between them;
+//   - the frame matches `hydrolux sky` (the CPU reference) with the same settings: PSNR over the
+//     whole 640x360 frame (and the cube-map and half-dome modes against the CPU's own);
+// then saves a screenshot of the default scene (objects on) to --out and prints the frame times.
+//
+//   node tests/web/e2e.mjs --hydrolux build/bin/hydrolux [--out DIR] [--work DIR] [--web DIR]
+//        [--assets DIR (use these instead of exporting)] [--screenshot-only] [--chromium PATH]
+// Exit status 0 when every check passes; 1 (with FAIL lines) otherwise, missing tools included.
+import { spawnSync } from 'node:child_process';
+import { createRequire } from 'node:module';
+import fs from 'node:fs';
+import http from 'node:http';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const args = parseArgs(process.argv.slice(2));
+const webDir = path.resolve(args.web ?? path.join(here, '..', '..', 'web'));
+const workDir = path.resolve(args.work ?? fs.mkdtempSync(path.join(os.tmpdir(), 'hydrolux-web-')));
+const outDir = path.resolve(args.out ?? path.join(workDir, 'out'));
+const chromiumPath = args.chromium ?? process.env.HYDROLUX_CHROMIUM ?? '/usr/bin/chromium';
+const screenshotOnly = 'screenshot-only' in args;
+
+// The settings of the comparison (docs/sky.md's default view) and the bounds, stated here.
+const W = 640, H = 360;
+const VIEW = { sun_el: 25, sun_az: 180, radius: 500, fov: 90, view_az: 0, view_el: 10, rain: 5, curtain: [1000, 3000] };
+// Measured on SwiftShader: 71-83 dB (max |diff| 1/255); the bounds leave room for other GL drivers.
+const PSNR_MIN = { 'per-pixel': 45, whitepaper: 45, 'no-secondary': 45, corona: 40, 'cube-map': 40, 'half-dome': 40 };
+
+const failures = [];
+const fail = (msg) => {
+  failures.push(msg);
+  console.log(`FAIL: ${msg}`);
+};
+const info = (msg) => console.log(msg);
+
+function parseArgs(list) {
+  const out = {};
+  for (let i = 0; i < list.length; i++) {
+    const a = list[i];
+    if (!a.startsWith('--')) throw new Error(`unexpected argument ${a}`);
+    const key = a.slice(2);
+    if (key === 'screenshot-only') out[key] = true;
+    else out[key] = list[++i];
+  }
+  return out;
+}
+
+function run(cmd, argv, opts = {}) {
+  const r = spawnSync(cmd, argv, { encoding: 'utf8', maxBuffer: 64 << 20, ...opts });
+  if (r.error) throw new Error(`${cmd}: ${r.error.message}`);
+  if (r.status !== 0) throw new Error(`${[cmd, ...argv].join(' ')} exited ${r.status}\n${r.stdout}${r.stderr}`);
+  return r;
+}
+
+// --- preconditions: fail (not skip) with what to install ---
+function preconditions() {
+  const missing = [];
+  if (!fs.existsSync(chromiumPath))
+    missing.push(`chromium not found at ${chromiumPath}: install the Debian package chromium (scripts/install-deps)`);
+  for (const m of ['playwright-core', 'vite', 'three'])
+    if (!fs.existsSync(path.join(webDir, 'node_modules', m, 'package.json')))
+      missing.push(`${path.join(webDir, 'node_modules', m)} missing: run "make web" (cd web && npm ci)`);
+  if (!args.assets || !screenshotOnly) {
+    if (!args.hydrolux || !fs.existsSync(args.hydrolux))
+      missing.push(`the hydrolux binary (--hydrolux) not found: ${args.hydrolux}`);
+  }
+  return missing;
+}
+
+// --- a tiny static server: the built page at /, the assets at /assets/, the work dir at /work/ ---
+const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.json': 'application/json',
+  '.png': 'image/png', '.glsl': 'text/plain', '.frag': 'text/plain', '.vert': 'text/plain' };
+function serve(routes) {
+  const server = http.createServer((req, res) => {
+    const url = decodeURIComponent(req.url.split('?')[0]);
+    for (const [prefix, dir] of routes) {
+      if (!url.startsWith(prefix)) continue;
+      let file = path.resolve(dir, url.slice(prefix.length) || 'index.html');
+      if (!file.startsWith(path.resolve(dir))) break;
+      if (fs.existsSync(file) && fs.statSync(file).isDirectory()) file = path.join(file, 'index.html');
+      if (!fs.existsSync(file)) break;
+      res.writeHead(200, { 'Content-Type': TYPES[path.extname(file)] ?? 'application/octet-stream', 'Cache-Control': 'no-store' });
+      fs.createReadStream(file).pipe(res);
+      return;
+    }
+    res.writeHead(404);
+    res.end('not found');
+  });
+  return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
+}
+
+// --- the camera of docs/sky.md ---
+const rad = (d) => (d * Math.PI) / 180;
+const dir = (az, el) => [Math.sin(rad(az)) * Math.cos(rad(el)), Math.sin(rad(el)), Math.cos(rad(az)) * Math.cos(rad(el))];
+const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+const norm = (a) => { const l = Math.hypot(...a); return a.map((x) => x / l); };
+function pixelRay(i, j, v) {
+  const f = dir(v.view_az, v.view_el), r = norm(cross([0, 1, 0], f)), u = cross(f, r);
+  const t = Math.tan(rad(v.fov / 2));
+  const px = ((2 * (i + 0.5)) / W - 1) * t, py = (1 - (2 * (j + 0.5)) / H) * t * (H / W);
+  return norm([0, 1, 2].map((k) => f[k] + px * r[k] + py * u[k]));
+}
+const thetaOf = (ray, v) => {
+  const s = dir(v.sun_az, v.sun_el);
+  return (Math.atan2(Math.hypot(...cross(ray, s)), ray[0] * s[0] + ray[1] * s[1] + ray[2] * s[2]) * 180) / Math.PI;
+};
+
+// Display value -> radiance in units of L_ref / 0.6: invert sRGB and the extended Reinhard curve.
+function displayToX(c8) {
+  const c = c8 / 255;
+  const y = Math.min(c <= 0.04045 ? c / 12.92 : Math.pow((c + 0.055) / 1.055, 2.4), 0.999);
+  const b = 1 - y;
+  return (18 * (-b + Math.sqrt(b * b + y / 9)));  // x^2 / 36 + (1 - y) x - y = 0
+}
+
+function psnr(a, b) {
+  let se = 0, n = 0;
+  for (let k = 0; k < a.length; k += 4)
+    for (let c = 0; c < 3; c++) {
+      const d = a[k + c] - b[k + c];
+      se += d * d;
+      n++;
+    }
+  const mse = se / n;
+  return { psnr: mse === 0 ? Infinity : 10 * Math.log10((255 * 255) / mse), mse };
+}
+
+function stats(a) {
+  let min = 255, max = 0, sum = 0, sum2 = 0, n = 0;
+  for (let k = 0; k < a.length; k += 4) {
+    const l = (a[k] + a[k + 1] + a[k + 2]) / 3;
+    min = Math.min(min, l); max = Math.max(max, l); sum += l; sum2 += l * l; n++;
+  }
+  const mean = sum / n;
+  return { min, max, mean, std: Math.sqrt(Math.max(0, sum2 / n - mean * mean)) };
+}
+
+// A minimal PNG writer (RGBA, 8 bits) for diff images; zlib from node.
+import zlib from 'node:zlib';
+function writePng(file, w, h, rgba) {
+  const crcTable = Array.from({ length: 256 }, (_, n) => {
+    let c = n;
+    for (let k = 0; k < 8; k++) c = c & 1 ? 0xedb88320 ^ (c >>> 1) : c >>> 1;
+    return c >>> 0;
+  });
+  const crc = (buf) => { let c = 0xffffffff; for (const b of buf) c = crcTable[(c ^ b) & 0xff] ^ (c >>> 8); return (c ^ 0xffffffff) >>> 0; };
+  const chunk = (type, data) => {
+    const len = Buffer.alloc(4); len.writeUInt32BE(data.length);
+    const td = Buffer.concat([Buffer.from(type), data]);
+    const c = Buffer.alloc(4); c.writeUInt32BE(crc(td));
+    return Buffer.concat([len, td, c]);
+  };
+  const ihdr = Buffer.alloc(13);
+  ihdr.writeUInt32BE(w, 0); ihdr.writeUInt32BE(h, 4); ihdr[8] = 8; ihdr[9] = 6;
+  const raw = Buffer.alloc((w * 4 + 1) * h);
+  for (let j = 0; j < h; j++) Buffer.from(rgba.buffer, rgba.byteOffset + j * w * 4, w * 4).copy(raw, j * (w * 4 + 1) + 1);
+  fs.writeFileSync(file, Buffer.concat([Buffer.from([137, 80, 78, 71, 13, 10, 26, 10]), chunk('IHDR', ihdr),
+    chunk('IDAT', zlib.deflateSync(raw)), chunk('IEND', Buffer.alloc(0))]));
+}
+
+function diffImage(a, b) {
+  const out = new Uint8Array(a.length);
+  for (let k = 0; k < a.length; k += 4) {
+    for (let c = 0; c < 3; c++) out[k + c] = Math.min(255, 128 + 8 * (a[k + c] - b[k + c]));
+    out[k + 3] = 255;
+  }
+  return out;
+}
+
+const query = (o) => '?' + Object.entries(o).map(([k, v]) => `${k}=${encodeURIComponent(Array.isArray(v) ? v.join(k === 'curtain' ? ':' : ',') : v)}`).join('&');
+
+async function main() {
+  const missing = preconditions();
+  if (missing.length) {
+    for (const m of missing) fail(m);
+    return;
+  }
+  fs.mkdirSync(workDir, { recursive: true });
+  fs.mkdirSync(outDir, { recursive: true });
+  info(`work dir ${workDir}`);
+
+  // (a) the assets
+  let assetsDir = args.assets ? path.resolve(args.assets) : path.join(workDir, 'assets');
+  if (!args.assets) {
+    fs.rmSync(assetsDir, { recursive: true, force: true });
+    const t0 = Date.now();
+    run(args.hydrolux, ['export', '--dir', assetsDir, '--size', '128x512', '--sampling', '0.5', '-q']);
+    info(`exported the assets in ${((Date.now() - t0) / 1000).toFixed(1)} s: ${fs.readdirSync(assetsDir).join(' ')}`);
+  }
+  for (const f of ['rainbow.f32', 'rainbow.json', 'corona.f32', 'corona.json', 'sky.json', 'glsl/example.frag'])
+    if (!fs.existsSync(path.join(assetsDir, f))) fail(`the assets lack ${f}`);
+  if (failures.length) return;
+
+  // the page, built into the work dir (the source tree stays clean)
+  const dist = path.join(workDir, 'dist');
+  run(process.execPath, [path.join(webDir, 'node_modules', 'vite', 'bin', 'vite.js'), 'build', '--outDir', dist, '--emptyOutDir', '--logLevel', 'warn'], { cwd: webDir });
+  const server = await serve([['/assets/', assetsDir], ['/work/', workDir], ['/', dist]]);
+  const base = `http://127.0.0.1:${server.address().port}/`;
+
+  const require = createRequire(path.join(webDir, 'package.json'));
+  const { chromium } = require('playwright-core');
+  const browser = await chromium.launch({
+    executablePath: chromiumPath,
+    headless: true,
+    args: ['--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader', '--ignore-gpu-blocklist'],
+  });
+  try {
+    const page = await browser.newPage({ viewport: { width: 1280, height: 720 }, deviceScaleFactor: 1 });
+    const errors = [];
+    page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+    page.on('pageerror', (e) => errors.push(String(e)));
+    page.on('requestfailed', (r) => { if (!r.url().endsWith('favicon.ico')) errors.push(`request failed: ${r.url()}`); });
+
+    const open = async (settings) => {
+      errors.length = 0;
+      await page.goto(base + query(settings));
+      await page.waitForFunction(() => window.__hydroluxReady || window.__hydroluxError, null, { timeout: 120000 });
+      const err = await page.evaluate(() => window.__hydroluxError);
+      if (err) throw new Error(`the page failed: ${err}\n${errors.join('\n')}`);
+    };
+    const frame = async () => Buffer.from(await page.evaluate(() => window.__hydrolux.readPixelsBase64()), 'base64');
+
+    if (!screenshotOnly) {
+      // (b) WebGL2 renders, no console errors
+      await open({ test: 1, size: `${W}x${H}`, objects: 0, ...VIEW });
+      const size = await page.evaluate(() => window.__hydrolux.size());
+      if (size[0] !== W || size[1] !== H) fail(`canvas is ${size.join('x')}, expected ${W}x${H}`);
+      const gl = await page.evaluate(() => {
+        const g = document.getElementById('view').getContext('webgl2');
+        const dbg = g.getExtension('WEBGL_debug_renderer_info');
+        return dbg ? g.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : g.getParameter(g.RENDERER);
+      });
+      info(`WebGL2 renderer: ${gl}`);
+      const web = await frame();
+      const st = stats(web);
+      info(`frame stats: min ${st.min.toFixed(1)} max ${st.max.toFixed(1)} mean ${st.mean.toFixed(1)} std ${st.std.toFixed(1)}`);
+      if (st.std < 5 || st.max - st.min < 30) fail('the frame is blank (no variation)');
+      if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
+
+      // (c) the bow's colours along the centre column, from the antisolar point upward: the bow's
+      // radiance is the frame minus the same frame with the bow's light off (light=0,0,0; the
+      // physical blend keeps the rain's extinction), both back through the tone map.
+      await page.evaluate(() => window.__hydrolux.set({ light: [0, 0, 0] }));
+      const nobow = await frame();
+      await page.evaluate(() => window.__hydrolux.set({ light: [1, 1, 1] }));
+      const col = W / 2;
+      const prof = [];
+      for (let j = H - 1; j >= 0; j--) {
+        const th = thetaOf(pixelRay(col, j, VIEW), VIEW);
+        const k = (j * W + col) * 4;
+        const bow = [0, 1, 2].map((c) => displayToX(web[k + c]) - displayToX(nobow[k + c]));
+        prof.push({ j, theta: th, bow, lum: 0.2126 * bow[0] + 0.7152 * bow[1] + 0.0722 * bow[2] });
+      }
+      const inRange = (a, b) => prof.filter((q) => q.theta >= a && q.theta <= b);
+      const peak = (a, b, c) => inRange(a, b).reduce((m, q) => (q.bow[c] > m.bow[c] ? q : m));
+      const mean = (a, b) => { const s = inRange(a, b); return s.reduce((t, q) => t + q.lum, 0) / s.length; };
+      const pr = peak(134, 143, 0), pb = peak(134, 143, 2), sr = peak(124, 132, 0), sb = peak(124, 132, 2);
+      info(`primary: red peak at theta ${pr.theta.toFixed(2)} (row ${pr.j}), blue at ${pb.theta.toFixed(2)} (row ${pb.j})`);
+      info(`secondary: red peak at theta ${sr.theta.toFixed(2)} (row ${sr.j}), blue at ${sb.theta.toFixed(2)} (row ${sb.j})`);
+      if (!(pr.theta < pb.theta - 0.2)) fail('primary bow: red is not outside blue (red theta < blue theta)');
+      if (!(sr.theta > sb.theta + 0.2)) fail('secondary bow: red is not inside blue (red theta > blue theta)');
+      const band = mean(130.5, 135.5), inside = mean(140, 146), primaryPeak = Math.max(...inRange(136, 140).map((q) => q.lum));
+      const secondaryPeak = Math.max(...inRange(126, 130.5).map((q) => q.lum));
+      info(`Alexander's band (130.5-135.5): ${band.toFixed(4)}; inside the primary (140-146): ${inside.toFixed(4)}; peaks: primary ${primaryPeak.toFixed(4)}, secondary ${secondaryPeak.toFixed(4)} (units of L_ref / 0.6)`);
+      if (!(band < 0.5 * inside && band < 0.5 * secondaryPeak && band < 0.3 * primaryPeak))
+        fail("Alexander's dark band is not darker than the bows around it");
+      if (!(pr.theta > 136.5 && pr.theta < 139.5)) fail(`primary red peak at ${pr.theta.toFixed(2)}, expected 136.5-139.5`);
+      if (!(sr.theta > 127 && sr.theta < 131)) fail(`secondary red peak at ${sr.theta.toFixed(2)}, expected 127-131`);
+
+      // (d) the CPU reference: PSNR over the whole frame, per mode
+      const cpuArgs = (v) => ['sky', '--sun-elevation-deg', v.sun_el, '--sun-azimuth-deg', v.sun_az, '--radius-um', v.radius,
+        '--fov-deg', v.fov, '--view-azimuth-deg', v.view_az, '--view-elevation-deg', v.view_el, '--size', `${W}x${H}`,
+        '--rain-rate-mmh', v.rain, '--curtain-distance-m', v.curtain.join(':'),
+        '--lut', path.join(assetsDir, 'rainbow.exr'), '--lut', path.join(assetsDir, 'corona.exr')].map(String);
+      // Looking at the sun through a curtain of 20 um droplets: the corona and the sun's disk.
+      const SUNWARD = { ...VIEW, radius: 20, view_az: 180, view_el: 25, fov: 60, curtain: [200, 3000] };
+      const cases = [
+        { name: 'per-pixel', view: VIEW, page: {}, cpu: [] },
+        { name: 'whitepaper', view: VIEW, page: { blend: 'whitepaper' }, cpu: ['--blend', 'whitepaper'] },
+        { name: 'no-secondary', view: VIEW, page: { secondary: false }, cpu: ['--no-secondary'] },
+        { name: 'corona', view: SUNWARD, page: { corona: true }, cpu: ['--corona'] },
+        { name: 'cube-map', view: VIEW, page: { mode: 'cube-map' }, cpu: ['--mode', 'cube-map'] },
+        { name: 'half-dome', view: VIEW, page: { mode: 'half-dome' }, cpu: ['--mode', 'half-dome'] },
+      ];
+      for (const c of cases) {
+        const png = path.join(workDir, `cpu_${c.name}.png`);
+        try {
+          run(args.hydrolux, [...cpuArgs(c.view), ...c.cpu, '-o', png]);
+        } catch (e) {
+          fail(`hydrolux sky (${c.name}) failed: ${e.message.split('\n')[0]}`);
+          continue;
+        }
+        const cpu = await page.evaluate((u) => window.__hydrolux.loadImageBase64(u), `/work/${path.basename(png)}`);
+        if (cpu.width !== W || cpu.height !== H) { fail(`${png} is ${cpu.width}x${cpu.height}`); continue; }
+        const cpuPx = Buffer.from(cpu.data, 'base64');
+        await page.evaluate((s) => window.__hydrolux.set(s),
+          { mode: 'per-pixel', blend: 'physical', secondary: true, corona: false, ...c.view, ...c.page });
+        const webPx = await frame();
+        const { psnr: p, mse } = psnr(webPx, cpuPx);
+        let maxd = 0;
+        for (let k = 0; k < webPx.length; k++) if (k % 4 !== 3) maxd = Math.max(maxd, Math.abs(webPx[k] - cpuPx[k]));
+        info(`PSNR browser vs CPU, ${c.name}: ${p.toFixed(2)} dB (MSE ${mse.toFixed(3)}, max |diff| ${maxd}/255; bound ${PSNR_MIN[c.name]} dB)`);
+        writePng(path.join(outDir, `web_${c.name}.png`), W, H, webPx);
+        writePng(path.join(outDir, `diff_${c.name}.png`), W, H, diffImage(webPx, cpuPx));
+        if (!(p >= PSNR_MIN[c.name])) fail(`${c.name}: PSNR ${p.toFixed(2)} dB below ${PSNR_MIN[c.name]} dB (diff image: ${path.join(outDir, `diff_${c.name}.png`)})`);
+      }
+      if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
+
+      // frame times (software GL: SwiftShader), per mode, objects on
+      await open({ test: 1, size: `${W}x${H}`, ...VIEW });
+      for (const mode of ['per-pixel', 'cube-map', 'half-dome']) {
+        await page.evaluate((m) => window.__hydrolux.set({ mode: m }), mode);
+        const ms = await page.evaluate(() => window.__hydrolux.measure(20));
+        info(`frame time ${W}x${H}, ${mode}, objects on: ${ms.toFixed(2)} ms (SwiftShader, mean of 20 frames, render + GPU sync)`);
+      }
+    }
+
+    // (e) the screenshot of the default scene (objects on), the control panel beside the canvas
+    await page.setViewportSize({ width: 1280 + 340, height: 720 });
+    await open({ test: 1, ui: 1, size: '1280x720', ...VIEW });
+    const ms = await page.evaluate(() => window.__hydrolux.measure(10));
+    await page.evaluate((t) => { document.getElementById('frame-ms').textContent = t; }, ms.toFixed(1));
+    const shot = path.join(outDir, 'web_demo.png');
+    await page.screenshot({ path: shot });
+    info(`frame time 1280x720, per-pixel, objects on: ${ms.toFixed(2)} ms (SwiftShader)`);
+    info(`screenshot: ${shot}`);
+    if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
+  } finally {
+    await browser.close();
+    server.close();
+  }
+}
+
+main()
+  .catch((e) => fail(e.stack ?? String(e)))
+  .finally(() => {
+    if (failures.length) {
+      console.log(`${failures.length} check(s) failed`);
+      process.exit(1);
+    }
+    console.log('all checks passed');
+    process.exit(0);
+  });

@@ -1,0 +1,82 @@
+// Loads what `hydrolux export --dir DIR` writes, at run time: the Lee tables (.f32 + .json),
+// sky.json and the GLSL files, so the page runs the very shaders the export ships.
+import * as THREE from 'three';
+
+// The GLSL function files in the order they are concatenated (each needs the ones before it).
+export const GLSL_FUNCTIONS = [
+  'hydrolux_common.glsl',
+  'hydrolux_sky.glsl',
+  'hydrolux_rainbow.glsl',
+  'hydrolux_composite.glsl',
+];
+export const GLSL_MAINS = ['example.frag', 'cubemap_bake.frag', 'halfdome.vert', 'halfdome.frag'];
+
+async function fetchOk(url) {
+  const r = await fetch(url);
+  if (!r.ok) throw new Error(`could not load ${url}: HTTP ${r.status}`);
+  return r;
+}
+
+// A Lee table as an RGBA32F texture read with texelFetch (no filtering needed), and the two vec4
+// that describe its axes to the shaders (hydrolux_rainbow.glsl).
+function makeTable(json, buffer, name) {
+  const cols = json.width ?? json.radius_um.length;
+  const rows = json.height ?? (json.angle_deg ?? json.cos_angle).length;
+  const rgb = new Float32Array(buffer);
+  if (rgb.length !== rows * cols * 3)
+    throw new Error(`${name}.f32 holds ${rgb.length} floats, expected ${rows} x ${cols} x 3`);
+  if (json.radius_scale && json.radius_scale !== 'log')
+    throw new Error(`${name}: radius_scale "${json.radius_scale}" (the shaders expect "log")`);
+  const rgba = new Float32Array(rows * cols * 4);
+  for (let i = 0; i < rows * cols; i++) {
+    rgba[4 * i] = rgb[3 * i];
+    rgba[4 * i + 1] = rgb[3 * i + 1];
+    rgba[4 * i + 2] = rgb[3 * i + 2];
+    rgba[4 * i + 3] = 1;
+  }
+  const tex = new THREE.DataTexture(rgba, cols, rows, THREE.RGBAFormat, THREE.FloatType);
+  tex.minFilter = THREE.NearestFilter;
+  tex.magFilter = THREE.NearestFilter;
+  tex.generateMipmaps = false;
+  tex.flipY = false;
+  tex.needsUpdate = true;
+  const isCos = json.axis === 'cos';
+  const axis = isCos ? json.cos_angle : json.angle_deg;
+  const r = json.radius_um;
+  return {
+    json,
+    texture: tex,
+    rows: new THREE.Vector4(axis[0], axis[axis.length - 1], rows, isCos ? 1 : 0),
+    cols: new THREE.Vector4(r[0], r[r.length - 1], cols, 0),
+  };
+}
+
+export async function loadAssets(base) {
+  const json = (f) => fetchOk(base + f).then((r) => r.json());
+  const bin = (f) => fetchOk(base + f).then((r) => r.arrayBuffer());
+  const text = (f) => fetchOk(base + 'glsl/' + f).then((r) => r.text());
+  const [rainbowJson, coronaJson, sky, rainbowF32, coronaF32] = await Promise.all([
+    json('rainbow.json'),
+    json('corona.json'),
+    json('sky.json'),
+    bin('rainbow.f32'),
+    bin('corona.f32'),
+  ]);
+  const names = [...GLSL_FUNCTIONS, ...GLSL_MAINS];
+  const sources = await Promise.all(names.map(text));
+  const glsl = Object.fromEntries(names.map((n, i) => [n, sources[i]]));
+  return {
+    rainbow: makeTable(rainbowJson, rainbowF32, 'rainbow'),
+    corona: makeTable(coronaJson, coronaF32, 'corona'),
+    sky,
+    glsl,
+  };
+}
+
+// The fragment-shader source of a main file: default precisions, the function files, the main.
+// three.js's RawShaderMaterial (glslVersion GLSL3) puts "#version 300 es" in front.
+export const PRECISIONS =
+  'precision highp float;\nprecision highp int;\nprecision highp sampler2D;\nprecision highp samplerCube;\n';
+export function fragmentSource(glsl, main) {
+  return PRECISIONS + GLSL_FUNCTIONS.map((f) => glsl[f]).join('\n') + '\n' + glsl[main];
+}
