@@ -21,6 +21,9 @@ struct Entry {
 // A figure made as an image, written as PNG (the sRGB curve applied).
 Entry image_entry(std::string file, std::string title, std::string caption, std::function<Image()> make);
 
+// Panels side by side (equal heights, RGB), `gap` pixels apart on a dark grey background.
+Image side_by_side(const std::vector<Image>& panels, int gap);
+
 // The rain drop's figures (issue #4): rendered pictures, the exact tracer beside the model, the
 // undistorted view, Beard & Chuang's shapes.
 std::vector<Entry> drop_entries();
@@ -28,5 +31,9 @@ std::vector<Entry> drop_entries();
 // The Lee diagrams (issue #10): theories side by side, the sun's disk and a size spread, colour
 // against angle, the corona and glory of cloud droplets.
 std::vector<Entry> lee_entries();
+
+// Rainbows in a scene (issue #11): hydrolux sky's CPU renders over sun elevation, drop radius and
+// rain rate, a corona, and seed 002's optimisations beside the per-pixel reference.
+std::vector<Entry> sky_entries();
 
 }  // namespace hydrolux::gallery::detail

@@ -34,6 +34,21 @@ detail::Entry detail::image_entry(std::string file, std::string title, std::stri
   return e;
 }
 
+Image detail::side_by_side(const std::vector<Image>& panels, int gap) {
+  int w = 0;
+  for (const auto& p : panels) w += p.width + gap;
+  Image out(w - gap, panels.front().height, 3);
+  std::fill(out.pixels.begin(), out.pixels.end(), 0.02f);
+  int x0 = 0;
+  for (const auto& p : panels) {
+    for (int y = 0; y < p.height; ++y)
+      for (int x = 0; x < p.width; ++x)
+        for (int c = 0; c < 3; ++c) out.at(x0 + x, y, c) = p.at(x, y, c);
+    x0 += p.width + gap;
+  }
+  return out;
+}
+
 namespace {
 
 using io::Plot;
@@ -340,6 +355,7 @@ std::vector<Entry> entries() {
                }});
   for (auto& d : detail::drop_entries()) e.push_back(std::move(d));
   for (auto& d : detail::lee_entries()) e.push_back(std::move(d));
+  for (auto& d : detail::sky_entries()) e.push_back(std::move(d));
   return e;
 }
 

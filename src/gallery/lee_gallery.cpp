@@ -62,22 +62,6 @@ Image display_image(const atmos::LeeTable& t, double exposure, double white) {
   return out;
 }
 
-// Panels side by side (equal heights) on a dark grey background.
-Image side_by_side(const std::vector<Image>& panels) {
-  int w = 0;
-  for (const auto& p : panels) w += p.width + kGap;
-  Image out(w - kGap, panels.front().height, 3);
-  std::fill(out.pixels.begin(), out.pixels.end(), 0.02f);
-  int x0 = 0;
-  for (const auto& p : panels) {
-    for (int y = 0; y < p.height; ++y)
-      for (int x = 0; x < p.width; ++x)
-        for (int c = 0; c < 3; ++c) out.at(x0 + x, y, c) = p.at(x, y, c);
-    x0 += p.width + kGap;
-  }
-  return out;
-}
-
 // One radius's profile at fine angular resolution.
 atmos::LeeTable profile(atmos::LeeTableKind kind, double radius_um, double a0, double a1, int rows) {
   return atmos::compute_lee_table(atmos::profile_spec(kind, radius_um, a0, a1, rows));
@@ -132,7 +116,7 @@ std::vector<Entry> lee_entries() {
         for (const char* th : {"airy", "geometric"})
           panels.push_back(display_image(atmos::compute_lee_table(gallery_spec(th, atmos::kSunDiskDeg, 0.1)),
                                          scale.exposure, scale.white));
-        return side_by_side(panels);
+        return side_by_side(panels, kGap);
       }));
 
   e.push_back(image_entry(
@@ -150,7 +134,7 @@ std::vector<Entry> lee_entries() {
         const atmos::LeeImages scale = atmos::lee_images(tables.back());
         std::vector<Image> panels;
         for (const auto& t : tables) panels.push_back(display_image(t, scale.exposure, scale.white));
-        return side_by_side(panels);
+        return side_by_side(panels, kGap);
       }));
 
   // Colour against angle: three radii, one strip each, on one scale; and their luminance.
@@ -217,7 +201,7 @@ std::vector<Entry> lee_entries() {
       [] {
         const atmos::LeeTable corona = profile(atmos::LeeTableKind::corona, 10, 0, 8, 801);
         const atmos::LeeTable glory = profile(atmos::LeeTableKind::glory, 10, 172, 180, 801);
-        return side_by_side({sky_disk(corona, false, 8, 360), sky_disk(glory, true, 8, 360)});
+        return side_by_side({sky_disk(corona, false, 8, 360), sky_disk(glory, true, 8, 360)}, kGap);
       }));
   return e;
 }
