@@ -110,6 +110,12 @@ int run_sky(SkyArgs a) {
   if (!a.luts.empty() && !have_rainbow)
     throw Error("--lut: no rainbow table among the tables given (hydrolux lee --table rainbow, or hydrolux export)");
 
+  // The images are read (and checked) before any work.
+  std::shared_ptr<const scene::Environment> env;
+  if (a.environment) env = std::make_shared<scene::EquirectEnvironment>(read_input_image("--environment", *a.environment));
+  std::optional<Image> moisture;
+  if (a.moisture) moisture = read_input_image("--moisture", *a.moisture);
+
   ProgressBar bar("sky", a.quiet);
   const auto start = std::chrono::steady_clock::now();
   if (!have_rainbow || (s.corona && a.luts.empty() && s.radius_um <= kCoronaTableMaxRadiusUm)) {
@@ -139,11 +145,6 @@ int run_sky(SkyArgs a) {
                      s.radius_um));
   else if (s.corona && corona.empty() && !a.luts.empty() && !a.quiet)
     warn("--corona: no corona table among --lut covers this radius; the corona is not drawn");
-
-  std::shared_ptr<const scene::Environment> env;
-  if (a.environment) env = std::make_shared<scene::EquirectEnvironment>(read_input_image("--environment", *a.environment));
-  std::optional<Image> moisture;
-  if (a.moisture) moisture = read_input_image("--moisture", *a.moisture);
 
   const scene::SkyCompositor comp(s, std::move(rainbow), std::move(corona), env, a.environment_scale);
   const auto t0 = std::chrono::steady_clock::now();

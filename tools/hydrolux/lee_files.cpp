@@ -116,6 +116,32 @@ LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& 
   return out;
 }
 
+LeeSidecarAxes parse_lee_sidecar(std::string_view json_text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(json_text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("not valid JSON ({})", e.what()));
+  }
+  LeeSidecarAxes a;
+  try {
+    if (!j.is_object() || j.value("format", "") != "hydrolux-lee-table") throw Error("not a hydrolux Lee table");
+    const std::string k = j.at("table").get<std::string>();
+    if (k == "rainbow") a.kind = atmos::LeeTableKind::rainbow;
+    else if (k == "corona") a.kind = atmos::LeeTableKind::corona;
+    else if (k == "glory") a.kind = atmos::LeeTableKind::glory;
+    else throw Error(fmt::format("unknown table kind '{}'", printable(k)));
+    const std::string ax = j.at("axis").get<std::string>();
+    if (ax != "angle" && ax != "cos") throw Error(fmt::format("unknown axis '{}'", printable(ax)));
+    a.axis = ax == "cos" ? atmos::AngleAxis::cosine : atmos::AngleAxis::angle;
+    a.radius_um = j.at("radius_um").get<std::vector<double>>();
+    a.rows = j.at(a.axis == atmos::AngleAxis::angle ? "angle_deg" : "cos_angle").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("the table's axes are missing or malformed ({})", e.what()));
+  }
+  return a;
+}
+
 scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_path) {
   const std::filesystem::path p(exr_path);
   const std::string json_path = std::filesystem::path(p).replace_extension(".json").string();
@@ -126,29 +152,16 @@ scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_pat
   };
   if (p.extension() != ".exr") throw bad("expected a .exr file");
   const std::string text = io::read_file(json_path, std::uint64_t(64) << 20, flag + " (its .json sidecar)");
-  nlohmann::json j;
+  LeeSidecarAxes axes;
   try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw bad(fmt::format("its sidecar {} is not valid JSON ({})", printable(json_path), e.what()));
+    axes = parse_lee_sidecar(text);
+  } catch (const Error& e) {
+    throw bad(fmt::format("its sidecar {}: {}", printable(json_path), e.what()));
   }
-  atmos::LeeTableKind kind{};
-  atmos::AngleAxis axis{};
-  std::vector<double> radii, rows;
-  try {
-    if (j.value("format", "") != "hydrolux-lee-table") throw bad("its sidecar is not a hydrolux Lee table");
-    const std::string k = j.at("table").get<std::string>();
-    if (k == "rainbow") kind = atmos::LeeTableKind::rainbow;
-    else if (k == "corona") kind = atmos::LeeTableKind::corona;
-    else if (k == "glory") kind = atmos::LeeTableKind::glory;
-    else throw bad(fmt::format("unknown table kind '{}'", k));
-    const std::string ax = j.at("axis").get<std::string>();
-    axis = ax == "cos" ? atmos::AngleAxis::cosine : atmos::AngleAxis::angle;
-    radii = j.at("radius_um").get<std::vector<double>>();
-    rows = j.at(axis == atmos::AngleAxis::angle ? "angle_deg" : "cos_angle").get<std::vector<double>>();
-  } catch (const nlohmann::json::exception& e) {
-    throw bad(fmt::format("its sidecar lacks the table's axes ({})", e.what()));
-  }
+  auto& radii = axes.radius_um;
+  auto& rows = axes.rows;
+  const auto kind = axes.kind;
+  const auto axis = axes.axis;
   const Image im = read_input_image(flag, exr_path);
   if (im.channels < 3) throw bad("the EXR has fewer than 3 channels");
   if (im.width != int(radii.size()) || im.height != int(rows.size()))

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hydrolux/atmos/lee.hpp"
@@ -25,6 +26,15 @@ struct LeeFileBytes {
   std::string exr, png, f32;
 };
 LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im);
+
+// The axes a sidecar describes. Throws Error naming what is missing or wrong (not JSON, not a
+// hydrolux Lee table, an unknown kind, axes absent or of the wrong type).
+struct LeeSidecarAxes {
+  atmos::LeeTableKind kind = atmos::LeeTableKind::rainbow;
+  atmos::AngleAxis axis = atmos::AngleAxis::angle;
+  std::vector<double> radius_um, rows;
+};
+LeeSidecarAxes parse_lee_sidecar(std::string_view json_text);
 
 // A table read back for the compositor: `exr_path` and the sidecar beside it (same name, .json).
 // Errors name `flag`, the file and what is wrong with it.
