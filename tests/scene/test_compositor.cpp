@@ -298,6 +298,24 @@ TEST(Compositor, BlendsDifferAsDocumented) {
   EXPECT_LT(p.at(0, 0, 2), bg.at(0, 0, 2));
 }
 
+TEST(Compositor, EnvironmentReplacesSkyAndGround) {
+  // A uniform equirectangular environment of 1000 cd/m^2, scaled by 2: with no rain every pixel,
+  // sky or ground, is 2000; with rain the physical blend attenuates it and adds the bow.
+  Image env(64, 32, 3);
+  std::fill(env.pixels.begin(), env.pixels.end(), 1000.0f);
+  auto map = std::make_shared<scene::EquirectEnvironment>(env);
+  SkySettings s = small(48, 27);
+  s.rain_rate_mmh = 0;
+  const BowSlice flat = synthetic_slice(90, 180, 91, [](double) { return std::array<double, 3>{0.05, 0.05, 0.05}; });
+  const Image dry = SkyCompositor(s, flat, {}, map, 2.0).render();
+  for (float v : dry.pixels) EXPECT_NEAR(v, 2000.0f, 0.01f);
+  s.rain_rate_mmh = 5;
+  const SkyCompositor wet(s, flat, {}, map, 2.0);
+  const Image w = wet.render();
+  const double trans = std::exp(-2 * wet.beta_geo_per_m() * 2000);
+  EXPECT_NEAR(w.at(24, 0, 1), 2000 * trans + wet.sun_sky().sun_rgb.y * 0.05 * (1 - trans) / 2, 0.5);
+}
+
 TEST(Compositor, SecondaryWindowAndCorona) {
   const BowSlice flat = synthetic_slice(90, 180, 91, [](double) { return std::array<double, 3>{1, 1, 1}; });
   const BowSlice corona = synthetic_slice(0, 20, 201, [](double) { return std::array<double, 3>{2, 2, 2}; });
