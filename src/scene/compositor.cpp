@@ -21,7 +21,6 @@ using V3f = Vec3T<float>;
 
 constexpr float kDegPerRad = float(180.0 / kPi<double>);
 constexpr double kExtinctionEfficiency = 2.0;  // Q_ext of drops much larger than the wavelength
-constexpr double kCoronaMaxDeg = 20.0;         // the forward side the corona table covers
 constexpr int kSkyTable = 4096;                // intervals of the sky's tabulated Perez factors
 
 // Linear interpolation in a table of kSkyTable + 1 RGB-like triples over [0, 1].
@@ -325,7 +324,7 @@ void SkyCompositor::bow_at(const V3f& /*d*/, float c, float theta_deg, float out
   rainbow_.lookup(c, theta_deg, out);
   const float w = secondary_weight(s_.secondary, theta_deg);
   out[0] *= w, out[1] *= w, out[2] *= w;
-  if (s_.corona && !corona_.empty() && theta_deg <= float(kCoronaMaxDeg)) {
+  if (s_.corona && !corona_.empty()) {
     float v[3];
     corona_.lookup(c, theta_deg, v);
     out[0] += v[0], out[1] += v[1], out[2] += v[2];
@@ -392,7 +391,7 @@ void SkyCompositor::bow_pixel(const V3f& d, float c, float theta, float o[3]) co
       const float w = secondary_weight(s_.secondary, t);
       o[0] *= w, o[1] *= w, o[2] *= w;
     }
-    if (s_.corona && !corona_.empty() && theta <= float(kCoronaMaxDeg)) {
+    if (s_.corona && !corona_.empty()) {
       float v[3];
       corona_.lookup(c, theta, v);
       o[0] += v[0], o[1] += v[1], o[2] += v[2];

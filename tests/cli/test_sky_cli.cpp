@@ -47,7 +47,8 @@ TEST(ExportCli, WritesTablesSkyShadersAndManifest) {
   const auto manifest = nlohmann::json::parse(slurp(d / "manifest.json"));
   EXPECT_EQ(manifest.at("format"), "hydrolux-rainbow-assets");
   EXPECT_EQ(manifest.at("tables").at("rainbow").at("columns"), 24);
-  EXPECT_EQ(manifest.at("tables").at("corona").at("rows"), 128);
+  EXPECT_EQ(manifest.at("tables").at("corona").at("rows"), 256);  // twice the rainbow's, over 0-90 degrees
+  EXPECT_EQ(manifest.at("tables").at("corona").at("angle_deg")[1], 90.0);
   for (const auto& s : manifest.at("shaders")) EXPECT_TRUE(fs::is_regular_file(d / s.get<std::string>())) << s;
 
   // The raw float32 table is the EXR's R, G, B.

@@ -36,6 +36,7 @@ struct ExportArgs {
 };
 
 constexpr double kCoronaMaxRadiusUm = 50;
+constexpr double kForwardMaxDeg = 90;
 
 nlohmann::json sky_parameters(double turbidity) {
   nlohmann::json j;
@@ -106,7 +107,12 @@ nlohmann::json sky_parameters(double turbidity) {
 
 int run_export(const ExportArgs& a) {
   atmos::LeeSpec rainbow = atmos::default_lee_spec(atmos::LeeTableKind::rainbow);
+  // The corona table spans the whole forward hemisphere (0-90 degrees, 2048 rows: 0.044 degree,
+  // four rows to the closest rings of 50 um droplets), so that with the corona on, the light small
+  // drops scatter forward has no edge at the corona's usual 20 degrees.
   atmos::LeeSpec corona = atmos::default_lee_spec(atmos::LeeTableKind::corona);
+  corona.angle_max_deg = kForwardMaxDeg;
+  corona.rows = 2048;
   try {
     rainbow.theory = corona.theory = scatter::parse_theory(a.theory);
   } catch (const Error& e) {
@@ -125,7 +131,8 @@ int run_export(const ExportArgs& a) {
     if (a.radius_um && (*wh)[0] != 1)
       throw Error(fmt::format("--size {}: one --radius-um makes one column; give --size 1x{}", *a.size, (*wh)[1]));
     rainbow.columns = corona.columns = (*wh)[0];
-    rainbow.rows = corona.rows = (*wh)[1];
+    rainbow.rows = (*wh)[1];
+    corona.rows = 2 * (*wh)[1];
   }
   rainbow.sampling = corona.sampling = a.sampling;
   atmos::validate(rainbow);
@@ -205,14 +212,14 @@ Command add_export(CLI::App& app) {
   auto a = std::make_shared<ExportArgs>();
   auto* sub = app.add_subcommand(
       "export",
-      "Engine assets for rainbows in a scene: the rainbow (5-800 um, 90-180 deg) and corona (1-50 um, 0-20 deg) Lee "
+      "Engine assets for rainbows in a scene: the rainbow (5-800 um, 90-180 deg) and corona (1-50 um, 0-90 deg) Lee "
       "tables as EXR, PNG, raw float32 and JSON axes; the sun and sky parameters for every sun elevation (sky.json); "
       "GLSL and HLSL that evaluate the sky, the bow, the secondary, the corona and the blend; a README for "
       "integrators. The folder appears complete or not at all.");
   sub->add_option("--dir", a->dir, "Output folder (created; files of the same names in it are replaced)")->required();
   sub->add_option("--radius-um", a->radius_um, "One drop radius in micrometres: one-column tables (a 1D slice)")
       ->check(number_in(0.1, 5000, "um"));
-  sub->add_option("--size", a->size, "Table size WxH: W radii, H angles [512x1024]")->check(size_validator());
+  sub->add_option("--size", a->size, "Table size WxH: W radii, H angles of the rainbow table (the corona table has 2H) [512x1024]")->check(size_validator());
   sub->add_option("--theory", a->theory, "mie, debye:P, airy or geometric[:P] (hydrolux lee --help)")->capture_default_str();
   sub->add_option("--sampling", a->sampling, "Multiplier on the tables' sampling rates")
       ->check(number_in(0.25, 16))->capture_default_str();

@@ -133,7 +133,7 @@ int run_sky(SkyArgs a) {
       ++done;
     }
     if (need_corona) {
-      atmos::LeeSpec spec = atmos::profile_spec(atmos::LeeTableKind::corona, s.radius_um, 0, 20, 1024);
+      atmos::LeeSpec spec = atmos::profile_spec(atmos::LeeTableKind::corona, s.radius_um, 0, 90, 2048);
       spec.size_spread = 0.1;
       spec.sampling = a.sampling;
       corona = scene::slice_at_radius(scene::bow_table(atmos::compute_lee_table(spec, sub)), s.radius_um);
@@ -201,7 +201,7 @@ Command add_sky(CLI::App& app) {
   sub->add_option("--environment-scale", a->environment_scale, "Multiplier on --environment's values")
       ->check(number_in(0, 1e12))->capture_default_str();
   sub->add_option("--light-color", a->light_color, "R,G,B multiplier on the sun's light in the bow [1,1,1]");
-  sub->add_flag("--corona", s.corona, "Draw the corona around the sun (0-20 degrees; drops of 1-50 um)");
+  sub->add_flag("--corona", s.corona, "Draw the corona and the forward light around the sun (0-90 degrees; drops of 1-50 um)");
   sub->add_flag("--no-secondary", a->no_secondary, "Leave out the secondary bow (fades out below 134 degrees)");
   sub->add_option("--blend", a->blend, "physical (attenuation + in-scattering) or whitepaper (scene + bow (1 - scene))")
       ->check(CLI::IsMember({"physical", "whitepaper"}))->capture_default_str();

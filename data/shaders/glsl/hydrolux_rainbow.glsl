@@ -67,7 +67,7 @@ vec3 hx_rainbow_term(sampler2D rainbow, vec4 rows, float column, float theta_deg
   return hx_lee_lookup(rainbow, rows, column, theta_deg) * hx_secondary_weight(theta_deg, secondary);
 }
 
-// The corona table's part: T_rgb(theta) for theta in its rows (0-20) when the corona is on and the
+// The corona table's part: T_rgb(theta) for theta in its rows (0-90) when the corona is on and the
 // radius lies within its columns (1-50 um), else 0.
 vec3 hx_corona_term(sampler2D corona, vec4 rows, vec4 cols, float radius_um, float theta_deg,
                     bool corona_on) {

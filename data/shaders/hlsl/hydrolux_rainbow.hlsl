@@ -63,7 +63,7 @@ float3 hx_rainbow_term(Texture2D<float4> rainbow, float4 rows, float column, flo
   return hx_lee_lookup(rainbow, rows, column, theta_deg) * hx_secondary_weight(theta_deg, secondary);
 }
 
-// The corona table's part: T_rgb(theta) for theta in its rows (0-20) when the corona is on and the
+// The corona table's part: T_rgb(theta) for theta in its rows (0-90) when the corona is on and the
 // radius lies within its columns (1-50 um), else 0.
 float3 hx_corona_term(Texture2D<float4> corona, float4 rows, float4 cols, float radius_um,
                       float theta_deg, bool corona_on) {
