@@ -205,6 +205,35 @@ TEST_F(Safety, InterruptedLeeTableLeavesNothing) {
   EXPECT_EQ(listing(dir_), std::vector<std::string>{"out.exr"});
 }
 
+// Ctrl-C during hydrolux export into an existing asset folder: exit 130, the old files untouched,
+// no new file, subfolder or staging folder left; and during hydrolux sky's table computation: the
+// old picture kept.
+TEST_F(Safety, InterruptedExportAndSkyLeaveNothing) {
+  const fs::path assets = dir_ / "assets";
+  fs::create_directories(assets);
+  { std::ofstream(assets / "rainbow.json") << "the old axes"; }
+  auto p = spawn({"export", "-q", "--dir", assets.string()});  // the standard tables: ~50 s
+  wait_until_signals_handled(p.pid);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(p.pid, SIGINT);
+  auto r = finish(p);
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_NE(r.err.find("hydrolux export: cancelled by SIGINT"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(assets / "rainbow.json"), "the old axes");
+  EXPECT_EQ(listing(assets), std::vector<std::string>{"rainbow.json"});
+
+  const fs::path out = dir_ / "scene.png";
+  { std::ofstream(out) << "the old picture"; }
+  p = spawn({"sky", "-q", "--radius-um", "1000", "-o", out.string()});  // its tables first: ~10 s
+  wait_until_signals_handled(p.pid);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(p.pid, SIGINT);
+  r = finish(p);
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_EQ(slurp(out), "the old picture");
+  EXPECT_EQ(listing(dir_), (std::vector<std::string>{"assets", "scene.png"}));
+}
+
 // An interrupted gallery used to leave a half-filled folder. Now its figures are staged in a hidden
 // folder (inside the gallery when it exists, beside it when it is new) and moved in at the end: a
 // Ctrl-C once some figures are written removes the staging folder and leaves the previous gallery
