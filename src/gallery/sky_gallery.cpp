@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <initializer_list>
 #include <map>
 #include <vector>
 
@@ -47,6 +48,18 @@ Image render(const scene::SkySettings& s) {
   return scene::tone_map(comp.render(), comp.sun_sky().l_ref);
 }
 
+// One panel per value, the scene otherwise `base()` changed by `set(settings, value)`, side by side.
+template <typename T, typename Set>
+Image panels(std::initializer_list<T> values, Set set) {
+  std::vector<Image> p;
+  for (const T& v : values) {
+    auto s = base();
+    set(s, v);
+    p.push_back(render(s));
+  }
+  return side_by_side(p, kGap);
+}
+
 }  // namespace
 
 std::vector<Entry> sky_entries() {
@@ -59,15 +72,7 @@ std::vector<Entry> sky_entries() {
       "the sun climbs: at 40 degrees only its top clears the horizon, and above 42 there is no bow. The secondary "
       "(51 degrees, colours reversed) stands outside, Alexander's dark band between, and the sky inside the primary "
       "is brighter. Each panel exposed for its own daylight (docs/sky.md's tone map); the low sun is redder.",
-      [] {
-        std::vector<Image> p;
-        for (double el : {10.0, 25.0, 40.0}) {
-          auto s = base();
-          s.sun_elevation_deg = el;
-          p.push_back(render(s));
-        }
-        return side_by_side(p, kGap);
-      }));
+      [] { return panels({10.0, 25.0, 40.0}, [](scene::SkySettings& s, double el) { s.sun_elevation_deg = el; }); }));
   e.push_back(image_entry(
       "sky_radius.png", "Rain, drizzle and fog: the drop radius",
       "The same scene (sun 25 degrees up) with drops of 1000, 100 and 20 um radius (left to right), each a 10% "
@@ -75,30 +80,14 @@ std::vector<Entry> sky_entries() {
       "appear inside the primary; 20 um drops give the broad, nearly white fogbow a few degrees inside the "
       "rainbow's radius, with faint inner rings and only a broad, faint secondary. Brightness is absolute: the same rain optical depth in each "
       "panel, the same exposure.",
-      [] {
-        std::vector<Image> p;
-        for (double r : {1000.0, 100.0, 20.0}) {
-          auto s = base();
-          s.radius_um = r;
-          p.push_back(render(s));
-        }
-        return side_by_side(p, kGap);
-      }));
+      [] { return panels({1000.0, 100.0, 20.0}, [](scene::SkySettings& s, double r) { s.radius_um = r; }); }));
   e.push_back(image_entry(
       "sky_rain_rate.png", "Drizzle, shower, downpour: the rain rate",
       "500 um drops with the curtain's optical depth from Marshall and Palmer's drop-size distribution at 0.5, 5 "
       "and 50 mm/h (projected-area optical depth 0.24, 1.0 and 4.3 over the 2 km curtain). Attenuation plus "
       "in-scattering: a drizzle gives a faint bow over a bright sky, a downpour dims the sky behind the rain and "
       "the bow saturates at E_sun T / 2. Same exposure in every panel.",
-      [] {
-        std::vector<Image> p;
-        for (double rate : {0.5, 5.0, 50.0}) {
-          auto s = base();
-          s.rain_rate_mmh = rate;
-          p.push_back(render(s));
-        }
-        return side_by_side(p, kGap);
-      }));
+      [] { return panels({0.5, 5.0, 50.0}, [](scene::SkySettings& s, double rate) { s.rain_rate_mmh = rate; }); }));
   e.push_back(image_entry(
       "sky_corona.png", "A corona around the sun",
       "Looking at the sun (25 degrees up) through a thin veil of 10 um droplets (the corona table, 0-20 degrees; "
@@ -109,9 +98,7 @@ std::vector<Entry> sky_entries() {
       "reference white, so bow x (1 - scene) is zero and the corona disappears; the blend only works over a "
       "dark background.",
       [] {
-        std::vector<Image> p;
-        for (auto blend : {scene::Blend::physical, scene::Blend::whitepaper}) {
-          auto s = base();
+        return panels({scene::Blend::physical, scene::Blend::whitepaper}, [](scene::SkySettings& s, scene::Blend blend) {
           s.radius_um = 10;
           s.corona = true;
           s.sun_azimuth_deg = 180;
@@ -121,9 +108,7 @@ std::vector<Entry> sky_entries() {
           s.curtain_near_m = 1000;
           s.curtain_far_m = 1060;
           s.blend = blend;
-          p.push_back(render(s));
-        }
-        return side_by_side(p, kGap);
+        });
       }));
   e.push_back(image_entry(
       "sky_optimisations.png", "Seed 002's shortcuts against the per-pixel answer",
@@ -133,18 +118,15 @@ std::vector<Entry> sky_entries() {
       "steps, the dome's flat triangles bend the bands between rings. At the defaults (512 texels; 90 x 180) the "
       "errors fall to 9.6% and 1.5% of the peak at worst, 0.29% and 0.09% RMS (docs/sky.md).",
       [] {
-        std::vector<Image> p;
-        for (auto mode : {scene::BowMode::per_pixel, scene::BowMode::cube_map, scene::BowMode::half_dome}) {
-          auto s = base();
+        return panels({scene::BowMode::per_pixel, scene::BowMode::cube_map, scene::BowMode::half_dome},
+                      [](scene::SkySettings& s, scene::BowMode mode) {
           s.camera.elevation_deg = 15;
           s.camera.fov_deg = 30;
           s.mode = mode;
           s.cube_face_size = 64;
           s.dome_rings = 12;
           s.dome_segments = 24;
-          p.push_back(render(s));
-        }
-        return side_by_side(p, kGap);
+        });
       }));
   return e;
 }

@@ -238,8 +238,8 @@ void CubeMap::lookup(const V3f& d, float out[3]) const {
   const float n = float(size);
   const float x = std::clamp((sc / ma + 1) * 0.5f * n - 0.5f, 0.0f, n - 1);
   const float y = std::clamp((tc / ma + 1) * 0.5f * n - 0.5f, 0.0f, n - 1);
-  const int x0 = std::min(int(x), size - 2 < 0 ? 0 : size - 2), y0 = std::min(int(y), size - 2 < 0 ? 0 : size - 2);
-  const int x1 = std::min(x0 + 1, size - 1), y1 = std::min(y0 + 1, size - 1);
+  const int x0 = std::min(int(x), size - 2), y0 = std::min(int(y), size - 2);  // size >= 4 (validate)
+  const int x1 = x0 + 1, y1 = y0 + 1;
   const float fx = x - float(x0), fy = y - float(y0);
   const auto at = [&](int xx, int yy, int k) {
     return rgb[((std::size_t(face) * size + yy) * size + xx) * 3 + k];
@@ -269,12 +269,10 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowS
   sky_zenith_factor_.resize(std::size_t(kSkyTable + 1) * 3);
   sky_sun_factor_.resize(std::size_t(kSkyTable + 1) * 3);
   for (int i = 0; i <= kSkyTable; ++i) {
-    const double cos_t = std::max(double(i) / kSkyTable, 0.01);
-    const double gamma = kPi<double> * i / kSkyTable;
     for (int k = 0; k < 3; ++k) {
       const auto& p = sky_.perez[std::size_t(k)];
-      sky_zenith_factor_[std::size_t(i) * 3 + k] = float(1 + p.A * std::exp(p.B / cos_t));
-      sky_sun_factor_[std::size_t(i) * 3 + k] = float(1 + p.C * std::exp(p.D * gamma) + p.E * sqr(std::cos(gamma)));
+      sky_zenith_factor_[std::size_t(i) * 3 + k] = float(p.zenith_factor(double(i) / kSkyTable));
+      sky_sun_factor_[std::size_t(i) * 3 + k] = float(p.sun_factor(kPi<double> * i / kSkyTable));
     }
   }
 
@@ -291,7 +289,9 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowS
         const V3f d = glm::normalize(face_direction(face, sc, tc));
         const float c = std::clamp(glm::dot(d, sun), -1.0f, 1.0f);
         float v[3];
-        bow_at(d, c, std::acos(c) * kDegPerRad, v);
+        const float theta = std::acos(c) * kDegPerRad;
+        rainbow_term(c, theta, v);
+        add_corona_term(c, theta, v);
         float* o = &cube_.rgb[((std::size_t(face) * n + y) * n + x) * 3];
         o[0] = v[0], o[1] = v[1], o[2] = v[2];
       }
@@ -319,16 +319,19 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowS
   bake_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Per pixel (the reference): the tables at theta.
-void SkyCompositor::bow_at(const V3f& /*d*/, float c, float theta_deg, float out[3]) const {
+// The rainbow table's part at theta, the secondary window applied.
+void SkyCompositor::rainbow_term(float c, float theta_deg, float out[3]) const {
   rainbow_.lookup(c, theta_deg, out);
   const float w = secondary_weight(s_.secondary, theta_deg);
   out[0] *= w, out[1] *= w, out[2] *= w;
-  if (s_.corona && !corona_.empty()) {
-    float v[3];
-    corona_.lookup(c, theta_deg, v);
-    out[0] += v[0], out[1] += v[1], out[2] += v[2];
-  }
+}
+
+// The corona table's part at theta, added to `out` when the corona is on.
+void SkyCompositor::add_corona_term(float c, float theta_deg, float out[3]) const {
+  if (!s_.corona || corona_.empty()) return;
+  float v[3];
+  corona_.lookup(c, theta_deg, v);
+  out[0] += v[0], out[1] += v[1], out[2] += v[2];
 }
 
 // The half dome: the ray meets the flat triangle of the tessellation whose corners carry theta;
@@ -382,22 +385,15 @@ void SkyCompositor::bow_pixel(const V3f& d, float c, float theta, float o[3]) co
   if (s_.mode == BowMode::cube_map) {
     cube_.lookup(d, o);
   } else if (s_.mode == BowMode::half_dome) {
+    // The dome carries the rainbow side only; the corona stays per pixel.
     bool covered = false;
     const float t = dome_theta(d, covered);
     o[0] = o[1] = o[2] = 0;
-    if (covered) {
-      const float ct = std::cos(t / kDegPerRad);
-      rainbow_.lookup(ct, t, o);
-      const float w = secondary_weight(s_.secondary, t);
-      o[0] *= w, o[1] *= w, o[2] *= w;
-    }
-    if (s_.corona && !corona_.empty()) {
-      float v[3];
-      corona_.lookup(c, theta, v);
-      o[0] += v[0], o[1] += v[1], o[2] += v[2];
-    }
+    if (covered) rainbow_term(std::cos(t / kDegPerRad), t, o);
+    add_corona_term(c, theta, o);
   } else {
-    bow_at(d, c, theta, o);
+    rainbow_term(c, theta, o);
+    add_corona_term(c, theta, o);
   }
 }
 

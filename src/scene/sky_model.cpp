@@ -57,10 +57,11 @@ double kasten_young_air_mass(double elevation_deg) {
   return 1.0 / (std::sin(deg_to_rad(elevation_deg)) + 0.50572 * std::pow(elevation_deg + 6.07995, -1.6364));
 }
 
-double Perez::operator()(double cos_t, double gamma) const {
-  const double c = std::max(cos_t, 0.01);
+double Perez::zenith_factor(double cos_t) const { return 1 + A * std::exp(B / std::max(cos_t, 0.01)); }
+
+double Perez::sun_factor(double gamma) const {
   const double cg = std::cos(gamma);
-  return (1 + A * std::exp(B / c)) * (1 + C * std::exp(D * gamma) + E * cg * cg);
+  return 1 + C * std::exp(D * gamma) + E * cg * cg;
 }
 
 Vec3 xyY_to_rgb(const SunSky& s, double x, double y, double Y) {

@@ -118,14 +118,14 @@ int run_sky(SkyArgs a) {
 
   ProgressBar bar("sky", a.quiet);
   const auto start = std::chrono::steady_clock::now();
-  if (!have_rainbow || (s.corona && a.luts.empty() && s.radius_um <= kCoronaTableMaxRadiusUm)) {
-    const bool need_corona = s.corona && a.luts.empty() && s.radius_um <= kCoronaTableMaxRadiusUm;
-    const int jobs = (have_rainbow ? 0 : 1) + (need_corona ? 1 : 0);
+  if (!have_rainbow) {  // no --lut: this radius's tables, computed now
+    const bool need_corona = s.corona && s.radius_um <= kCoronaTableMaxRadiusUm;
+    const int jobs = need_corona ? 2 : 1;
     int done = 0;
     const auto sub = [&](double f, std::string_view label) {
       bar.update((done + f) / jobs, label);
     };
-    if (!have_rainbow) {
+    {
       atmos::LeeSpec spec = atmos::profile_spec(atmos::LeeTableKind::rainbow, s.radius_um, 90, 180, 1024);
       spec.size_spread = 0.1;
       spec.sampling = a.sampling;

@@ -143,7 +143,8 @@ class SkyCompositor {
   double bake_seconds() const { return bake_seconds_; }
 
  private:
-  void bow_at(const Vec3T<float>& d, float c, float theta_deg, float out[3]) const;
+  void rainbow_term(float c, float theta_deg, float out[3]) const;
+  void add_corona_term(float c, float theta_deg, float out[3]) const;
   void bow_pixel(const Vec3T<float>& d, float c, float theta_deg, float out[3]) const;
   float dome_theta(const Vec3T<float>& d, bool& covered) const;
 

@@ -27,7 +27,9 @@ double kasten_young_air_mass(double elevation_deg);
 // cos t clamped to >= 0.01 (the horizon) and g in radians.
 struct Perez {
   double A = 0, B = 0, C = 0, D = 0, E = 0;
-  double operator()(double cos_t, double gamma) const;
+  double zenith_factor(double cos_t) const;  // 1 + A exp(B / cos t), cos t clamped
+  double sun_factor(double gamma) const;     // 1 + C exp(D g) + E cos^2 g
+  double operator()(double cos_t, double gamma) const { return zenith_factor(cos_t) * sun_factor(gamma); }
 };
 
 inline constexpr double kMinTurbidity = 1.7, kMaxTurbidity = 10;  // Preetham's fitted range (2-10,
