@@ -199,6 +199,37 @@ std::string read_file(const fs::path& path, std::uint64_t max_bytes, std::string
   return bytes;
 }
 
+InputFile::InputFile(const fs::path& path, std::string_view label) : path_(path), label_(label) {
+  check_input_file(path, label);
+  do fd_ = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  while (fd_ < 0 && errno == EINTR);
+  if (fd_ < 0) throw IoError(fmt::format("{}: cannot open: {}", describe(label, path), os_error(errno)));
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd_);
+    throw IoError(fmt::format("{}: changed while being opened; not a regular file", describe(label, path)));
+  }
+  size_ = std::uint64_t(st.st_size);
+}
+
+InputFile::~InputFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+std::size_t InputFile::read_at(std::uint64_t offset, char* buffer, std::size_t size) const {
+  std::size_t got = 0;
+  while (got < size) {
+    const ssize_t n = ::pread(fd_, buffer + got, size - got, off_t(offset + got));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw IoFailure(fmt::format("{}: read failed: {}", describe(label_, path_), os_error(errno)));
+    }
+    if (n == 0) break;
+    got += std::size_t(n);
+  }
+  return got;
+}
+
 bool same_file(const fs::path& a, const fs::path& b) {
   struct stat sa {}, sb {};
   if (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0)
@@ -301,6 +332,22 @@ void OutputFile::write(std::string_view bytes) {
     throw IoFailure(fmt::format("{}: the output was already {}", s_->name(), s_->committed ? "committed" : "abandoned"));
   if (s_->fd < 0) s_->open_temporary();
   if (const int err = write_all(s_->fd, bytes)) s_->fail("writing", err);
+}
+
+void OutputFile::write_at(std::uint64_t offset, std::string_view bytes) {
+  if (s_->failed || s_->committed)
+    throw IoFailure(fmt::format("{}: the output was already {}", s_->name(), s_->committed ? "committed" : "abandoned"));
+  if (s_->fd < 0) s_->open_temporary();
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::pwrite(s_->fd, bytes.data() + done, bytes.size() - done, off_t(offset + done));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      s_->fail("writing", errno);
+    }
+    if (n == 0) s_->fail("writing", EIO);
+    done += std::size_t(n);
+  }
 }
 
 void OutputFile::commit() {

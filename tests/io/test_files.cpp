@@ -87,6 +87,35 @@ TEST_F(Files, OutputFileInChunksAndEmpty) {
   EXPECT_EQ(pending_output_count(), 0u);
 }
 
+// Writes at offsets (a container going back to patch its header), and reads at offsets.
+TEST_F(Files, WriteAtAndReadAt) {
+  {
+    OutputFile out(dir_ / "video.mp4");
+    out.write_at(0, "XXXXhead");
+    out.write_at(8, std::string(1000, 'b'));
+    out.write_at(0, "size");  // patched in place
+    out.commit();
+  }
+  const std::string bytes = slurp(dir_ / "video.mp4");
+  EXPECT_EQ(bytes.size(), 1008u);
+  EXPECT_EQ(bytes.substr(0, 8), "sizehead");
+  const InputFile in(dir_ / "video.mp4", "--video");
+  EXPECT_EQ(in.size(), 1008u);
+  char buf[16];
+  EXPECT_EQ(in.read_at(4, buf, 4), 4u);
+  EXPECT_EQ(std::string(buf, 4), "head");
+  EXPECT_EQ(in.read_at(1004, buf, 16), 4u);  // short at the end
+  EXPECT_EQ(in.read_at(5000, buf, 16), 0u);  // past it
+  // Only regular files: a folder is refused with its label.
+  try {
+    InputFile bad(dir_, "--video");
+    FAIL();
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("--video"), std::string::npos);
+  }
+  EXPECT_EQ(pending_output_count(), 0u);
+}
+
 // An output abandoned (an exception during the work) leaves the old file and nothing else.
 TEST_F(Files, AbandonedOutputLeavesNothing) {
   spit(dir_ / "keep.png", "old");

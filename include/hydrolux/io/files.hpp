@@ -52,6 +52,29 @@ std::uint64_t check_input_file(const std::filesystem::path& path, std::string_vi
 std::string read_file(const std::filesystem::path& path, std::uint64_t max_bytes = kMaxInputBytes,
                       std::string_view label = {});
 
+// A regular file opened for reading in pieces at any offset, for inputs too large to read whole
+// (video). Opened as read_file opens (checked by stat, opened non-blocking, checked again on the
+// descriptor). IoError as check_input_file; IoFailure for a read error midway.
+class InputFile {
+ public:
+  explicit InputFile(const std::filesystem::path& path, std::string_view label = {});
+  ~InputFile();
+  InputFile(const InputFile&) = delete;
+  InputFile& operator=(const InputFile&) = delete;
+
+  std::uint64_t size() const { return size_; }
+  const std::filesystem::path& path() const { return path_; }
+  // Reads up to `size` bytes at `offset` into `buffer`; returns how many (fewer only at the end of
+  // the file, 0 at or past it).
+  std::size_t read_at(std::uint64_t offset, char* buffer, std::size_t size) const;
+
+ private:
+  std::filesystem::path path_;
+  std::string label_;
+  int fd_ = -1;
+  std::uint64_t size_ = 0;
+};
+
 // True if `a` and `b` name the same existing file (same device and inode, through links), or
 // resolve to the same absolute path once symbolic links and "..", "." are resolved.
 bool same_file(const std::filesystem::path& a, const std::filesystem::path& b);
@@ -78,6 +101,9 @@ class OutputFile {
   // Appends bytes to the temporary file (created on the first call). IoFailure on any error; the
   // temporary file is then removed and the output can no longer be committed.
   void write(std::string_view bytes);
+  // Writes bytes at `offset` of the temporary file (for container formats that go back to fill in
+  // an index, e.g. MP4); the same failures as write(). write() goes on where the last write() ended.
+  void write_at(std::uint64_t offset, std::string_view bytes);
   // Syncs, closes and renames the temporary file over the destination. IoFailure on error (the
   // destination is then untouched), or if cancel_pending_outputs() was called.
   void commit();

@@ -1,0 +1,35 @@
+#pragma once
+// Pieces shared by the rain field and its renderer (not installed).
+#include <cmath>
+#include <cstdint>
+
+#include "hydrolux/core/vec.hpp"
+
+namespace hydrolux::rain::detail {
+
+// SplitMix64's finaliser: a bijection of 64-bit words that scatters every input bit.
+constexpr std::uint64_t mix(std::uint64_t z) {
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+// The key of item `index` under `seed`: counter-based, so any item is drawn without the others.
+constexpr std::uint64_t hash(std::uint64_t seed, std::uint64_t index) { return mix(mix(seed) ^ mix(index + 0x632be59bd9b4e019ULL)); }
+// A double in [0, 1) from the top 53 bits.
+constexpr double unit(std::uint64_t bits) { return double(bits >> 11) * 0x1.0p-53; }
+
+// p wrapped into the periodic box [lo, lo + size).
+inline Vec3 wrap(const Vec3& p, const Vec3& lo, const Vec3& size) {
+  Vec3 q = p - lo;
+  for (int k = 0; k < 3; ++k) {
+    q[k] = std::fmod(q[k], size[k]);
+    if (q[k] < 0) q[k] += size[k];
+  }
+  return lo + q;
+}
+
+// The largest alpha a streak of drop radius r, footprint R and length L (pixels) puts on a pixel.
+double peak_alpha(double r, double R, double L);
+
+}  // namespace hydrolux::rain::detail

@@ -1,0 +1,419 @@
+// Streaks of a frame, rasterised and composited over the frame (rain.hpp).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "field_detail.hpp"
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/math.hpp"
+#include "hydrolux/rain/rain.hpp"
+
+namespace hydrolux::rain {
+
+namespace {
+
+// Streaks are binned into bands of image rows; each band is rasterised by one task, in drop order,
+// so the result does not depend on the number of threads.
+constexpr int kBandRows = 16;
+// Drops are turned into streaks in blocks of this many, in parallel.
+constexpr std::uint64_t kBlockDrops = std::uint64_t(1) << 15;
+// Rayleigh (1879): a drop's fundamental (n = 2) oscillation has angular frequency
+// sqrt(8 sigma / (rho a^3)); water at 20 C: sigma = 0.0728 N/m, rho = 998 kg/m^3.
+constexpr double kSurfaceTension = 0.0728, kWaterDensity = 998.0;
+constexpr float kLuma[3] = {0.2126f, 0.7152f, 0.0722f};
+
+// The integral of the unit tent max(0, 1 - |x|) from -infinity to u.
+inline float tent_cdf(float u) {
+  if (u <= -1) return 0;
+  if (u < 0) return 0.5f * (u + 1) * (u + 1);
+  if (u < 1) return 1 - 0.5f * (1 - u) * (1 - u);
+  return 1;
+}
+
+// The interval of x where a x + b lies in [lo, hi], intersected into [x0, x1].
+inline void clip_linear(float a, float b, float lo, float hi, float& x0, float& x1) {
+  if (std::abs(a) < 1e-7f) {
+    if (b < lo || b > hi) x1 = x0 - 1;  // empty
+    return;
+  }
+  float u = (lo - b) / a, v = (hi - b) / a;
+  if (u > v) std::swap(u, v);
+  x0 = std::max(x0, u);
+  x1 = std::min(x1, v);
+}
+
+// Accumulation buffers of one frame.
+struct Accum {
+  float* T;  // product of (1 - alpha)
+  float* W;  // sum of alpha
+  float* C;  // sum of alpha * rgb
+};
+
+// Rasterises the rows [row0, row1) of one streak into `acc`. Returns whether it touched a pixel.
+bool raster(const Streak& st, int row0, int row1, int width, const float* depth, Accum& acc) {
+  const float dx = st.x1 - st.x0, dy = st.y1 - st.y0;
+  float L = std::sqrt(dx * dx + dy * dy);
+  float ux = 0, uy = 1;
+  if (L > 1e-4f) {
+    ux = dx / L;
+    uy = dy / L;
+  } else {
+    L = 0;
+  }
+  const bool thin = st.R < 1;
+  const float ext = thin ? 1.f : st.R + 0.5f;
+  const float w = thin ? kPi<float> * st.r * st.r : (st.r / st.R) * (st.r / st.R);
+  const float R2 = st.R * st.R;
+  bool touched = false;
+  for (int y = row0; y < row1; ++y) {
+    const float qy = float(y) + 0.5f;
+    // Pixel centres qx with |p| <= ext and s in [-ext, L + ext].
+    float xa = -std::numeric_limits<float>::max(), xb = std::numeric_limits<float>::max();
+    clip_linear(uy, -st.x0 * uy - (qy - st.y0) * ux, -ext, ext, xa, xb);
+    clip_linear(ux, -st.x0 * ux + (qy - st.y0) * uy, -ext, L + ext, xa, xb);
+    if (xb < xa) continue;
+    const int ia = std::max(0, int(std::ceil(xa - 0.5f))), ib = std::min(width - 1, int(std::floor(xb - 0.5f)));
+    const std::size_t row = std::size_t(y) * std::size_t(width);
+    for (int x = ia; x <= ib; ++x) {
+      const std::size_t i = row + std::size_t(x);
+      if (depth[i] < st.z) continue;  // the scene is nearer than the drop
+      const float qx = float(x) + 0.5f;
+      const float s = (qx - st.x0) * ux + (qy - st.y0) * uy;
+      const float p = (qx - st.x0) * uy - (qy - st.y0) * ux;
+      float a;
+      if (thin) {
+        const float across = 1 - std::abs(p);
+        if (across <= 0) continue;
+        const float along = L > 1e-3f ? (tent_cdf(s) - tent_cdf(s - L)) / L : std::max(0.f, 1 - std::abs(s));
+        a = w * across * along;
+      } else {
+        if (L > 0) {
+          const float p2 = p * p;
+          if (p2 >= R2) continue;
+          const float c = std::sqrt(R2 - p2);
+          const float overlap = std::min(s + c, L) - std::max(s - c, 0.f);
+          if (overlap <= 0) continue;
+          a = w * overlap / L;
+        } else {
+          // A drop at rest: its disk with a one-pixel soft edge, clamp(R + 1/2 - rho, 0, 1), whose
+          // integral pi R^2 + pi / 12 is the disk's to 1 / (12 R^2), where a hard edge sampled at
+          // pixel centres would be off by up to ~15% at R = 2.
+          a = w * std::clamp(st.R + 0.5f - std::sqrt(s * s + p * p), 0.f, 1.f);
+          if (a <= 0) continue;
+        }
+      }
+      if (st.osc_amp > 0) {
+        const float tau = L > 0 ? std::clamp(s / L, 0.f, 1.f) : 0.5f;
+        const float m = 1 + st.osc_amp * std::sin(2 * kPi<float> * (st.osc_phase + st.osc_cycles * tau));
+        a *= m * m;
+      }
+      if (a <= 1e-7f) continue;
+      a = std::min(a, 1.f);
+      acc.T[i] *= 1 - a;
+      acc.W[i] += a;
+      for (int k = 0; k < 3; ++k) acc.C[i * 3 + k] += a * st.rgb[k];
+      touched = true;
+    }
+  }
+  return touched;
+}
+
+double percentile(std::vector<float> v, double q) {
+  if (v.empty()) return 0;
+  const auto k = std::size_t(std::clamp(q * double(v.size() - 1), 0.0, double(v.size() - 1)));
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+  return double(v[k]);
+}
+
+}  // namespace
+
+Image streak_alpha(const Streak& streak, int width, int height) {
+  const std::size_t n = std::size_t(width) * std::size_t(height);
+  std::vector<float> T(n, 1.f), W(n, 0.f), C(n * 3, 0.f);
+  const std::vector<float> depth(n, std::numeric_limits<float>::infinity());
+  Accum acc{T.data(), W.data(), C.data()};
+  raster(streak, 0, height, width, depth.data(), acc);
+  Image a(width, height, 1);
+  for (std::size_t i = 0; i < n; ++i) a.pixels[i] = 1 - T[i];
+  return a;
+}
+
+std::vector<float> ground_plane_depth(const RainCamera& c) {
+  std::vector<float> depth(std::size_t(c.width) * std::size_t(c.height), std::numeric_limits<float>::infinity());
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      const Vec3 d = c.ray(x + 0.5, y + 0.5);
+      const Vec3 w = c.to_world(d);
+      // The ray meets the ground (world y = -height) at distance height / -w.y, at camera z d.z times that.
+      if (w.y < -1e-9) depth[std::size_t(y) * c.width + x] = float(c.height_m / -w.y * d.z);
+    }
+  return depth;
+}
+
+RainRenderer::RainRenderer(RainField field, int light_grid_x, int light_grid_y)
+    : field_(std::move(field)),
+      light_(field_.camera(), field_.settings().refractive_index, light_grid_x, light_grid_y) {}
+
+void RainRenderer::streaks(std::int64_t frame_index, std::vector<Streak>& out) const {
+  std::vector<std::vector<Streak>> per_block;
+  collect_streaks(frame_index, per_block);
+  out.clear();
+  for (const auto& l : per_block) out.insert(out.end(), l.begin(), l.end());
+}
+
+void RainRenderer::collect_streaks(std::int64_t frame_index, std::vector<std::vector<Streak>>& per_block) const {
+  const RainField& f = field_;
+  const RainCamera& cam = f.camera();
+  const std::uint64_t total = f.drop_count();
+  const std::uint64_t blocks = (total + kBlockDrops - 1) / kBlockDrops;
+  per_block.resize(blocks);
+  if (total == 0) return;
+  const double t0 = double(frame_index) / cam.fps, te = cam.exposure_s;
+  const double fpx = cam.focal_px(), cx = 0.5 * cam.width, cy = 0.5 * cam.height;
+  const double W = cam.width, H = cam.height;
+  const double near = f.settings().near_m, amp = f.settings().oscillation;
+  const double pitch = deg_to_rad(cam.pitch_deg), pc = std::cos(pitch), ps = std::sin(pitch);
+
+  tbb::parallel_for(std::uint64_t(0), blocks, [&](std::uint64_t b) {
+    auto& list = per_block[b];
+    list.clear();
+    const std::uint64_t i0 = b * kBlockDrops, i1 = std::min(total, i0 + kBlockDrops);
+    std::size_t cls = f.class_of(i0);
+    for (std::uint64_t i = i0; i < i1; ++i) {
+      while (cls + 1 < f.classes_.size() && i >= f.classes_[cls + 1].first_index) ++cls;
+      const RadiusClass& rc = f.classes_[cls];
+      const auto d = f.drop(i, cls);
+      const Vec3 vel = f.velocity_of(d.radius);
+      // The start wrapped into the box (as RainField::position), then into the camera frame.
+      Vec3 w0 = d.start + vel * t0 - rc.box_lo;
+      for (int k = 0; k < 3; ++k) w0[k] = rc.box_lo[k] + w0[k] - rc.box_size[k] * std::floor(w0[k] / rc.box_size[k]);
+      const Vec3 w1 = w0 + vel * te;
+      const double z0 = w0.y * ps + w0.z * pc, z1 = w1.y * ps + w1.z * pc, zm = 0.5 * (z0 + z1);
+      // Drawn between near_m and the depth where its class stops being resolved (beyond, the
+      // unresolved rain stands for it); both ends in front of the camera.
+      if (zm < near || zm > rc.resolved_to_m || z0 < 0.5 * near || z1 < 0.5 * near) continue;
+      const double y0 = w0.y * pc - w0.z * ps, y1 = w1.y * pc - w1.z * ps;
+      const double px0 = cx + fpx * w0.x / z0, py0 = cy - fpx * y0 / z0;
+      const double px1 = cx + fpx * w1.x / z1, py1 = cy - fpx * y1 / z1;
+      const double r = fpx * d.radius / zm, b_px = cam.defocus_radius_px(zm);
+      const double R = std::sqrt(r * r + b_px * b_px);
+      const double ext = R < 1 ? 1 : R + 0.5;
+      if (std::max(px0, px1) + ext < 0 || std::min(px0, px1) - ext > W) continue;
+      if (std::max(py0, py1) + ext < 0 || std::min(py0, py1) - ext > H) continue;
+      Streak s{};
+      s.x0 = float(px0);
+      s.y0 = float(py0);
+      s.x1 = float(px1);
+      s.y1 = float(py1);
+      s.r = float(r);
+      s.R = float(R);
+      s.z = float(zm);
+      const Vec3 rgb = light_.at(0.5 * (px0 + px1), 0.5 * (py0 + py1));
+      for (int k = 0; k < 3; ++k) s.rgb[k] = float(rgb[k]);
+      if (amp > 0) {
+        const double freq = std::sqrt(8 * kSurfaceTension / (kWaterDensity * d.radius * d.radius * d.radius)) /
+                            (2 * kPi<double>);
+        const double ph = d.phase + freq * t0;
+        s.osc_amp = float(amp);
+        s.osc_phase = float(ph - std::floor(ph));
+        s.osc_cycles = float(freq * te);
+      }
+      s.drop = std::uint32_t(i);
+      list.push_back(s);
+    }
+  });
+}
+
+RainFrame RainRenderer::render(const Image& frame, const Image* depth, std::int64_t frame_index, bool with_layer) {
+  RainFrame out;
+  render_into(frame, depth, frame_index, with_layer, out);
+  return out;
+}
+
+void RainRenderer::render_into(const Image& frame, const Image* depth, std::int64_t frame_index, bool with_layer,
+                               RainFrame& out) {
+  const RainCamera& cam = field_.camera();
+  const int W = cam.width, H = cam.height;
+  if (frame.width != W || frame.height != H || frame.channels < 3)
+    throw Error("rain: the frame's size must be the camera's, with at least 3 channels");
+  const std::size_t npx = std::size_t(W) * std::size_t(H);
+  // The scene depth and the unresolved rain's transmittance along each pixel's ray: once for the
+  // ground plane, per frame for a depth map.
+  if (depth || !ground_plane_ || depth_.size() != npx) {
+    if (depth) {
+      if (depth->width != W || depth->height != H || depth->channels < 1)
+        throw Error("rain: the depth map's size must be the frame's");
+      depth_.resize(npx);
+      for (std::size_t i = 0; i < npx; ++i) {
+        const float z = depth->pixels[i * std::size_t(depth->channels)];
+        depth_[i] = std::isfinite(z) && z > 0 ? z : std::numeric_limits<float>::infinity();
+      }
+    } else {
+      depth_ = ground_plane_depth(cam);
+    }
+    ground_plane_ = depth == nullptr;
+    transmittance_.resize(npx);
+    tbb::parallel_for(0, H, [&](int y) {
+      for (int x = 0; x < W; ++x) {
+        const std::size_t i = std::size_t(y) * W + x;
+        const double cos_axis = cam.ray(x + 0.5, y + 0.5).z;
+        transmittance_[i] = float(std::exp(-field_.unresolved_optical_depth(depth_[i], cos_axis)));
+      }
+    });
+  }
+
+  light_.update(frame);
+  collect_streaks(frame_index, per_block_);
+  // Streak j of the frame is per_block_[b][j - first[b]]; bands list j.
+  std::vector<std::uint32_t> first(per_block_.size() + 1, 0);
+  for (std::size_t b = 0; b < per_block_.size(); ++b) first[b + 1] = first[b] + std::uint32_t(per_block_[b].size());
+  const std::uint32_t n_streaks = first.back();
+
+  // Bin the streaks by band of rows: a counting sort that copies each streak into every band it
+  // touches, in drop order, so that a band reads its streaks from contiguous memory.
+  const int bands = (H + kBandRows - 1) / kBandRows;
+  auto band_range = [&](const Streak& s) {
+    const float ext = s.R < 1 ? 1.f : s.R + 0.5f;
+    const float ya = std::max(0.f, std::min(s.y0, s.y1) - ext), yb = std::max(0.f, std::max(s.y0, s.y1) + ext);
+    return std::pair<int, int>(std::min(int(ya) / kBandRows, bands - 1), std::min(int(yb) / kBandRows, bands - 1));
+  };
+  auto& offset = band_offset_;
+  offset.assign(std::size_t(bands) + 1, 0);
+  for (const auto& l : per_block_)
+    for (const auto& s : l) {
+      const auto [a, b] = band_range(s);
+      for (int k = a; k <= b; ++k) ++offset[std::size_t(k) + 1];
+    }
+  std::partial_sum(offset.begin(), offset.end(), offset.begin());
+  banded_.resize(offset.back());
+  {
+    std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
+    for (std::size_t b = 0; b < per_block_.size(); ++b)
+      for (std::size_t j = 0; j < per_block_[b].size(); ++j) {
+        const Streak& s = per_block_[b][j];
+        const auto [lo, hi] = band_range(s);
+        for (int k = lo; k <= hi; ++k) {
+          Streak& c = banded_[fill[std::size_t(k)]++];
+          c = s;
+          c.drop = first[b] + std::uint32_t(j);  // the streak's index in the frame, for its visibility
+        }
+      }
+  }
+
+  acc_t_.resize(npx);
+  acc_w_.resize(npx);
+  acc_c_.resize(npx * 3);
+  std::vector<std::atomic<std::uint8_t>> visible(n_streaks);
+  tbb::parallel_for(0, bands, [&](int band) {
+    const int r0 = band * kBandRows, r1 = std::min(H, r0 + kBandRows);
+    const std::size_t p0 = std::size_t(r0) * W, p1 = std::size_t(r1) * W;
+    std::fill(acc_t_.begin() + std::ptrdiff_t(p0), acc_t_.begin() + std::ptrdiff_t(p1), 1.f);
+    std::fill(acc_w_.begin() + std::ptrdiff_t(p0), acc_w_.begin() + std::ptrdiff_t(p1), 0.f);
+    std::fill(acc_c_.begin() + std::ptrdiff_t(3 * p0), acc_c_.begin() + std::ptrdiff_t(3 * p1), 0.f);
+    Accum acc{acc_t_.data(), acc_w_.data(), acc_c_.data()};
+    for (std::uint32_t m = offset[std::size_t(band)]; m < offset[std::size_t(band) + 1]; ++m) {
+      const Streak& s = banded_[m];
+      const float ext = s.R < 1 ? 1.f : s.R + 0.5f;
+      const int ya = std::max(r0, int(std::floor(std::min(s.y0, s.y1) - ext)));
+      const int yb = std::min(r1, int(std::ceil(std::max(s.y0, s.y1) + ext)) + 1);
+      if (ya < yb && raster(s, ya, yb, W, depth_.data(), acc)) visible[s.drop].store(1, std::memory_order_relaxed);
+    }
+  });
+
+  // Composite: image = (clear T_u + airlight (1 - T_u)) T_s + streak colour (1 - T_s).
+  const int ch = frame.channels;
+  if (out.image.width != W || out.image.height != H || out.image.channels != ch) out.image = Image(W, H, ch);
+  out.image.channel_names = frame.channel_names;
+  if (out.alpha.width != W || out.alpha.height != H) out.alpha = Image(W, H, 1);
+  if (with_layer && (out.layer.width != W || out.layer.height != H)) out.layer = Image(W, H, 4);
+  if (!with_layer) out.layer = Image();
+  std::vector<double> row_tu(std::size_t(H), 0), row_gain(std::size_t(H), 0), row_bg(std::size_t(H), 0),
+      row_alpha(std::size_t(H), 0);
+  std::vector<std::uint32_t> row_streak_px(std::size_t(H), 0);
+  tbb::parallel_for(0, H, [&](int y) {
+    double tu_sum = 0, gain = 0, bg_sum = 0, alpha_sum = 0;
+    std::uint32_t streak_px = 0;
+    // The airlight along the row: the drop light at the row's two ends of each grid cell, lerped.
+    std::vector<Vec3> air_row;
+    light_.row(y + 0.5, air_row);
+    for (int x = 0; x < W; ++x) {
+      const std::size_t i = std::size_t(y) * W + x;
+      const float tu = transmittance_[i];
+      const float ts = acc_t_[i], as = 1 - ts;
+      const float inv_w = acc_w_[i] > 0 ? 1 / acc_w_[i] : 0.f;
+      // The streaks' own change is measured against the background they cover (with the unresolved
+      // rain's veil, which lies behind them).
+      float luma_in = 0, luma_out = 0, layer[3];
+      for (int k = 0; k < 3; ++k) {
+        const float clear = frame.pixels[i * std::size_t(ch) + std::size_t(k)];
+        const float air = float(air_row[std::size_t(x)][k]) * (1 - tu);
+        layer[k] = air * ts + acc_c_[i * 3 + std::size_t(k)] * inv_w * as;
+        const float v = clear * tu * ts + layer[k];
+        out.image.pixels[i * std::size_t(ch) + std::size_t(k)] = v;
+        luma_in += kLuma[k] * (clear * tu + air);
+        luma_out += kLuma[k] * v;
+      }
+      for (int k = 3; k < ch; ++k)
+        out.image.pixels[i * std::size_t(ch) + std::size_t(k)] = frame.pixels[i * std::size_t(ch) + std::size_t(k)];
+      const float alpha = 1 - tu * ts;
+      out.alpha.pixels[i] = alpha;
+      if (with_layer) {
+        for (int k = 0; k < 3; ++k) out.layer.pixels[i * 4 + std::size_t(k)] = layer[k];
+        out.layer.pixels[i * 4 + 3] = alpha;
+      }
+      tu_sum += tu;
+      alpha_sum += alpha;
+      if (as >= 0.01f) {
+        ++streak_px;
+        gain += luma_out - luma_in;
+        bg_sum += luma_in;
+      }
+    }
+    row_tu[std::size_t(y)] = tu_sum;
+    row_gain[std::size_t(y)] = gain;
+    row_bg[std::size_t(y)] = bg_sum;
+    row_alpha[std::size_t(y)] = alpha_sum;
+    row_streak_px[std::size_t(y)] = streak_px;
+  });
+
+  RainStats& st = out.stats;
+  st = RainStats{};
+  st.drops_total = field_.drop_count();
+  st.drops_in_view = n_streaks;
+  std::vector<float> lengths;
+  lengths.reserve(n_streaks);
+  double width_sum = 0, luma_sum = 0;
+  for (std::uint32_t j = 0; j < n_streaks; ++j)
+    if (visible[j].load(std::memory_order_relaxed)) ++st.drops_visible;
+  for (const auto& l : per_block_)
+  for (const Streak& s : l) {
+    const float len = std::hypot(s.x1 - s.x0, s.y1 - s.y0);
+    lengths.push_back(len);
+    st.streak_length_px_max = std::max(st.streak_length_px_max, double(len));
+    width_sum += 2.0 * s.R;
+    st.streak_width_px_max = std::max(st.streak_width_px_max, 2.0 * s.R);
+    luma_sum += kLuma[0] * s.rgb[0] + kLuma[1] * s.rgb[1] + kLuma[2] * s.rgb[2];
+  }
+  if (n_streaks > 0) {
+    st.streak_length_px_mean = std::accumulate(lengths.begin(), lengths.end(), 0.0) / double(n_streaks);
+    st.streak_width_px_mean = width_sum / double(n_streaks);
+    st.drop_luminance_mean = luma_sum / double(n_streaks);
+    st.streak_length_px_p50 = percentile(lengths, 0.5);
+    st.streak_length_px_p95 = percentile(lengths, 0.95);
+  }
+  const double streak_px = std::accumulate(row_streak_px.begin(), row_streak_px.end(), 0.0);
+  if (streak_px > 0) {
+    st.streak_luminance_gain = std::accumulate(row_gain.begin(), row_gain.end(), 0.0) / streak_px;
+    st.background_luminance_mean = std::accumulate(row_bg.begin(), row_bg.end(), 0.0) / streak_px;
+  }
+  st.streak_pixel_fraction = streak_px / double(npx);
+  st.alpha_mean = std::accumulate(row_alpha.begin(), row_alpha.end(), 0.0) / double(npx);
+  st.unresolved_transmittance_mean = std::accumulate(row_tu.begin(), row_tu.end(), 0.0) / double(npx);
+}
+
+}  // namespace hydrolux::rain
