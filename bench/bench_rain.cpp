@@ -61,6 +61,27 @@ void BM_RainStreaks(benchmark::State& state) {
 }
 BENCHMARK(BM_RainStreaks)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The drop light's update from a frame (the frame reduced, the grid's taps summed).
+void BM_DropLightUpdate(benchmark::State& state) {
+  rain::RainCamera c;
+  rain::DropLight light(c, 1.333);
+  const Image frame = test_frame(1920, 1080);
+  for (auto _ : state) {
+    light.update(frame);
+    benchmark::DoNotOptimize(light.sky());
+  }
+}
+BENCHMARK(BM_DropLightUpdate)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The field's set-up (classes, boxes, the velocity table) and the drop light's grid: once per run.
+void BM_RainSetup(benchmark::State& state) {
+  for (auto _ : state) {
+    auto r = make_renderer(25);
+    benchmark::DoNotOptimize(r.field().drop_count());
+  }
+}
+BENCHMARK(BM_RainSetup)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 }  // namespace
 
 BENCHMARK_MAIN();

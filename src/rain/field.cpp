@@ -71,6 +71,7 @@ void validate(const RainSettings& s) {
   require_in_range("max_radius_mm", s.max_radius_mm, s.min_radius_mm * 1.001, 2.9, "beyond min_radius_mm");
   require_in_range("min_alpha", s.min_alpha, 1e-5, 0.5);
   require_in_range("extent_m", s.extent_m, 0, 1e5);
+  require_in_range("backdrop_m", s.backdrop_m, 1, 1e5);
   require_in_range("oscillation", s.oscillation, 0, 0.5);
   require_in_range("refractive_index", s.refractive_index, 1.01, 3);
   require_in_range("radius_classes", s.radius_classes, 1, 256);
@@ -191,7 +192,7 @@ RainField::RainField(const RainSettings& settings, const RainCamera& camera, boo
     rc.box_size = hi - lo;
     const double mean = rc.number_per_m3 * rc.box_size.x * rc.box_size.y * rc.box_size.z;
     if (mean > double(kMaxDrops)) {
-      throw Error(fmt::format(
+      throw TooManyDrops(mean, fmt::format(
           "the rain field would hold {:.3g} drops, more than the limit of {:.3g}; raise the smallest resolved "
           "alpha (min_alpha), the near distance or the smallest drawn radius, or lower the far distance",
           mean, double(kMaxDrops)));
@@ -204,7 +205,7 @@ RainField::RainField(const RainSettings& settings, const RainCamera& camera, boo
     total_ += rc.count;
   }
   if (double(total_) > double(kMaxDrops))
-    throw Error(fmt::format("the rain field would hold {} drops, more than the limit of {:.3g}; raise the smallest "
+    throw TooManyDrops(double(total_), fmt::format("the rain field would hold {} drops, more than the limit of {:.3g}; raise the smallest "
                             "resolved alpha (min_alpha), the near distance or the smallest drawn radius",
                             total_, double(kMaxDrops)));
 }

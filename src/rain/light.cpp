@@ -1,4 +1,6 @@
 // The drops' light from the frame itself (rain.hpp, "The drop's light").
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -73,20 +75,22 @@ DropLight::DropLight(const RainCamera& camera, double mu, int grid_x, int grid_y
 void DropLight::update(const Image& frame) {
   if (frame.width != c_.width || frame.height != c_.height || frame.channels < 3)
     throw Error("DropLight::update: the frame must have the camera's size and at least 3 channels");
-  // Area average into the small frame.
+  // Area average into the small frame, one small row per task (the frame's rows that fall in it).
   small_.assign(std::size_t(small_w_) * small_h_ * 3, 0.f);
-  std::vector<float> count(std::size_t(small_w_) * small_h_, 0.f);
-  for (int y = 0; y < frame.height; ++y) {
-    const int sy = std::min(small_h_ - 1, int(std::int64_t(y) * small_h_ / frame.height));
-    for (int x = 0; x < frame.width; ++x) {
-      const int sx = std::min(small_w_ - 1, int(std::int64_t(x) * small_w_ / frame.width));
-      const std::size_t s = std::size_t(sy) * small_w_ + sx;
-      for (int k = 0; k < 3; ++k) small_[s * 3 + k] += std::max(0.f, frame.at(x, y, k));
-      count[s] += 1;
-    }
-  }
-  for (std::size_t s = 0; s < count.size(); ++s)
-    for (int k = 0; k < 3; ++k) small_[s * 3 + k] /= std::max(1.f, count[s]);
+  tbb::parallel_for(0, small_h_, [&](int sy) {
+    std::vector<double> sum(std::size_t(small_w_) * 3, 0.0), count(std::size_t(small_w_), 0.0);
+    const int y0 = int((std::int64_t(sy) * frame.height + small_h_ - 1) / small_h_);
+    const int y1 = int((std::int64_t(sy + 1) * frame.height + small_h_ - 1) / small_h_);
+    for (int y = y0; y < std::min(y1, frame.height); ++y)
+      for (int x = 0; x < frame.width; ++x) {
+        const auto sx = std::size_t(std::min(small_w_ - 1, int(std::int64_t(x) * small_w_ / frame.width)));
+        for (std::size_t k = 0; k < 3; ++k) sum[sx * 3 + k] += std::max(0.f, frame.at(x, y, int(k)));
+        count[sx] += 1;
+      }
+    for (std::size_t sx = 0; sx < std::size_t(small_w_); ++sx)
+      for (std::size_t k = 0; k < 3; ++k)
+        small_[(std::size_t(sy) * small_w_ + sx) * 3 + k] = float(sum[sx * 3 + k] / std::max(1.0, count[sx]));
+  });
 
   const int edge = std::max(1, int(std::lround(kEdgeRows * small_h_)));
   auto mean_rows = [&](int y0, int y1) {
@@ -128,14 +132,19 @@ void DropLight::row(double py, std::vector<Vec3>& out) const {
   const double fy = std::clamp(py / c_.height * (gy_ - 1), 0.0, double(gy_ - 1));
   const int y0 = std::min(int(fy), gy_ - 2);
   const double ay = fy - y0;
-  std::vector<Vec3> nodes(static_cast<std::size_t>(gx_));
-  for (int i = 0; i < gx_; ++i)
-    nodes[std::size_t(i)] = node_[std::size_t(y0) * gx_ + i] * (1 - ay) + node_[std::size_t(y0 + 1) * gx_ + i] * ay;
+  const auto node = [&](int i) { return node_[std::size_t(y0) * gx_ + i] * (1 - ay) + node_[std::size_t(y0 + 1) * gx_ + i] * ay; };
+  int x0 = -1;
+  Vec3 a(0), b(0);
   for (int x = 0; x < c_.width; ++x) {
     const double fx = std::clamp((x + 0.5) / c_.width * (gx_ - 1), 0.0, double(gx_ - 1));
-    const int x0 = std::min(int(fx), gx_ - 2);
+    const int cell = std::min(int(fx), gx_ - 2);
+    if (cell != x0) {  // the row's values at the cell's two nodes
+      x0 = cell;
+      a = node(x0);
+      b = node(x0 + 1);
+    }
     const double ax = fx - x0;
-    out[std::size_t(x)] = nodes[std::size_t(x0)] * (1 - ax) + nodes[std::size_t(x0) + 1] * ax;
+    out[std::size_t(x)] = a * (1 - ax) + b * ax;
   }
 }
 

@@ -12,6 +12,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/rain/rain.hpp"
+#include "hydrolux/scene/environment.hpp"
 
 namespace hydrolux::rain {
 
@@ -132,6 +133,19 @@ double percentile(std::vector<float> v, double q) {
 
 }  // namespace
 
+Image builtin_scene(const RainCamera& c) {
+  validate(c);
+  const scene::BuiltinSky sky(false);
+  Image img(c.width, c.height, 3);
+  tbb::parallel_for(0, c.height, [&](int y) {
+    for (int x = 0; x < c.width; ++x) {
+      const Vec3 L = sky.radiance(c.to_world(c.ray(x + 0.5, y + 0.5)));
+      for (int k = 0; k < 3; ++k) img.at(x, y, k) = float(L[k]);
+    }
+  });
+  return img;
+}
+
 Image streak_alpha(const Streak& streak, int width, int height) {
   const std::size_t n = std::size_t(width) * std::size_t(height);
   std::vector<float> T(n, 1.f), W(n, 0.f), C(n * 3, 0.f);
@@ -143,14 +157,14 @@ Image streak_alpha(const Streak& streak, int width, int height) {
   return a;
 }
 
-std::vector<float> ground_plane_depth(const RainCamera& c) {
-  std::vector<float> depth(std::size_t(c.width) * std::size_t(c.height), std::numeric_limits<float>::infinity());
+std::vector<float> ground_plane_depth(const RainCamera& c, double backdrop_m) {
+  std::vector<float> depth(std::size_t(c.width) * std::size_t(c.height), float(backdrop_m));
   for (int y = 0; y < c.height; ++y)
     for (int x = 0; x < c.width; ++x) {
       const Vec3 d = c.ray(x + 0.5, y + 0.5);
       const Vec3 w = c.to_world(d);
       // The ray meets the ground (world y = -height) at distance height / -w.y, at camera z d.z times that.
-      if (w.y < -1e-9) depth[std::size_t(y) * c.width + x] = float(c.height_m / -w.y * d.z);
+      if (w.y < -1e-9) depth[std::size_t(y) * c.width + x] = float(std::min(backdrop_m, c.height_m / -w.y * d.z));
     }
   return depth;
 }
@@ -254,7 +268,7 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
         depth_[i] = std::isfinite(z) && z > 0 ? z : std::numeric_limits<float>::infinity();
       }
     } else {
-      depth_ = ground_plane_depth(cam);
+      depth_ = ground_plane_depth(cam, field_.settings().backdrop_m);
     }
     ground_plane_ = depth == nullptr;
     transmittance_.resize(npx);
@@ -335,50 +349,52 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   std::vector<double> row_tu(std::size_t(H), 0), row_gain(std::size_t(H), 0), row_bg(std::size_t(H), 0),
       row_alpha(std::size_t(H), 0);
   std::vector<std::uint32_t> row_streak_px(std::size_t(H), 0);
-  tbb::parallel_for(0, H, [&](int y) {
-    double tu_sum = 0, gain = 0, bg_sum = 0, alpha_sum = 0;
-    std::uint32_t streak_px = 0;
-    // The airlight along the row: the drop light at the row's two ends of each grid cell, lerped.
-    std::vector<Vec3> air_row;
-    light_.row(y + 0.5, air_row);
-    for (int x = 0; x < W; ++x) {
-      const std::size_t i = std::size_t(y) * W + x;
-      const float tu = transmittance_[i];
-      const float ts = acc_t_[i], as = 1 - ts;
-      const float inv_w = acc_w_[i] > 0 ? 1 / acc_w_[i] : 0.f;
-      // The streaks' own change is measured against the background they cover (with the unresolved
-      // rain's veil, which lies behind them).
-      float luma_in = 0, luma_out = 0, layer[3];
-      for (int k = 0; k < 3; ++k) {
-        const float clear = frame.pixels[i * std::size_t(ch) + std::size_t(k)];
-        const float air = float(air_row[std::size_t(x)][k]) * (1 - tu);
-        layer[k] = air * ts + acc_c_[i * 3 + std::size_t(k)] * inv_w * as;
-        const float v = clear * tu * ts + layer[k];
-        out.image.pixels[i * std::size_t(ch) + std::size_t(k)] = v;
-        luma_in += kLuma[k] * (clear * tu + air);
-        luma_out += kLuma[k] * v;
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<Vec3> air_row;  // one buffer for the block's rows
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      double tu_sum = 0, gain = 0, bg_sum = 0, alpha_sum = 0;
+      std::uint32_t streak_px = 0;
+      // The airlight along the row: the drop light at the row's two ends of each grid cell, lerped.
+      light_.row(y + 0.5, air_row);
+      for (int x = 0; x < W; ++x) {
+        const std::size_t i = std::size_t(y) * W + x;
+        const float tu = transmittance_[i];
+        const float ts = acc_t_[i], as = 1 - ts;
+        const float inv_w = acc_w_[i] > 0 ? 1 / acc_w_[i] : 0.f;
+        // The streaks' own change is measured against the background they cover (with the unresolved
+        // rain's veil, which lies behind them).
+        float luma_in = 0, luma_out = 0, layer[3];
+        for (int k = 0; k < 3; ++k) {
+          const float clear = frame.pixels[i * std::size_t(ch) + std::size_t(k)];
+          const float air = float(air_row[std::size_t(x)][k]) * (1 - tu);
+          layer[k] = air * ts + acc_c_[i * 3 + std::size_t(k)] * inv_w * as;
+          const float v = clear * tu * ts + layer[k];
+          out.image.pixels[i * std::size_t(ch) + std::size_t(k)] = v;
+          luma_in += kLuma[k] * (clear * tu + air);
+          luma_out += kLuma[k] * v;
+        }
+        for (int k = 3; k < ch; ++k)
+          out.image.pixels[i * std::size_t(ch) + std::size_t(k)] = frame.pixels[i * std::size_t(ch) + std::size_t(k)];
+        const float alpha = 1 - tu * ts;
+        out.alpha.pixels[i] = alpha;
+        if (with_layer) {
+          for (int k = 0; k < 3; ++k) out.layer.pixels[i * 4 + std::size_t(k)] = layer[k];
+          out.layer.pixels[i * 4 + 3] = alpha;
+        }
+        tu_sum += tu;
+        alpha_sum += alpha;
+        if (as >= 0.01f) {
+          ++streak_px;
+          gain += luma_out - luma_in;
+          bg_sum += luma_in;
+        }
       }
-      for (int k = 3; k < ch; ++k)
-        out.image.pixels[i * std::size_t(ch) + std::size_t(k)] = frame.pixels[i * std::size_t(ch) + std::size_t(k)];
-      const float alpha = 1 - tu * ts;
-      out.alpha.pixels[i] = alpha;
-      if (with_layer) {
-        for (int k = 0; k < 3; ++k) out.layer.pixels[i * 4 + std::size_t(k)] = layer[k];
-        out.layer.pixels[i * 4 + 3] = alpha;
-      }
-      tu_sum += tu;
-      alpha_sum += alpha;
-      if (as >= 0.01f) {
-        ++streak_px;
-        gain += luma_out - luma_in;
-        bg_sum += luma_in;
-      }
+      row_tu[std::size_t(y)] = tu_sum;
+      row_gain[std::size_t(y)] = gain;
+      row_bg[std::size_t(y)] = bg_sum;
+      row_alpha[std::size_t(y)] = alpha_sum;
+      row_streak_px[std::size_t(y)] = streak_px;
     }
-    row_tu[std::size_t(y)] = tu_sum;
-    row_gain[std::size_t(y)] = gain;
-    row_bg[std::size_t(y)] = bg_sum;
-    row_alpha[std::size_t(y)] = alpha_sum;
-    row_streak_px[std::size_t(y)] = streak_px;
   });
 
   RainStats& st = out.stats;
@@ -390,14 +406,15 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   double width_sum = 0, luma_sum = 0;
   for (std::uint32_t j = 0; j < n_streaks; ++j)
     if (visible[j].load(std::memory_order_relaxed)) ++st.drops_visible;
-  for (const auto& l : per_block_)
-  for (const Streak& s : l) {
-    const float len = std::hypot(s.x1 - s.x0, s.y1 - s.y0);
-    lengths.push_back(len);
-    st.streak_length_px_max = std::max(st.streak_length_px_max, double(len));
-    width_sum += 2.0 * s.R;
-    st.streak_width_px_max = std::max(st.streak_width_px_max, 2.0 * s.R);
-    luma_sum += kLuma[0] * s.rgb[0] + kLuma[1] * s.rgb[1] + kLuma[2] * s.rgb[2];
+  for (const auto& block : per_block_) {
+    for (const Streak& s : block) {
+      const float len = std::hypot(s.x1 - s.x0, s.y1 - s.y0);
+      lengths.push_back(len);
+      st.streak_length_px_max = std::max(st.streak_length_px_max, double(len));
+      width_sum += 2.0 * s.R;
+      st.streak_width_px_max = std::max(st.streak_width_px_max, 2.0 * s.R);
+      luma_sum += kLuma[0] * s.rgb[0] + kLuma[1] * s.rgb[1] + kLuma[2] * s.rgb[2];
+    }
   }
   if (n_streaks > 0) {
     st.streak_length_px_mean = std::accumulate(lengths.begin(), lengths.end(), 0.0) / double(n_streaks);

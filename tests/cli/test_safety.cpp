@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "hydrolux/io/image_io.hpp"
 #include "support/cli.hpp"
 #include "support/sandbox.hpp"
 
@@ -232,6 +233,50 @@ TEST_F(Safety, InterruptedExportAndSkyLeaveNothing) {
   EXPECT_EQ(r.code, 130) << r.err;
   EXPECT_EQ(slurp(out), "the old picture");
   EXPECT_EQ(listing(dir_), (std::vector<std::string>{"assets", "scene.png"}));
+}
+
+// Ctrl-C during hydrolux rain over a video: exit 130, no output video and no temporary file; over a
+// folder of frames: the frames written before it are whole, and no partial frame is left.
+TEST_F(Safety, InterruptedRainLeavesNoPartialOutput) {
+  const fs::path in = dir_ / "in.mp4";
+  const std::string make = "ffmpeg -v error -y -f lavfi -i testsrc2=size=1280x720:rate=25 -frames:v 250 "
+                           "-pix_fmt yuv420p -c:v libx264 -preset ultrafast " + in.string();
+  ASSERT_EQ(std::system(make.c_str()), 0) << "ffmpeg (Debian's ffmpeg package; scripts/install-deps)";
+  auto p = spawn({"rain", "-q", "--video", in.string(), "--rate-mmh", "100", "-o", (dir_ / "out.mp4").string()});
+  wait_until_signals_handled(p.pid);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // frames are being encoded
+  ::kill(p.pid, SIGINT);
+  auto r = finish(p);
+  EXPECT_EQ(r.code, 130) << r.err;
+  EXPECT_NE(r.err.find("hydrolux rain: cancelled by SIGINT"), std::string::npos) << r.err;
+  EXPECT_EQ(listing(dir_), std::vector<std::string>{"in.mp4"});
+
+  const fs::path frames = dir_ / "frames", rainy = dir_ / "rainy";
+  fs::create_directories(frames);
+  ASSERT_EQ(std::system(("ffmpeg -v error -y -i " + in.string() + " -frames:v 120 " + (frames / "f%03d.png").string())
+                            .c_str()),
+            0);
+  p = spawn({"rain", "-q", "--input-dir", frames.string(), "--output-dir", rainy.string(), "--rate-mmh", "100"});
+  wait_until_signals_handled(p.pid);
+  const auto committed = [&] {  // a frame in place (not a hidden temporary file)
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(rainy, ec))
+      if (e.path().filename().string().front() != '.') return true;
+    return false;
+  };
+  while (hydrolux::testing::still_running(p) && !committed()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ::kill(p.pid, SIGINT);
+  r = finish(p);
+  EXPECT_EQ(r.code, 130) << r.err;
+  std::size_t written = 0;
+  for (const auto& e : fs::directory_iterator(rainy)) {
+    const std::string name = e.path().filename().string();
+    ASSERT_NE(name.front(), '.') << "a temporary file was left: " << name;
+    EXPECT_NO_THROW(hydrolux::io::read_image(e.path())) << name;  // whole
+    ++written;
+  }
+  EXPECT_GE(written, 1u);
+  EXPECT_LT(written, 120u);
 }
 
 // An interrupted gallery used to leave a half-filled folder. Now its figures are staged in a hidden

@@ -338,6 +338,35 @@ TEST(RainRenderer, FootprintsKeepTheDropsAreaTimeIntegral) {
   }
 }
 
+TEST(RainRenderer, OscillationBeadsTheStreak) {
+  // A drop whose apparent radius oscillates as r (1 + A sin(2 pi (phase + cycles tau))) along a
+  // vertical streak: the alpha down the streak follows (1 + A sin)^2, so its extremes are (1 +- A)^2
+  // of the still drop's, with `cycles` periods over the streak.
+  Streak st{};
+  st.x0 = st.x1 = 20.5f;
+  st.y0 = 10;
+  st.y1 = 110;
+  st.r = st.R = 0.4f;
+  st.z = 1;
+  const Image still = streak_alpha(st, 41, 120);
+  st.osc_amp = 0.3f;
+  st.osc_cycles = 2;
+  const Image beaded = streak_alpha(st, 41, 120);
+  double lo = 1e9, hi = 0;
+  int crossings = 0;
+  double prev = 0;
+  for (int y = 14; y < 106; ++y) {
+    const double ratio = beaded.at(20, y, 0) / still.at(20, y, 0);
+    lo = std::min(lo, ratio);
+    hi = std::max(hi, ratio);
+    if (y > 14 && (ratio - 1) * (prev - 1) < 0) ++crossings;
+    prev = ratio;
+  }
+  EXPECT_NEAR(hi, 1.69, 0.02);
+  EXPECT_NEAR(lo, 0.49, 0.02);
+  EXPECT_NEAR(crossings, 4, 1);  // two periods cross 1 four times
+}
+
 TEST(RainRenderer, DropsAreBrighterThanTheirBackground) {
   // Garg & Nayar: a drop refracts light from a ~165 degree cone, mostly the bright sky and the ground
   // beyond the frame, so over a scene darker than the sky drops are brighter than what they cover, on

@@ -129,6 +129,7 @@ std::vector<Command> add_all_commands(CLI::App& app) {
   commands.push_back(add_lee(app));
   commands.push_back(add_sky(app));
   commands.push_back(add_export(app));
+  commands.push_back(add_rain(app));
   commands.push_back(add_gallery(app));
   return commands;
 }

@@ -56,6 +56,7 @@ Command add_rainphys(CLI::App& app);
 Command add_lee(CLI::App& app);
 Command add_sky(CLI::App& app);
 Command add_export(CLI::App& app);
+Command add_rain(CLI::App& app);
 
 // ---- validators: each gives "'<value>' ... valid range [lo, hi] <unit>" ----
 

@@ -37,11 +37,13 @@
 // min_alpha, and drops smaller than min_radius_mm, are not drawn: they block the line of sight with
 // their geometric cross-section, beta = pi integral a^2 N(a) da over them, and show the same drop
 // light (airlight), so the rain's total extinction is the same whether a drop is drawn or not. The
-// line of sight ends at the scene's depth, or at extent_m where there is no geometry (sky).
+// line of sight ends at the scene's depth: from the depth map (extent_m where it has none, the sky),
+// or without one the ground plane closed by a backdrop at backdrop_m.
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include "hydrolux/core/error.hpp"
 #include "hydrolux/core/image.hpp"
 #include "hydrolux/core/vec.hpp"
 
@@ -89,7 +91,8 @@ struct RainSettings {
   double min_radius_mm = 0.1;    // smaller drops count only as unresolved rain, [0.04, 2.9] mm
   double max_radius_mm = 2.9;    // larger ones break up, (min_radius_mm, 2.9] mm (Gunn & Kinzer's table)
   double min_alpha = 0.01;       // a class is drawn out to where its peak alpha falls below this, [1e-5, 0.5]
-  double extent_m = 1000;        // the rain's depth where the scene has none (sky), [0, 1e5] m
+  double extent_m = 1000;        // the rain's depth where a depth map has none (sky), [0, 1e5] m
+  double backdrop_m = 100;       // without a depth map: the ground plane up to a backdrop this far, [1, 1e5] m
   double oscillation = 0;        // relative amplitude of the drop's apparent radius oscillation, [0, 0.5]
   double refractive_index = 1.333;  // water, [1.01, 3]
   std::uint64_t seed = 1;
@@ -128,6 +131,16 @@ struct Streak {
   std::uint32_t drop;     // the drop's index among all drops (low 32 bits)
 };
 
+// A field that would hold more than RainField::kMaxDrops drops (what() says which settings to change).
+class TooManyDrops : public Error {
+ public:
+  TooManyDrops(double drops, std::string message) : Error(std::move(message)), drops_(drops) {}
+  double drops() const noexcept { return drops_; }
+
+ private:
+  double drops_;
+};
+
 // The drops of one rain, for one camera. Deterministic in (settings, camera, ground_plane).
 class RainField {
  public:
@@ -150,7 +163,7 @@ class RainField {
   // The total geometric extinction of the rain (all radii), m^-1.
   double beta_total_per_m() const { return beta_total_; }
 
-  // The most drops a field may hold (Error beyond: the message says which settings to change).
+  // The most drops a field may hold (TooManyDrops beyond).
   static constexpr std::uint64_t kMaxDrops = 200'000'000;
 
  private:
@@ -264,10 +277,17 @@ class RainRenderer {
   std::vector<std::uint32_t> band_offset_;
 };
 
+// The builtin scene (scene::BuiltinSky without its sun disk: a sky, a road, grass and landmarks) as the
+// camera sees it, linear RGB, one sample per pixel centre: a frame to try the rain on without a
+// photograph, for the gallery and the tests.
+Image builtin_scene(const RainCamera& camera);
+
 // The alpha one streak alone puts on a width x height image (1 channel), as the renderer rasterises it.
 Image streak_alpha(const Streak& streak, int width, int height);
 
-// The scene depth (camera z, m) of the ground plane at each pixel; infinity above the horizon.
-std::vector<float> ground_plane_depth(const RainCamera& camera);
+// The scene depth (camera z, m) assumed without a depth map: the ground plane, and a backdrop at
+// backdrop_m (camera z) wherever the ground is farther or absent (above the horizon), so the scene's
+// depth, and the rain veil with it, is continuous across the horizon.
+std::vector<float> ground_plane_depth(const RainCamera& camera, double backdrop_m);
 
 }  // namespace hydrolux::rain
