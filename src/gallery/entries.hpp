@@ -36,4 +36,7 @@ std::vector<Entry> lee_entries();
 // rain rate, a corona, and seed 002's optimisations beside the per-pixel reference.
 std::vector<Entry> sky_entries();
 
+// Rain over a frame (issue #12): the built-in street at three rain rates, exposure, defocus, the mask.
+std::vector<Entry> rain_entries();
+
 }  // namespace hydrolux::gallery::detail
