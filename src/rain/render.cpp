@@ -304,7 +304,7 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
       for (int k = a; k <= b; ++k) ++offset[std::size_t(k) + 1];
     }
   std::partial_sum(offset.begin(), offset.end(), offset.begin());
-  banded_.resize(offset.back());
+  if (banded_.size() < offset.back()) banded_.resize(offset.back());  // grown, never shrunk: no refill
   {
     std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
     for (std::size_t b = 0; b < per_block_.size(); ++b)
