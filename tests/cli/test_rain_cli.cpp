@@ -201,6 +201,10 @@ TEST(RainCli, BadInputIsRefusedInOneLine) {
   const fs::path frames = dir() / "same";
   fs::create_directories(frames);
   fs::copy_file(clear_png(), frames / "a.png", fs::copy_options::overwrite_existing);
+  const fs::path clash = dir() / "clash";  // a.png and a.jpg would both become a.png
+  fs::create_directories(clash);
+  fs::copy_file(clear_png(), clash / "a.png", fs::copy_options::overwrite_existing);
+  fs::copy_file(clear_png(), clash / "a.jpg", fs::copy_options::overwrite_existing);
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"rain -o " + o, "--image"},
       {"rain --image " + img + " --input-dir " + dir().string() + " -o " + o, "--input-dir"},
@@ -215,11 +219,13 @@ TEST(RainCli, BadInputIsRefusedInOneLine) {
       {"rain --input-dir " + dir().string() + " -o " + o, "-o"},
       {"rain --input-dir " + frames.string() + " --output-dir " + frames.string() + "/.", "--output-dir"},
       {"rain --video " + img + " -o " + (dir() / "v.mp4").string(), "--video"},
+      {"rain --input-dir " + clash.string() + " --output-dir " + (dir() / "clash_out").string(), "a.png"},
       {"rain --video " + img + " -o " + (dir() / "v.avi").string(), "-o"},
       {"rain --image builtin --size 1920x1080 --min-alpha 0.00001 --rate-mmh 500 --far-m 10000 -o " + o, "--min-alpha"},
   };
   hydrolux::testing::expect_usage_errors(cases);
   EXPECT_FALSE(fs::exists(dir() / "bad.png"));
+  EXPECT_FALSE(fs::exists(dir() / "clash_out"));
 }
 
 }  // namespace

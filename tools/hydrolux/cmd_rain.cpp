@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -272,6 +273,20 @@ int run_folder(const RainArgs& a) {
   std::sort(frames.begin(), frames.end());
   if (frames.empty())
     throw Error(fmt::format("--input-dir {}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)", *a.input_dir));
+  // Each frame's output name (its own, as .exr or .png); two frames may not share one.
+  std::vector<fs::path> out_names;
+  {
+    std::map<fs::path, fs::path> seen;
+    for (const auto& f : frames) {
+      fs::path name = f.filename();
+      name.replace_extension(lower_extension(f) == ".exr" ? ".exr" : ".png");
+      const auto [it, fresh] = seen.emplace(name, f.filename());
+      if (!fresh)
+        throw Error(fmt::format("--input-dir {}: {} and {} would both be written as {}", *a.input_dir,
+                                it->second.string(), f.filename().string(), name.string()));
+      out_names.push_back(name);
+    }
+  }
   for (const auto& [flag, dir] : {std::pair<const char*, std::optional<std::string>>{"--output-dir", a.output_dir},
                                   {"--mask-dir", a.mask_dir}}) {
     if (!dir) continue;
@@ -310,14 +325,11 @@ int run_folder(const RainArgs& a) {
                               renderer->field().camera().height));
     }
     renderer->render_into(frame, nullptr, a.frame_index + std::int64_t(k), false, result);
-    const bool exr = lower_extension(frames[k]) == ".exr";
-    fs::path out_name = frames[k].filename();
-    out_name.replace_extension(exr ? ".exr" : ".png");
-    const auto format = exr ? io::ImageFormat::exr : io::ImageFormat::png;
+    const fs::path& out_name = out_names[k];
+    const auto format = out_name.extension() == ".exr" ? io::ImageFormat::exr : io::ImageFormat::png;
     io::write_file(out_dir / out_name, images.encode_image(result.image, format, io::PngOptions{}), "--output-dir");
     if (a.mask_dir) {
-      fs::path m = out_name;
-      io::write_file(fs::path(*a.mask_dir) / m, images.encode_image(mask_image(result.alpha, format), format,
+      io::write_file(fs::path(*a.mask_dir) / out_name, images.encode_image(mask_image(result.alpha, format), format,
                                                                     io::PngOptions{16}),
                      "--mask-dir");
     }
@@ -374,6 +386,10 @@ int run_video(const RainArgs& a) {
   rain::RainFrame result;
   nlohmann::json per_frame = nlohmann::json::array();
   std::int64_t k = 0;
+  // The frame count for the progress: the container's, else the duration times the rate (Matroska).
+  const std::int64_t expected = info.frame_count > 0 ? info.frame_count
+                                : info.duration_s > 0 ? std::llround(info.duration_s * info.fps())
+                                                      : -1;
   while (reader->read(in_frame)) {
     tables.to_linear(in_frame, linear);
     renderer.render_into(linear, nullptr, a.frame_index + k, false, result);
@@ -385,8 +401,8 @@ int run_video(const RainArgs& a) {
       per_frame.push_back(std::move(j));
     }
     ++k;
-    if (info.frame_count > 0)
-      bar.update(std::min(1.0, double(k) / double(info.frame_count)), fmt::format("frame {}/{}", k, info.frame_count));
+    if (expected > 0)
+      bar.update(std::min(1.0, double(k) / double(expected)), fmt::format("frame {}/{}", k, expected));
   }
   writer->finish();
   bar.finish();
