@@ -80,6 +80,12 @@ TEST(RainCli, ImageMaskLayerAndStatsPairExactly) {
   EXPECT_LE(f.at("drops_visible"), f.at("drops_in_view"));
   EXPECT_GT(f.at("streak_length_px").at("p95"), f.at("streak_length_px").at("p50"));
 
+  // A pixel pitch gives the same camera as the sensor width it implies (36 mm over 320 px: 112.5 um).
+  r = run("rain -q --image " + clear_exr().string() + " --rate-mmh 50 --wind-mps 3 --seed 7 --pixel-pitch-um 112.5 -o " +
+          (dir() / "pitch.exr").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(dir() / "pitch.exr"), slurp(out));
+
   // The PNG mask holds alpha as 16-bit codes: alpha x 65535, not the sRGB curve.
   r = run("rain -q --image " + clear_exr().string() + " --rate-mmh 50 --wind-mps 3 --seed 7 -o " +
           (dir() / "rainy.png").string() + " --mask-out " + mask_png.string());

@@ -36,7 +36,7 @@ struct RainArgs {
   std::optional<std::string> size;  // of --image builtin
   rain::RainSettings s;
   rain::RainCamera c;
-  std::optional<double> fov_deg, fps;
+  std::optional<double> fov_deg, fps, pixel_pitch_um;
   long long frame_index = 0;
   int crf = 18;
   bool no_unresolved = false;
@@ -189,6 +189,7 @@ rain::RainCamera camera_for(const RainArgs& a, int width, int height, std::optio
   rain::RainCamera c = a.c;
   c.width = width;
   c.height = height;
+  if (a.pixel_pitch_um) c.sensor_width_mm = *a.pixel_pitch_um * 1e-3 * width;
   if (a.fov_deg) c.focal_mm = rain::focal_mm_from_fov(*a.fov_deg, c.sensor_width_mm);
   if (fps) c.fps = *fps;
   // A long exposure for the default frame rate: never longer than the frame interval.
@@ -465,8 +466,10 @@ Command add_rain(CLI::App& app) {
   auto* focal = sub->add_option("--focal-mm", c.focal_mm, "Focal length, mm")->check(number_in(1, 2000, "mm"))->capture_default_str();
   sub->add_option("--fov-deg", a->fov_deg, "Horizontal field of view, degrees (instead of --focal-mm)")
       ->check(number_in(1, 170, "deg"))->excludes(focal);
-  sub->add_option("--sensor-width-mm", c.sensor_width_mm, "Sensor width, mm (pixel pitch = width / image width)")
+  auto* sensor = sub->add_option("--sensor-width-mm", c.sensor_width_mm, "Sensor width, mm (pixel pitch = width / image width)")
       ->check(number_in(1, 100, "mm"))->capture_default_str();
+  sub->add_option("--pixel-pitch-um", a->pixel_pitch_um, "Pixel pitch, um (instead of --sensor-width-mm)")
+      ->check(number_in(0.1, 1000, "um"))->excludes(sensor);
   sub->add_option("--f-number", c.f_number, "Aperture f-number for defocus of near drops; 0 = pinhole (all sharp)")
       ->check(number_in(0, 64))->capture_default_str();
   sub->add_option("--focus-m", c.focus_m, "Focus distance, m (with --f-number)")->check(number_in(0.01, 1e4, "m"))->capture_default_str();
@@ -516,7 +519,7 @@ Command add_rain(CLI::App& app) {
            {"height", "the input's height"},
            {"focal_mm", "--focal-mm"},
            {"fov_deg", "--fov-deg"},
-           {"sensor_width_mm", "--sensor-width-mm"},
+           {"sensor_width_mm", "--sensor-width-mm (or --pixel-pitch-um x the image width)"},
            {"f_number", "--f-number"},
            {"focus_m", "--focus-m"},
            {"fps", "--fps"},
