@@ -3,6 +3,7 @@
 // that pairs a rainy frame with its clear one.
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <vector>
 
 #include "entries.hpp"
@@ -57,6 +58,19 @@ Image stacked(const std::vector<Image>& rows, int gap) {
 // The road below the horizon, where streaks show against the asphalt: a crop at 2x.
 Image road(const Image& img) { return crop_zoom(img, 120, 130, 200, 94, 2); }
 
+// One road crop per value, the rain and camera set by `set(settings, camera, value)`, side by side.
+template <typename Set>
+Image road_panels(std::initializer_list<double> values, Set set) {
+  std::vector<Image> p;
+  for (const double v : values) {
+    rain::RainSettings s;
+    auto c = camera();
+    set(s, c, v);
+    p.push_back(road(rainy(s, c).image));
+  }
+  return side_by_side(p, kGap);
+}
+
 }  // namespace
 
 std::vector<Entry> rain_entries() {
@@ -88,17 +102,12 @@ std::vector<Entry> rain_entries() {
       "streak whose light is spread along it (a drop covers a pixel for only part of the exposure), so at 1/30 s "
       "the streaks are long and faint, as Garg & Nayar describe them.",
       [] {
-        std::vector<Image> p;
-        for (const double t : {1.0 / 2000, 1.0 / 250, 1.0 / 30}) {
-          rain::RainSettings s;
+        return road_panels({1.0 / 2000, 1.0 / 250, 1.0 / 30}, [](rain::RainSettings& s, rain::RainCamera& c, double t) {
           s.rate_mmh = 25;
           s.wind_mps = 2;
-          auto c = camera();
           c.exposure_s = t;
           c.fps = 30;
-          p.push_back(road(rainy(s, c).image));
-        }
-        return side_by_side(p, kGap);
+        });
       }));
   e.push_back(image_entry(
       "rain_wind.png", "The wind slants the streaks",
@@ -106,17 +115,12 @@ std::vector<Entry> rain_entries() {
       "the left (right). Drops move with the air, so a streak leans by the wind speed over the fall speed: about 40 "
       "degrees for a 1 mm drop (6.5 m/s) in 5 m/s.",
       [] {
-        std::vector<Image> p;
-        for (const double w : {0.0, 5.0, -10.0}) {
-          rain::RainSettings s;
+        return road_panels({0.0, 5.0, -10.0}, [](rain::RainSettings& s, rain::RainCamera& c, double w) {
           s.rate_mmh = 100;
           s.wind_mps = std::abs(w);
           s.wind_dir_deg = w < 0 ? -90 : 90;
-          auto c = camera();
           c.exposure_s = 1.0 / 60;
-          p.push_back(road(rainy(s, c).image));
-        }
-        return side_by_side(p, kGap);
+        });
       }));
   e.push_back(image_entry(
       "rain_mask.png", "The rain layer's mask",
