@@ -176,6 +176,39 @@ TEST(RainCli, DepthMapHidesRainBehindNearerGeometry) {
     for (int x = 0; x < 160; ++x) ASSERT_EQ(o.at(x, y, 0), c.at(x, y, 0));
 }
 
+TEST(RainCli, FolderWithDepthMapsPerFrame) {
+  // Two frames; frame b's depth map walls off the left half nearer than every drop, frame a's is
+  // open (code 0: no geometry). Only b's left half stays exactly clear.
+  const fs::path in = dir() / "dframes", depths = dir() / "depths", out = dir() / "drainy";
+  fs::create_directories(in);
+  fs::create_directories(depths);
+  for (const char* n : {"a.exr", "b.exr"}) fs::copy_file(clear_exr(), in / n, fs::copy_options::overwrite_existing);
+  Image open(320, 180, 1), wall(320, 180, 1);
+  for (int y = 0; y < 180; ++y)
+    for (int x = 0; x < 320; ++x) wall.at(x, y, 0) = x < 160 ? 0.3f : 0.f;  // metres (EXR); 0: none
+  io::write_image(depths / "a.exr", open);
+  io::write_image(depths / "b.exr", wall);
+  auto r = run("rain -q --input-dir " + in.string() + " --depth-dir " + depths.string() + " --output-dir " +
+               out.string() + " --rate-mmh 100");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Image c = io::read_image(clear_exr()), a = io::read_image(out / "a.exr"), b = io::read_image(out / "b.exr");
+  int a_changed = 0;
+  for (int y = 0; y < 180; ++y)
+    for (int x = 0; x < 160; ++x) {
+      ASSERT_EQ(b.at(x, y, 1), c.at(x, y, 1)) << x << "," << y;
+      a_changed += a.at(x, y, 1) != c.at(x, y, 1);
+    }
+  EXPECT_GT(a_changed, 1000);
+  // A frame without its depth map is refused before any work, naming it.
+  fs::copy_file(clear_exr(), in / "c.exr", fs::copy_options::overwrite_existing);
+  r = run("rain -q --input-dir " + in.string() + " --depth-dir " + depths.string() + " --output-dir " +
+          (dir() / "drainy2").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--depth-dir"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("c.exr"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir() / "drainy2"));
+}
+
 TEST(RainCli, VideoKeepsFrameCountAndRate) {
   const fs::path in = dir() / "in.mp4", out = dir() / "out.mp4", stats = dir() / "video.json";
   const std::string make = "ffmpeg -v error -y -f lavfi -i testsrc2=size=160x96:rate=30000/1001 -frames:v 24 "

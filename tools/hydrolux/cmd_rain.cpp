@@ -30,8 +30,8 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RainArgs {
-  std::optional<std::string> image, input_dir, video, depth, output, output_dir, mask_out, mask_dir, layer_out,
-      stats_json;
+  std::optional<std::string> image, input_dir, video, depth, depth_dir, output, output_dir, mask_out, mask_dir,
+      layer_out, stats_json;
   double depth_scale_m = 0.001;
   std::optional<std::string> size;  // of --image builtin
   rain::RainSettings s;
@@ -60,19 +60,19 @@ bool is_frame_file(const fs::path& p) {
 // channel; a PNG holds code values times `scale_m`. The decoder hands 8/16-bit files over linearised
 // through the sRGB curve; encoding back recovers the codes exactly (the curve round-trips to well
 // under half a code).
-Image read_depth(const std::string& path, double scale_m, int width, int height) {
+Image read_depth(const std::string& flag, const std::string& path, double scale_m, int width, int height) {
   const ImageApi& images = image_api();
-  const std::string bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, "--depth");
-  auto decoded = images.decode_image(bytes, fmt::format("--depth {}", path), io::ImageLimits{});
-  for (const auto& w : decoded.warnings) warn(fmt::format("--depth {}: {}", path, w));
+  const std::string bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, flag);
+  auto decoded = images.decode_image(bytes, fmt::format("{} {}", flag, path), io::ImageLimits{});
+  for (const auto& w : decoded.warnings) warn(fmt::format("{} {}: {}", flag, path, w));
   const Image& src = decoded.image;
   const bool coded = decoded.format == io::ImageFormat::png || decoded.format == io::ImageFormat::tiff ||
                      decoded.format == io::ImageFormat::jpeg || decoded.format == io::ImageFormat::pnm;
   if (decoded.format == io::ImageFormat::jpeg)
-    throw Error(fmt::format("--depth {}: a JPEG cannot hold depth faithfully; give a 16-bit PNG or an EXR", path));
+    throw Error(fmt::format("{} {}: a JPEG cannot hold depth faithfully; give a 16-bit PNG or an EXR", flag, path));
   // The depth map may have another resolution than the frame, with the same aspect (nearest sample).
   if (std::abs(double(src.width) * height - double(src.height) * width) > double(std::max(width, height)))
-    throw Error(fmt::format("--depth {}: {}x{} has not the frame's aspect ({}x{})", path, src.width, src.height,
+    throw Error(fmt::format("{} {}: {}x{} has not the frame's aspect ({}x{})", flag, path, src.width, src.height,
                             width, height));
   const double max_code = 65535;
   Image depth(width, height, 1);
@@ -143,7 +143,9 @@ nlohmann::json run_json(const RainArgs& a, const rain::RainField& field) {
                       {"pixel_pitch_um", c.pixel_pitch_m() * 1e6}, {"f_number", c.f_number}, {"focus_m", c.focus_m},
                       {"exposure_s", c.exposure_s}, {"fps", c.fps}, {"height_m", c.height_m},
                       {"pitch_deg", c.pitch_deg}}},
-          {"depth", a.depth ? nlohmann::json(*a.depth) : nlohmann::json("ground plane")},
+          {"depth", a.depth       ? nlohmann::json(*a.depth)
+                    : a.depth_dir ? nlohmann::json(*a.depth_dir)
+                                  : nlohmann::json("ground plane")},
           {"field", {{"drops", field.drop_count()}, {"beta_total_per_m", field.beta_total_per_m()},
                      {"classes", classes}}}};
 }
@@ -235,7 +237,7 @@ int run_image(const RainArgs& a) {
   }
   const rain::RainCamera cam = camera_for(a, frame.width, frame.height, a.fps);
   std::optional<Image> depth;
-  if (a.depth) depth = read_depth(*a.depth, a.depth_scale_m, frame.width, frame.height);
+  if (a.depth) depth = read_depth("--depth", *a.depth, a.depth_scale_m, frame.width, frame.height);
   rain::RainSettings s = a.s;
   s.unresolved = !a.no_unresolved;
   rain::RainRenderer renderer(make_field(s, cam, !depth));
@@ -260,7 +262,7 @@ int run_image(const RainArgs& a) {
 int run_folder(const RainArgs& a) {
   if (a.output) throw Error("-o: with --input-dir the frames go to --output-dir");
   if (!a.output_dir) throw Error("--output-dir: give the folder for the rainy frames (with --input-dir)");
-  if (a.depth) throw Error("--depth: one depth map serves one --image; frames of a folder use the ground plane");
+  if (a.depth) throw Error("--depth: one depth map serves one --image; give a folder's maps with --depth-dir");
   if (a.mask_out) throw Error("--mask-out: with --input-dir give --mask-dir for the masks");
   if (a.layer_out) throw Error("--layer-out: available with --image");
   const fs::path in_dir(*a.input_dir), out_dir(*a.output_dir);
@@ -288,11 +290,33 @@ int run_folder(const RainArgs& a) {
       out_names.push_back(name);
     }
   }
+  // With --depth-dir: each frame's depth map, of the frame's stem as .exr or .png, found before any work.
+  std::vector<fs::path> depth_files;
+  if (a.depth_dir) {
+    if (!fs::is_directory(*a.depth_dir, ec)) throw Error(fmt::format("--depth-dir {}: not a folder", *a.depth_dir));
+    for (const auto& f : frames) {
+      fs::path found;
+      for (const char* ext : {".exr", ".png"}) {
+        const fs::path candidate = fs::path(*a.depth_dir) / (f.stem().string() + ext);
+        if (fs::exists(candidate, ec)) {
+          found = candidate;
+          break;
+        }
+      }
+      if (found.empty())
+        throw Error(fmt::format("--depth-dir {}: no depth map for {} ({}.exr or {}.png)", *a.depth_dir,
+                                f.filename().string(), f.stem().string(), f.stem().string()));
+      io::check_input_file(found, "--depth-dir");
+      depth_files.push_back(found);
+    }
+  }
   for (const auto& [flag, dir] : {std::pair<const char*, std::optional<std::string>>{"--output-dir", a.output_dir},
                                   {"--mask-dir", a.mask_dir}}) {
     if (!dir) continue;
     if (fs::exists(*dir, ec) && io::same_file(*dir, in_dir))
       throw Error(fmt::format("{} {}: is the input folder; the frames would replace their inputs", flag, *dir));
+    if (a.depth_dir && fs::exists(*dir, ec) && io::same_file(*dir, *a.depth_dir))
+      throw Error(fmt::format("{} {}: is --depth-dir; the outputs could replace depth maps", flag, *dir));
     if (fs::exists(*dir, ec) && !fs::is_directory(*dir, ec))
       throw Error(fmt::format("{} {}: exists and is not a folder", flag, *dir));
   }
@@ -319,13 +343,16 @@ int run_folder(const RainArgs& a) {
     if (!renderer) {
       rain::RainSettings s = a.s;
       s.unresolved = !a.no_unresolved;
-      renderer.emplace(make_field(s, camera_for(a, frame.width, frame.height, a.fps), true));
+      renderer.emplace(make_field(s, camera_for(a, frame.width, frame.height, a.fps), !a.depth_dir));
     } else if (frame.width != renderer->field().camera().width || frame.height != renderer->field().camera().height) {
       throw Error(fmt::format("--input-dir: {} is {}x{}, unlike the first frame ({}x{}); one sequence has one size",
                               name, frame.width, frame.height, renderer->field().camera().width,
                               renderer->field().camera().height));
     }
-    renderer->render_into(frame, nullptr, a.frame_index + std::int64_t(k), false, result);
+    std::optional<Image> depth;
+    if (a.depth_dir)
+      depth = read_depth("--depth-dir", depth_files[k].string(), a.depth_scale_m, frame.width, frame.height);
+    renderer->render_into(frame, depth ? &*depth : nullptr, a.frame_index + std::int64_t(k), false, result);
     const fs::path& out_name = out_names[k];
     const auto format = out_name.extension() == ".exr" ? io::ImageFormat::exr : io::ImageFormat::png;
     io::write_file(out_dir / out_name, images.encode_image(result.image, format, io::PngOptions{}), "--output-dir");
@@ -357,7 +384,7 @@ int run_folder(const RainArgs& a) {
 
 int run_video(const RainArgs& a) {
   if (!a.output) throw Error("-o: give the output video (.mp4, .mov or .mkv)");
-  if (a.depth) throw Error("--depth: one depth map serves one --image; video frames use the ground plane");
+  if (a.depth || a.depth_dir) throw Error("--depth: depth maps are for --image and --input-dir; video frames use the ground plane");
   if (a.mask_out || a.mask_dir || a.layer_out || a.output_dir)
     throw Error("--video writes one video (-o) and optionally --stats-json; masks are for --image and --input-dir");
   if (a.fps) throw Error("--fps: a video's frame rate is its own");
@@ -426,6 +453,7 @@ int run_rain(const RainArgs& a) {
   if (modes != 1) throw Error("give exactly one of --image, --input-dir and --video");
   if (a.output_dir && !a.input_dir) throw Error("--output-dir: goes with --input-dir");
   if (a.mask_dir && !a.input_dir) throw Error("--mask-dir: goes with --input-dir (use --mask-out with --image)");
+  if (a.depth_dir && !a.input_dir) throw Error("--depth-dir: goes with --input-dir (use --depth with --image)");
   if (a.image) return run_image(a);
   if (a.input_dir) return run_folder(a);
   return run_video(a);
@@ -450,6 +478,7 @@ Command add_rain(CLI::App& app) {
   sub->add_option("-o,--output", a->output, "Output: .png/.exr with --image, .mp4/.mov/.mkv with --video");
   sub->add_option("--output-dir", a->output_dir, "Output folder for --input-dir (created; never the input folder)");
   sub->add_option("--depth", a->depth, "Depth map for --image: camera z in metres (EXR), or a 16-bit PNG times --depth-scale-m; 0/inf = sky");
+  sub->add_option("--depth-dir", a->depth_dir, "Depth maps for --input-dir: each frame's stem as .exr or .png (as --depth)");
   sub->add_option("--depth-scale-m", a->depth_scale_m, "Metres per code of a PNG depth map")
       ->check(number_in(1e-6, 1e3, "m"))->capture_default_str();
   sub->add_option("--mask-out", a->mask_out, "The rain's alpha for --image: .png (16-bit linear) or .exr; rainy = clear (1 - alpha) + layer");
