@@ -144,8 +144,8 @@ RainField::RainField(const RainSettings& settings, const RainCamera& camera, boo
     rc.radius_hi_m = a_min * std::pow(a_max / a_min, double(i + 1) / k);
     rc.number_per_m3 = mp_tail(0, rc.radius_lo_m, lambda) - mp_tail(0, rc.radius_hi_m, lambda);
     rc.beta_per_m = kPi<double> * (mp_tail(2, rc.radius_lo_m, lambda) - mp_tail(2, rc.radius_hi_m, lambda));
-    rc.cdf_span_ = std::expm1(-lambda * (rc.radius_hi_m - rc.radius_lo_m));
-    rc.inv_lambda_ = 1 / lambda;
+    rc.cdf_span = std::expm1(-lambda * (rc.radius_hi_m - rc.radius_lo_m));
+    rc.inv_lambda = 1 / lambda;
 
     // How far the class's largest drop stays resolved: its streak's peak alpha (seen at the image
     // centre, moving across the view at its full speed) against min_alpha, scanned from far_m in.
@@ -234,7 +234,7 @@ RainField::Drop RainField::drop(std::uint64_t index, std::size_t cls) const {
   const double u3 = detail::unit(detail::mix(key + 3)), u4 = detail::unit(detail::mix(key + 4));
   d.start = rc.box_lo + Vec3(u0, u1, u2) * rc.box_size;
   // The radius from N(a) within the class: an exponential truncated to [lo, hi], inverted.
-  d.radius = rc.radius_lo_m - std::log1p(u3 * rc.cdf_span_) * rc.inv_lambda_;
+  d.radius = rc.radius_lo_m - std::log1p(u3 * rc.cdf_span) * rc.inv_lambda;
   d.radius = std::clamp(d.radius, rc.radius_lo_m, rc.radius_hi_m);
   d.phase = u4;
   return d;

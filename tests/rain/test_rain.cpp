@@ -108,6 +108,7 @@ TEST(RainField, DropCountsFollowMarshallPalmer) {
   double total = 0;
   for (const auto& rc : f.classes()) total += rc.number_per_m3;
   EXPECT_NEAR(total, 1.6e7 / lambda * (std::exp(-lambda * 1e-4) - std::exp(-lambda * 2.9e-3)), 1e-9 * total);
+  EXPECT_NEAR(marshall_palmer_per_m4(1e-3, 10), 1.6e7 * std::exp(-lambda * 1e-3), 1e-6);
 
   // The drawn drops: within each class, their count is the density times the box's volume (an
   // unbiased whole count: within 1), and over all classes their radii follow N(a) (chi-square over

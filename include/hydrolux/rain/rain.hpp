@@ -78,7 +78,7 @@ double focal_mm_from_fov(double fov_deg, double sensor_width_mm);
 
 // DomainError naming the quantity ("focal_mm", "exposure_s", ...) for a value outside its range:
 // width, height [16, 16384]; focal_mm [1, 2000]; sensor_width_mm [1, 100]; f_number 0 or [0.7, 64];
-// focus_m (f, 1e4]; exposure_s (0, 1]; fps [1, 1000]; exposure_s <= 1 / fps; height_m [0, 1000];
+// focus_m (f, 1e4]; fps [1, 1000]; exposure_s [1e-6, 1 / fps]; height_m [0, 1000];
 // pitch_deg [-80, 80].
 void validate(const RainCamera& camera);
 
@@ -116,8 +116,8 @@ struct RadiusClass {
   Vec3 box_lo, box_size;          // the periodic box, world frame, metres
   std::uint64_t count = 0;        // drops in the box
   std::uint64_t first_index = 0;  // of its first drop among all drops
-  // The inverse of the class's truncated exponential: a = lo - log1p(u cdf_span_) / lambda.
-  double cdf_span_ = 0, inv_lambda_ = 0;
+  // The inverse CDF of the class's truncated exponential: a = lo - log1p(u cdf_span) inv_lambda.
+  double cdf_span = 0, inv_lambda = 0;
 };
 
 // One drop during one exposure, as seen by the camera.
