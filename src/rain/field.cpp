@@ -10,6 +10,7 @@
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/physics.hpp"
 #include "hydrolux/rain/rain.hpp"
+#include "hydrolux/scatter/size_distribution.hpp"
 
 namespace hydrolux::rain {
 
@@ -81,9 +82,9 @@ void validate(const RainSettings& s) {
 
 namespace {
 // Marshall & Palmer (1948): N(D) = 8000 exp(-4.1 h^-0.21 D) m^-3 mm^-1 over diameter D in mm; per
-// metre of radius a = D / 2: N0 = 1.6e7 m^-4 and Lambda = 8200 h^-0.21 m^-1.
-constexpr double kMpN0PerM4 = 1.6e7;
-double mp_lambda(double rate_mmh) { return 8200.0 * std::pow(rate_mmh, -0.21); }
+// metre of radius a = D / 2: N0 = 1.6e7 m^-4 and Lambda = 8200 h^-0.21 m^-1 (the library's law).
+constexpr double kMpN0PerM4 = scatter::kMarshallPalmerN0PerRadius;
+double mp_lambda(double rate_mmh) { return scatter::SizeDistribution::marshall_palmer(rate_mmh, kMpN0PerM4).lambda(); }
 // Integral of a^k N0 exp(-L a) from a to infinity, k = 0 or 2.
 double mp_tail(int k, double a, double lambda) {
   const double e = kMpN0PerM4 * std::exp(-lambda * a) / lambda;

@@ -19,14 +19,11 @@ constexpr std::uint64_t hash(std::uint64_t seed, std::uint64_t index) { return m
 // A double in [0, 1) from the top 53 bits.
 constexpr double unit(std::uint64_t bits) { return double(bits >> 11) * 0x1.0p-53; }
 
-// p wrapped into the periodic box [lo, lo + size).
+// p wrapped into the periodic box [lo, lo + size) (the renderer's hot loop and RainField::position).
 inline Vec3 wrap(const Vec3& p, const Vec3& lo, const Vec3& size) {
   Vec3 q = p - lo;
-  for (int k = 0; k < 3; ++k) {
-    q[k] = std::fmod(q[k], size[k]);
-    if (q[k] < 0) q[k] += size[k];
-  }
-  return lo + q;
+  for (int k = 0; k < 3; ++k) q[k] = lo[k] + q[k] - size[k] * std::floor(q[k] / size[k]);
+  return q;
 }
 
 // The largest alpha a streak of drop radius r, footprint R and length L (pixels) puts on a pixel.

@@ -204,8 +204,7 @@ void RainRenderer::collect_streaks(std::int64_t frame_index, std::vector<std::ve
       const auto d = f.drop(i, cls);
       const Vec3 vel = f.velocity_of(d.radius);
       // The start wrapped into the box (as RainField::position), then into the camera frame.
-      Vec3 w0 = d.start + vel * t0 - rc.box_lo;
-      for (int k = 0; k < 3; ++k) w0[k] = rc.box_lo[k] + w0[k] - rc.box_size[k] * std::floor(w0[k] / rc.box_size[k]);
+      const Vec3 w0 = detail::wrap(d.start + vel * t0, rc.box_lo, rc.box_size);
       const Vec3 w1 = w0 + vel * te;
       const double z0 = w0.y * ps + w0.z * pc, z1 = w1.y * ps + w1.z * pc, zm = 0.5 * (z0 + z1);
       // Drawn between near_m and the depth where its class stops being resolved (beyond, the

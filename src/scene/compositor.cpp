@@ -208,8 +208,7 @@ float secondary_weight(bool secondary_on, float theta_deg) {
 
 double rain_beta_geo_per_m(double rain_rate_mmh) {
   if (rain_rate_mmh <= 0) return 0;
-  // Marshall and Palmer's own count: 8e6 m^-4 per metre of diameter is 1.6e7 per metre of radius.
-  const auto d = scatter::SizeDistribution::marshall_palmer(rain_rate_mmh, 1.6e7);
+  const auto d = scatter::SizeDistribution::marshall_palmer(rain_rate_mmh, scatter::kMarshallPalmerN0PerRadius);
   return kPi<double> * d.moment(2);
 }
 

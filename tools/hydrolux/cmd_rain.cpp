@@ -63,13 +63,13 @@ bool is_frame_file(const fs::path& p) {
 Image read_depth(const std::string& flag, const std::string& path, double scale_m, int width, int height) {
   const ImageApi& images = image_api();
   const std::string bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, flag);
+  if (io::sniff_image_format(bytes) == io::ImageFormat::jpeg)  // refused before decoding it
+    throw Error(fmt::format("{} {}: a JPEG cannot hold depth faithfully; give a 16-bit PNG or an EXR", flag, path));
   auto decoded = images.decode_image(bytes, fmt::format("{} {}", flag, path), io::ImageLimits{});
   for (const auto& w : decoded.warnings) warn(fmt::format("{} {}: {}", flag, path, w));
   const Image& src = decoded.image;
   const bool coded = decoded.format == io::ImageFormat::png || decoded.format == io::ImageFormat::tiff ||
-                     decoded.format == io::ImageFormat::jpeg || decoded.format == io::ImageFormat::pnm;
-  if (decoded.format == io::ImageFormat::jpeg)
-    throw Error(fmt::format("{} {}: a JPEG cannot hold depth faithfully; give a 16-bit PNG or an EXR", flag, path));
+                     decoded.format == io::ImageFormat::pnm;
   // The depth map may have another resolution than the frame, with the same aspect (nearest sample).
   if (std::abs(double(src.width) * height - double(src.height) * width) > double(std::max(width, height)))
     throw Error(fmt::format("{} {}: {}x{} has not the frame's aspect ({}x{})", flag, path, src.width, src.height,

@@ -1,33 +1,13 @@
 #include "image_plugin.hpp"
 
-#include <dlfcn.h>
-#include <fmt/format.h>
-
-#include <system_error>
-
-#include "hydrolux/core/error.hpp"
+#include "plugin_loader.hpp"
 
 namespace hydrolux::cli {
 
-namespace {
-const ImageApi& load() {
-  std::error_code ec;
-  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  const auto file = (ec ? std::filesystem::path(".") : exe.parent_path()) / kImagePluginFile;
-  void* handle = ::dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!handle) {
-    const char* why = ::dlerror();
-    throw Error(fmt::format("image support is unavailable: cannot load {} ({})", file.string(), why ? why : "?"));
-  }
-  using Entry = const ImageApi* (*)();
-  const auto entry = reinterpret_cast<Entry>(::dlsym(handle, kImagePluginSymbol));
-  if (!entry) throw Error(fmt::format("image support is unavailable: {} has no {}", file.string(), kImagePluginSymbol));
-  return *entry();  // the library stays loaded for the life of the process
-}
-}  // namespace
-
 const ImageApi& image_api() {
-  static const ImageApi& api = load();  // a failed load throws and is retried on the next call
+  // A failed load throws and is retried on the next call.
+  static const ImageApi& api =
+      *reinterpret_cast<const ImageApi* (*)()>(plugin_entry(kImagePluginFile, kImagePluginSymbol, "image"))();
   return api;
 }
 

@@ -43,6 +43,10 @@ struct RadiusQuadrature {
   std::size_t size() const { return radius_m.size(); }
 };
 
+// Marshall and Palmer's own N0 per metre of radius (their 8e6 m^-4 is per metre of diameter):
+// the count that hydrolux sky's rain curtain and hydrolux rain's drops use.
+inline constexpr double kMarshallPalmerN0PerRadius = 1.6e7;
+
 enum class SizeDistributionKind { monodisperse, gamma, log_normal, marshall_palmer };
 
 // Valid domain (DomainError outside): radii in (0, 1] m (mean_radius_m, radius_m), relative widths

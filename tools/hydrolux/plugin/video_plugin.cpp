@@ -52,6 +52,24 @@ using hydrolux::cli::VideoInfo;
 using hydrolux::cli::VideoLimits;
 using hydrolux::cli::WriteAt;
 
+// An AVIOContext seek over bytes of which `size` exist (the input's size, or the end written so
+// far): AVSEEK_SIZE answers the size; SEEK_SET / CUR / END move `position` (AVERROR(EINVAL) for a
+// position before 0 or past INT64_MAX).
+std::int64_t avio_seek_position(std::uint64_t& position, std::uint64_t size, std::int64_t offset, int whence) {
+  whence &= ~AVSEEK_FORCE;
+  if (whence == AVSEEK_SIZE) return std::int64_t(size);
+  std::int64_t base;
+  switch (whence) {
+    case SEEK_SET: base = 0; break;
+    case SEEK_CUR: base = std::int64_t(position); break;
+    case SEEK_END: base = std::int64_t(size); break;
+    default: return AVERROR(EINVAL);
+  }
+  if ((offset > 0 && base > INT64_MAX - offset) || base + offset < 0) return AVERROR(EINVAL);
+  position = std::uint64_t(base + offset);
+  return base + offset;
+}
+
 // x264's frame threads change the bitstream with their number, so the count is fixed here rather
 // than taken from the machine's cores: the same frames then give the same bytes on every machine
 // with the same CPU features (x264's SIMD paths differ in their last bits, so a CPU without AVX2
@@ -298,18 +316,7 @@ class Reader final : public hydrolux::cli::VideoReader {
 
   static std::int64_t seek(void* opaque, std::int64_t offset, int whence) {
     auto* self = static_cast<Reader*>(opaque);
-    whence &= ~AVSEEK_FORCE;
-    if (whence == AVSEEK_SIZE) return std::int64_t(self->size_);
-    std::int64_t base;
-    switch (whence) {
-      case SEEK_SET: base = 0; break;
-      case SEEK_CUR: base = std::int64_t(self->position_); break;
-      case SEEK_END: base = std::int64_t(self->size_); break;
-      default: return AVERROR(EINVAL);
-    }
-    if ((offset > 0 && base > INT64_MAX - offset) || base + offset < 0) return AVERROR(EINVAL);
-    self->position_ = std::uint64_t(base + offset);
-    return base + offset;
+    return avio_seek_position(self->position_, self->size_, offset, whence);
   }
 
   // Nested files (HLS playlists, DASH manifests, MOV references, concat lists) are refused: the
@@ -746,18 +753,7 @@ class Writer final : public hydrolux::cli::VideoWriter {
   // buffer before it seeks, so the position tracked here is where the next bytes go.
   static std::int64_t seek(void* opaque, std::int64_t offset, int whence) {
     auto* self = static_cast<Writer*>(opaque);
-    whence &= ~AVSEEK_FORCE;
-    if (whence == AVSEEK_SIZE) return std::int64_t(self->end_);
-    std::int64_t base;
-    switch (whence) {
-      case SEEK_SET: base = 0; break;
-      case SEEK_CUR: base = std::int64_t(self->position_); break;
-      case SEEK_END: base = std::int64_t(self->end_); break;
-      default: return AVERROR(EINVAL);
-    }
-    if ((offset > 0 && base > INT64_MAX - offset) || base + offset < 0) return AVERROR(EINVAL);
-    self->position_ = std::uint64_t(base + offset);
-    return base + offset;
+    return avio_seek_position(self->position_, self->end_, offset, whence);
   }
 
   WriteAt write_;
