@@ -1,5 +1,5 @@
-// One core's double-precision FMA peak on this machine, with the widest SIMD target Highway picks
-// at run time: 24 independent accumulator chains of fused multiply-adds (enough to cover the FMA
+// One core's double-precision FMA peak on this machine, with the widest SIMD target hydrolux picks
+// at run time (hydrolux::simd, as the library's kernels): 24 independent accumulator chains of fused multiply-adds (enough to cover the FMA
 // latency on every current x86 and Arm core). FLOP/s counts 2 per FMA per lane.
 
 #undef HWY_TARGET_INCLUDE
@@ -37,18 +37,20 @@ HWY_AFTER_NAMESPACE();
 
 #include <string>
 
+#include "src/core/simd_dispatch.hpp"
+
 namespace bench_peak {
-HWY_EXPORT(FmaLoop);
-HWY_EXPORT(Target);
+HYDROLUX_SIMD_EXPORT(FmaLoop);
+HYDROLUX_SIMD_EXPORT(Target);
 
 void BM_PeakFma(benchmark::State& state) {
   double flops = 0, total = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(HWY_DYNAMIC_DISPATCH(FmaLoop)(1 << 16, &flops));
+    benchmark::DoNotOptimize(HYDROLUX_SIMD_DISPATCH(FmaLoop)(1 << 16, &flops));
     total += flops;
   }
   state.counters["flops"] = benchmark::Counter(total, benchmark::Counter::kIsRate);
-  state.SetLabel(std::string(HWY_DYNAMIC_DISPATCH(Target)()) + ", one core");
+  state.SetLabel(std::string(HYDROLUX_SIMD_DISPATCH(Target)()) + ", one core");
 }
 BENCHMARK(BM_PeakFma);
 }  // namespace bench_peak

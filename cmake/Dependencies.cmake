@@ -6,6 +6,11 @@ find_package(nlohmann_json REQUIRED)
 find_package(glm REQUIRED)
 find_package(TBB REQUIRED)   # oneTBB: parallel loops over angles, sizes, wavelengths
 find_package(hwy REQUIRED)   # Google Highway: portable SIMD with runtime dispatch
+# Highway's headers only: hydrolux chooses the SIMD target itself (src/core/simd.cpp), because
+# loading libhwy.so calibrates a timer in a static initialiser that costs ~3.5 ms per process.
+add_library(hydrolux_highway_headers INTERFACE)
+target_include_directories(hydrolux_highway_headers SYSTEM INTERFACE
+  $<TARGET_PROPERTY:hwy::hwy,INTERFACE_INCLUDE_DIRECTORIES>)
 
 # OpenImageIO 2.4's CMake config references tools and include dirs that Debian does not ship
 # (see ../shared/TOOLCHAIN.md); its pkg-config file is clean, so use that.

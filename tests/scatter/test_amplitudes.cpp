@@ -3,10 +3,14 @@
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
+#include <cstdint>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/core/random.hpp"
+#include "hydrolux/core/simd.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/mie.hpp"
 #include "support/stats.hpp"
@@ -84,6 +88,31 @@ TEST(MieAmplitudes, ArbitraryAngleLists) {
   EXPECT_THROW(mie_amplitudes(c, mu, std::span<Complex>(s1).first(3), s2), std::invalid_argument);
 }
 
+// Every way the angles are organised gives the reference: a grid symmetric about 90 degrees
+// (written straight into the result, its last partial vector through scratch) in both
+// directions, with an odd and an even count, counts below, at and around the lane count; a
+// monotone grid that is not symmetric (two runs merged); a symmetric grid that is not monotone.
+TEST(MieAmplitudes, EveryGridShape) {
+  const auto c = mie_coefficients({1.5, 0.01}, 40.0);
+  std::vector<std::vector<double>> grids;
+  for (int n : {2, 3, 7, 8, 9, 15, 16, 17, 33, 181, 1801}) {
+    grids.push_back(grid_deg(0, 180, n));    // descending mu, symmetric
+    grids.push_back(grid_deg(180, 0, n));    // ascending mu, symmetric
+    grids.push_back(grid_deg(10, 150, n));   // descending, not symmetric
+  }
+  grids.push_back({0.3});                                 // one angle
+  grids.push_back({0.0});                                 // one angle, its own mirror
+  grids.push_back({0.5, -0.2, 0.2, -0.5});                // symmetric, not monotone
+  grids.push_back({0.9, 0.1, 0.0, -0.1, -0.9});           // symmetric with a middle 0
+  for (const auto& mu : grids) {
+    std::vector<Complex> s1(mu.size()), s2(mu.size()), r1(mu.size()), r2(mu.size());
+    mie_amplitudes(c, mu, s1, s2, 1);
+    mie_amplitudes_reference(c, mu, r1, r2);
+    EXPECT_LT(worst_relative(s1, r1), 1e-9) << mu.size() << " angles from " << mu.front();
+    EXPECT_LT(worst_relative(s2, r2), 1e-9) << mu.size() << " angles from " << mu.front();
+  }
+}
+
 // The result does not depend on the number of threads (each angle block is summed alone).
 TEST(MieAmplitudes, ThreadCountDoesNotChangeResults) {
   const auto c = mie_coefficients({1.333, 0}, 3000.0);
@@ -112,27 +141,27 @@ TEST(MieAmplitudes, PhaseFunctionIsNormalised) {
 }
 
 // Every SIMD target compiled in and supported by this CPU (AVX-512, AVX2, SSE4, ... and the
-// emulated/scalar fallback) gives the reference result: the build runs correctly on CPUs without
-// AVX-512. Highway's test mock selects one target at a time.
+// emulated fallback) gives the reference result: the build runs correctly on CPUs without
+// AVX-512. hydrolux::simd::set_targets_for_test selects one target at a time.
 TEST(MieAmplitudes, EveryDispatchTargetMatchesReference) {
   const auto c = mie_coefficients({1.333, 1e-6}, 2000.0);
   const auto mu = grid_deg(0, 180, 361);
   std::vector<Complex> r1(mu.size()), r2(mu.size()), s1(mu.size()), s2(mu.size());
   mie_amplitudes_reference(c, mu, r1, r2);
-  const auto targets = hwy::SupportedAndGeneratedTargets();
+  std::vector<std::int64_t> targets;
+  const std::int64_t both = simd::supported_targets() & HWY_TARGETS;
+  for (std::int64_t bits = both; bits != 0; bits &= bits - 1) targets.push_back(bits & -bits);
   ASSERT_FALSE(targets.empty());
+  std::string names;
   for (const auto target : targets) {
-    hwy::SetSupportedTargetsForTest(target);
-    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+    simd::set_targets_for_test(target);
     EXPECT_EQ(simd_target(), hwy::TargetName(target));
     mie_amplitudes(c, mu, s1, s2);
     EXPECT_LT(worst_relative(s1, r1), 1e-9) << hwy::TargetName(target);
     EXPECT_LT(worst_relative(s2, r2), 1e-9) << hwy::TargetName(target);
+    names += std::string(hwy::TargetName(target)) + " ";
   }
-  hwy::SetSupportedTargetsForTest(0);
-  hwy::GetChosenTarget().Update(hwy::SupportedTargets());
-  std::string names;
-  for (const auto target : targets) names += std::string(hwy::TargetName(target)) + " ";
+  simd::set_targets_for_test(0);
   RecordProperty("targets", names);
   std::printf("dispatch targets tested: %s\n", names.c_str());
 }

@@ -18,15 +18,19 @@
 #include <string>
 #include <vector>
 
+#include "hydrolux/core/progress.hpp"
 #include "hydrolux/scatter/mie.hpp"
 
 namespace hydrolux::scatter {
 
 // S1, S2 at the given mu = cos(theta) (any order, duplicates allowed). threads: 0 = all cores,
 // otherwise at most that many. Spans must have equal sizes and mu must lie in [-1, 1] (else
-// std::invalid_argument).
+// std::invalid_argument). A grid symmetric about 90 degrees (the usual 0..180 in equal steps) or
+// monotone costs O(angles) to organise; any other order is sorted. `progress`, if given, is called
+// with the fraction done (from one thread at a time, not always the caller's) when there is enough
+// work to report (about 1e9 term x angle evaluations).
 void mie_amplitudes(const MieCoefficients& c, std::span<const double> mu, std::span<Complex> s1,
-                    std::span<Complex> s2, int threads = 0);
+                    std::span<Complex> s2, int threads = 0, const ProgressFn& progress = {});
 
 // The normalised phase function p(theta) = 2 (|S1|^2 + |S2|^2) / (x^2 Qsca) of unpolarised light at
 // the given mu, so that (1/4pi) int p dOmega = 1 (mie.hpp), through the fast path.
