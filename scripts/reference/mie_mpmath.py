@@ -31,11 +31,13 @@ Method, chosen to be independent of the library's double-precision algorithm whe
   order (an unrelated algorithm: hypergeometric series and asymptotic expansions) wherever those
   converge quickly; the script stops on any disagreement beyond 1e-25.
 
-Run from the repository root:  python3 scripts/reference/mie_mpmath.py   (mpmath 1.3.0; about
-seven minutes on one core, most of it the x = 1e5 case).
+Run from the repository root:  python3 scripts/reference/mie_mpmath.py [JOBS]   (Debian's
+python3-mpmath (1.2.1 in Debian 12); cases run in JOBS processes, default all cores; about 50 minutes on two
+cores, most of it the x = 1e6 case).
 """
 
 import math
+import multiprocessing
 import os
 import sys
 
@@ -46,30 +48,48 @@ GUARD = 25
 AGREE = mp.mpf(10) ** -30
 OUT_DIGITS = 20
 
-# (case id, x, m_re, m_im, note). Ids 5..16 are Wiscombe's MIEV0 test cases (MVTstNew.f) with
-# m conjugated into the B&H convention; 100+ are hydrolux's own.
+# (case id, x, m_re, m_im, note, terms). Ids 5..19 are Wiscombe's MIEV0 test cases (MVTstNew.f)
+# with m conjugated into the B&H convention; 100+ are hydrolux's own. terms: "w" Wiscombe's count
+# (MIEV0's, for the published cases), "m" the solver's own count (mie_terms), "c" a count far past
+# convergence (x + 12 x^(1/3) + 30), for testing what the solver's truncation leaves out.
 BH_X = 2 * math.pi * 0.525 / 0.6328  # B&H Appendix A example: r = 0.525 um, lambda = 0.6328 um
 CASES = [
-    (5, 0.099, 0.75, 0.0, "MIEV0 case 5"),
-    (6, 0.101, 0.75, 0.0, "MIEV0 case 6"),
-    (7, 10.0, 0.75, 0.0, "MIEV0 case 7"),
-    (8, 1000.0, 0.75, 0.0, "MIEV0 case 8"),
-    (9, 1.0, 1.33, 1e-5, "MIEV0 case 9"),
-    (10, 100.0, 1.33, 1e-5, "MIEV0 case 10"),
-    (11, 10000.0, 1.33, 1e-5, "MIEV0 case 11"),
-    (12, 0.055, 1.5, 1.0, "MIEV0 case 12"),
-    (13, 0.056, 1.5, 1.0, "MIEV0 case 13"),
-    (14, 1.0, 1.5, 1.0, "MIEV0 case 14"),
-    (15, 100.0, 1.5, 1.0, "MIEV0 case 15"),
-    (16, 10000.0, 1.5, 1.0, "MIEV0 case 16"),
-    (101, BH_X, 1.55, 0.0, "Bohren & Huffman Appendix A example"),
-    (102, 3.14159, 1.55, 0.0, "x = 3.14159, m = 1.55"),
-    (103, 1e-3, 1.5, 0.1, "smallest x, absorbing"),
-    (104, 1e-3, 1.001, 0.0, "smallest x, m near 1"),
-    (105, 50.0, 10.0, 1.0, "largest Re m, largest Im m"),
-    (106, 1000.0, 1.333, 1e-8, "water drop, weak absorption"),
-    (107, 10000.0, 1.333, 0.0, "water drop, x = 1e4"),
-    (108, 100000.0, 1.333, 1e-8, "water drop, x = 1e5 (largest x)"),
+    (5, 0.099, 0.75, 0.0, "MIEV0 case 5", "w"),
+    (6, 0.101, 0.75, 0.0, "MIEV0 case 6", "w"),
+    (7, 10.0, 0.75, 0.0, "MIEV0 case 7", "w"),
+    (8, 1000.0, 0.75, 0.0, "MIEV0 case 8", "w"),
+    (9, 1.0, 1.33, 1e-5, "MIEV0 case 9", "w"),
+    (10, 100.0, 1.33, 1e-5, "MIEV0 case 10", "w"),
+    (11, 10000.0, 1.33, 1e-5, "MIEV0 case 11", "w"),
+    (12, 0.055, 1.5, 1.0, "MIEV0 case 12", "w"),
+    (13, 0.056, 1.5, 1.0, "MIEV0 case 13", "w"),
+    (14, 1.0, 1.5, 1.0, "MIEV0 case 14", "w"),
+    (15, 100.0, 1.5, 1.0, "MIEV0 case 15", "w"),
+    (16, 10000.0, 1.5, 1.0, "MIEV0 case 16", "w"),
+    (17, 1.0, 10.0, 10.0, "MIEV0 case 17 (Du 2004)", "w"),
+    (18, 100.0, 10.0, 10.0, "MIEV0 case 18 (Du 2004)", "w"),
+    (19, 10000.0, 10.0, 10.0, "MIEV0 case 19 (Du 2004)", "w"),
+    (101, BH_X, 1.55, 0.0, "Bohren & Huffman Appendix A example", "w"),
+    (102, 3.14159, 1.55, 0.0, "x = 3.14159, m = 1.55", "w"),
+    (103, 1e-3, 1.5, 0.1, "x = 1e-3, absorbing", "w"),
+    (104, 1e-3, 1.001, 0.0, "x = 1e-3, m near 1", "w"),
+    (105, 50.0, 10.0, 1.0, "m = 10 + i", "w"),
+    (106, 1000.0, 1.333, 1e-8, "water drop, weak absorption", "w"),
+    (107, 10000.0, 1.333, 0.0, "water drop, x = 1e4", "w"),
+    (108, 100000.0, 1.333, 1e-8, "water drop, x = 1e5", "w"),
+    (110, 1e-6, 1.333, 0.0, "smallest x, water", "m"),
+    (111, 1e-6, 1.5, 1.0, "smallest x, absorbing", "m"),
+    (112, 1e-4, 10.0, 10.0, "small x, m = 10 + 10i", "m"),
+    (113, 0.01, 1.333, 0.0, "x = 0.01, water: g needs a_2", "m"),
+    (114, 0.3, 2.0, 0.5, "x = 0.3", "m"),
+    (115, 100.0, 100.0, 0.0, "large real m", "m"),
+    (116, 1000.0, 0.2, 3.0, "metal-like m = 0.2 + 3i", "m"),
+    (117, 50.0, 1000.0, 1000.0, "near a perfect conductor, m = 1000 + 1000i", "m"),
+    (118, 3.0, 0.05, 4.0, "silver-like m = 0.05 + 4i (surface plasmon region)", "m"),
+    (120, 10000.0, 1.333, 0.0, "water drop, x = 1e4, converged series", "c"),
+    (121, 10000.0, 10.0, 10.0, "m = 10 + 10i, x = 1e4, converged series", "c"),
+    (122, 100000.0, 1.333, 1e-8, "water drop, x = 1e5, converged series", "c"),
+    (123, 1000000.0, 1.333, 1e-8, "water drop, x = 1e6 (largest x)", "m"),
 ]
 THETAS_DEG = [0.0, 5.0, 30.0, 60.0, 90.0, 120.0, 137.5, 150.0, 180.0]
 
@@ -99,6 +119,16 @@ def wiscombe_terms(x):
     else:
         n = x + 4.0 * c + 2.0
     return int(n)
+
+
+def mie_terms(x):
+    """The solver's own number of terms (mie.hpp: kMieTermsCbrt = 7, kMieTermsConstant = 2)."""
+    return max(3, int(x + 7.0 * math.cbrt(x) + 2.0))
+
+
+def converged_terms(x):
+    """Far more terms than any output needs (their contributions are below 1e-30 relative)."""
+    return int(x + 12.0 * math.cbrt(x) + 30.0)
 
 
 def psi_chi(x, n_max):
@@ -212,39 +242,50 @@ def header(f, what, generated):
             "(x, m, mu) are binary64 values written with 17 digits.\n")
 
 
-def generate_mie(root):
-    eff_rows, amp_rows = [], []
-    for case, x, mre, mim, note in CASES:
-        n_terms = wiscombe_terms(x)
-        mus = [math.cos(math.radians(t)) for t in THETAS_DEG]
+def solve_case(case):
+    """One case at two precisions: (efficiency row, amplitude rows)."""
+    case_id, x, mre, mim, note, terms = case
+    n_terms = {"w": wiscombe_terms, "m": mie_terms, "c": converged_terms}[terms](x)
+    mus = [math.cos(math.radians(t)) for t in THETAS_DEG]
 
-        def run():
-            return mie(mp.mpf(x), mp.mpc(mre, mim), n_terms, [mp.mpf(u) for u in mus])
+    def run():
+        return mie(mp.mpf(x), mp.mpc(mre, mim), n_terms, [mp.mpf(u) for u in mus])
 
-        (q_lo, a_lo), (q, amps) = at_two_precisions(run)
-        for k in q:
-            if not close(q_lo[k], q[k]):
-                sys.exit(f"case {case}: {k} differs between precisions")
-        for (s1l, s2l), (s1, s2) in zip(a_lo, amps):
-            if not (close(s1l, s1) and close(s2l, s2)):
-                sys.exit(f"case {case}: S1/S2 differ between precisions")
-        print(f"case {case:3d} ({note}): x = {x}, N = {n_terms}, Qext = {mp.nstr(q['qext'], 12)}",
-              flush=True)
-        eff_rows.append([str(case), fmt_double(x), fmt_double(mre), fmt_double(mim),
-                         str(n_terms), fmt(q["qext"]), fmt(q["qsca"]), fmt(q["qback"]),
-                         fmt(q["g"])])
-        for t, u, (s1, s2) in zip(THETAS_DEG, mus, amps):
-            amp_rows.append([str(case), repr(t), fmt_double(u), fmt(s1.real), fmt(s1.imag),
-                             fmt(s2.real), fmt(s2.imag)])
+    (q_lo, a_lo), (q, amps) = at_two_precisions(run)
+    for k in q:
+        if not close(q_lo[k], q[k]):
+            sys.exit(f"case {case_id}: {k} differs between precisions")
+    for (s1l, s2l), (s1, s2) in zip(a_lo, amps):
+        if not (close(s1l, s1) and close(s2l, s2)):
+            sys.exit(f"case {case_id}: S1/S2 differ between precisions")
+    print(f"case {case_id:3d} ({note}): x = {x}, N = {n_terms}, Qext = {mp.nstr(q['qext'], 12)}",
+          flush=True)
+    eff = [str(case_id), fmt_double(x), fmt_double(mre), fmt_double(mim), str(n_terms),
+           fmt(q["qext"]), fmt(q["qsca"]), fmt(q["qback"]), fmt(q["g"])]
+    amp = [[str(case_id), repr(t), fmt_double(u), fmt(s1.real), fmt(s1.imag), fmt(s2.real),
+            fmt(s2.imag)] for t, u, (s1, s2) in zip(THETAS_DEG, mus, amps)]
+    return eff, amp
+
+
+def generate_mie(root, jobs):
+    # The largest cases first, so that the pool's processes finish together.
+    order = sorted(CASES, key=lambda c: -c[1] * max(1.0, abs(complex(c[2], c[3]))))
+    with multiprocessing.Pool(jobs) as pool:
+        results = dict(zip((c[0] for c in order), pool.map(solve_case, order, chunksize=1)))
+    eff_rows = [results[c[0]][0] for c in CASES]
+    amp_rows = [r for c in CASES for r in results[c[0]][1]]
 
     src = ("Lorenz-Mie series (Bohren & Huffman 1983, eqs. 4.47, 4.74, 4.88, 4.89) evaluated in "
-           "high precision; cases 5-16 are the inputs of Wiscombe's MIEV0 test cases "
-           "(NCAR/TN-140+STR, MVTstNew.f) with m conjugated to m = n + ik")
+           "high precision; cases 5-19 are the inputs of Wiscombe's MIEV0 test cases "
+           "(NCAR/TN-140+STR, MVTstNew.f; 17-19 are also Du 2004's m = 10 + 10i) with m "
+           "conjugated to m = n + ik")
     gen = "scripts/reference/mie_mpmath.py (run from the repository root)"
     with open(os.path.join(root, "mie_mpmath.csv"), "w") as f:
         header(f, src, gen)
-        f.write("# columns: case id; x; m = m_re + i m_im; n_terms = Wiscombe (1980) number of "
-                "terms used; Qext, Qsca, Qback = |sum (2n+1)(-1)^n (a_n - b_n)|^2 / x^2; g\n")
+        f.write("# columns: case id; x; m = m_re + i m_im; n_terms = the number of terms summed "
+                "(Wiscombe's for the MIEV0 and older cases, the solver's own mie_terms for the small-x, "
+                "large-m and x = 1e6 cases, x + 12 x^(1/3) + 30 for the converged cases 120-122); "
+                "Qext, Qsca, Qback = |sum (2n+1)(-1)^n (a_n - b_n)|^2 / x^2; g\n")
         f.write("case,x,m_re,m_im,n_terms,qext,qsca,qback,g\n")
         for r in eff_rows:
             f.write(",".join(r) + "\n")
@@ -344,8 +385,9 @@ def main():
     if not os.path.isdir("data"):
         sys.exit("run from the repository root")
     os.makedirs(root, exist_ok=True)
+    jobs = int(sys.argv[1]) if len(sys.argv) > 1 else os.cpu_count()
     generate_riccati(root)
-    generate_mie(root)
+    generate_mie(root, jobs)
 
 
 if __name__ == "__main__":

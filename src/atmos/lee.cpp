@@ -211,6 +211,7 @@ void axpy(double* __restrict y, const double* __restrict x, double a, std::size_
 struct Scratch {
   std::vector<double> mu, theta;
   std::vector<scatter::Complex> s1, s2;
+  scatter::MieCoefficients coef;  // reused: no allocation per radius
   void resize(std::size_t n) {
     mu.resize(n);
     theta.resize(n);
@@ -516,6 +517,16 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   std::vector<std::size_t> column_first(cols), column_count(cols);
   std::atomic<std::int64_t> terms{0}, evaluations{0};
 
+  // The drop's index relative to air at every wavelength, within the domain all four theories
+  // share (the Debye series, Airy theory and geometric optics stop at Re m = 10, Im m = 1; the
+  // Mie solver goes further), checked before any work.
+  for (int k = 0; k < K; ++k) {
+    const double nm = t.wavelengths_nm[std::size_t(k)];
+    const scatter::Complex m = drop->index(nm, spec.temperature_c) / air->n(nm);
+    require_in_range("m_real", m.real(), 1e-3, 10.0, "a Lee table's drop index");
+    require_in_range("m_imag", m.imag(), 0.0, 1.0, "a Lee table's drop index");
+  }
+
   tbb::task_arena arena(spec.threads > 0 ? spec.threads : tbb::task_arena::automatic);
   double done_work = 0;
   for (int k = 0; k < K; ++k) {
@@ -598,11 +609,12 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
           switch (spec.theory.kind) {
             case scatter::TheoryKind::Mie:
             case scatter::TheoryKind::Debye: {
-              const scatter::MieCoefficients coef = spec.theory.kind == scatter::TheoryKind::Mie
-                                                        ? scatter::mie_coefficients(m, x)
-                                                        : scatter::debye_coefficients(m, x, spec.theory.p);
-              scatter::mie_amplitudes(coef, sc.mu, sc.s1, sc.s2, 1);
-              terms += coef.terms();
+              if (spec.theory.kind == scatter::TheoryKind::Mie)
+                scatter::mie_coefficients(m, x, sc.coef);
+              else
+                sc.coef = scatter::debye_coefficients(m, x, spec.theory.p);
+              scatter::mie_amplitudes(sc.coef, sc.mu, sc.s1, sc.s2, 1);
+              terms += sc.coef.terms();
               for (std::size_t i = 0; i < R; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
               break;
             }

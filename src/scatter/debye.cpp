@@ -293,7 +293,7 @@ Complex orders_one(Complex one_minus_r22, Complex r11, Complex t, int p_first, i
 
 DebyeInterface debye_interface(Complex m, double x, int n_terms) {
   validate(m, x, n_terms);
-  const int n_max = n_terms > 0 ? n_terms : wiscombe_terms(x);
+  const int n_max = n_terms > 0 ? n_terms : mie_terms(x);
   DebyeInterface d;
   d.m = m;
   d.x = x;

@@ -5,47 +5,297 @@
 //   [BH]  C. F. Bohren and D. R. Huffman, "Absorption and Scattering of Light by Small Particles"
 //         (Wiley, 1983), chapter 4 and Appendix A (BHMIE).
 //   [W80] W. J. Wiscombe, "Improved Mie scattering algorithms", Appl. Opt. 19, 1505-1509 (1980):
-//         the number of terms.
+//         the number of terms, and when D_n may be recurred upward.
 //   [W79] W. J. Wiscombe, "Mie scattering calculations: advances in technique and fast,
 //         vector-speed computer codes", NCAR/TN-140+STR (1979, revised 1996), and its code MIEV0:
 //         the g series (GQSC) and the test cases used in tests/scatter/test_mie.cpp.
+//   [Du]  H. Du, "Mie-scattering calculation", Appl. Opt. 43, 1951-1956 (2004): large and
+//         strongly absorbing spheres (m = 10 + 10i), the downward recurrence there.
 //
 // Conventions are those of include/hydrolux/scatter/mie.hpp (B&H: m = n + ik, exp(-i omega t)).
 // MIEV0 uses m = n - ik; its amplitudes are the complex conjugates of these.
-#include "hydrolux/scatter/mie.hpp"
-#include "hydrolux/core/complex.hpp"
+//
+// The work is split into kernels compiled once per SIMD target (Highway foreach_target) and
+// chosen at run time (hydrolux::simd):
+//   - D_n(mx), psi_n(x), chi_n(x): scalar recurrences (riccati_bessel.cpp, src/scatter/
+//     recurrences.hpp); each order depends on the last, so they cannot use SIMD lanes;
+//   - a_n, b_n: independent across n, computed for as many orders at once as the vector holds;
+//   - the efficiency sums over n, likewise.
+// Working arrays live in a per-thread workspace that only grows, so repeated calls (size
+// distributions, tables) allocate nothing.
 
-#include <algorithm>
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "src/scatter/mie.cpp"  // NOLINT
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
 
 #include <cmath>
+#include <complex>
+#include <cstddef>
+
+HWY_BEFORE_NAMESPACE();
+namespace hydrolux::scatter::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// a_n, b_n for n = 1..n_max into a[2(n-1)], a[2(n-1)+1] (real, imaginary), likewise b, whole
+// vectors at a time: the lanes past n_max are written too (garbage the caller overwrites), and
+// the inputs must be readable that far (d: 2 (n_max + lanes + 1) doubles, psi: n_max + lanes + 1,
+// chi: n_max + lanes).
+//   d    D_n(mx), n = 0..n_max+1, interleaved (re, im)
+//   psi  psi_n(x), n = 0..n_max+1
+//   chi  chi_n(x), n = 0..n_max (+inf past its overflow)
+void CoefficientsKernel(const double* HWY_RESTRICT dz, const double* HWY_RESTRICT psi,
+                        const double* HWY_RESTRICT chi, std::size_t n_max, double m_re, double m_im,
+                        double x, double* HWY_RESTRICT a, double* HWY_RESTRICT b) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t lanes = hn::Lanes(d);
+  // Scalar constants: 1/m, 1/m^2 - 1 = (1 - m)(1 + m)/m^2, 1/(mx), 1/x.
+  // (Written without complex division, which is a library call, __divdc3, in this build.)
+  const std::complex<double> m(m_re, m_im);
+  const double m2 = m_re * m_re + m_im * m_im;
+  const std::complex<double> minv(m_re / m2, -m_im / m2);
+  const std::complex<double> minv2(minv.real() * minv.real() - minv.imag() * minv.imag(),
+                                   2 * minv.real() * minv.imag());
+  const std::complex<double> q(minv2.real() - 1, minv2.imag());  // 1/m^2 - 1
+  const std::complex<double> zinv(minv.real() / x, minv.imag() / x);
+  const V mr = hn::Set(d, m_re), mi = hn::Set(d, m_im);
+  const V ir = hn::Set(d, minv.real()), ii = hn::Set(d, minv.imag());
+  const V qr = hn::Set(d, q.real()), qi = hn::Set(d, q.imag());
+  const V zr = hn::Set(d, zinv.real()), zi = hn::Set(d, zinv.imag());
+  const V xinv = hn::Set(d, 1.0 / x);
+  const V one = hn::Set(d, 1.0), zero = hn::Zero(d), huge = hn::Set(d, 1e300);
+  for (std::size_t n = 1; n <= n_max; n += lanes) {
+    const V nv = hn::Iota(d, static_cast<double>(n));
+    const V n1 = hn::Add(nv, one);
+    V Dr, Di, D1r, D1i;
+    hn::LoadInterleaved2(d, dz + 2 * n, Dr, Di);          // D_n(mx)
+    hn::LoadInterleaved2(d, dz + 2 * (n + 1), D1r, D1i);  // D_{n+1}(mx)
+    const V p1 = hn::LoadU(d, psi + n), p2 = hn::LoadU(d, psi + n + 1);
+    const V c0 = hn::LoadU(d, chi + n - 1), c1 = hn::LoadU(d, chi + n);
+    const V nx = hn::Mul(nv, xinv);
+    // Equation (4.88) [BH], with xi = psi - i chi:
+    //   a_n = [(D_n(mx)/m + n/x) psi_n - psi_{n-1}] / [(D_n(mx)/m + n/x) xi_n - xi_{n-1}]
+    //   b_n = [(m D_n(mx) + n/x) psi_n - psi_{n-1}] / [(m D_n(mx) + n/x) xi_n - xi_{n-1}]
+    // so each denominator is its numerator minus i C, C = (...) chi_n - chi_{n-1}.
+    const V dar = hn::Add(hn::MulSub(Dr, ir, hn::Mul(Di, ii)), nx);
+    const V dai = hn::MulAdd(Dr, ii, hn::Mul(Di, ir));
+    const V dbr = hn::Add(hn::MulSub(mr, Dr, hn::Mul(mi, Di)), nx);
+    const V dbi = hn::MulAdd(mr, Di, hn::Mul(mi, Dr));
+    const V car = hn::MulSub(dar, c1, c0), cai = hn::Mul(dai, c1);
+    const V cbr = hn::MulSub(dbr, c1, c0), cbi = hn::Mul(dbi, c1);
+    // The numerators, psi_n (D_n(mx)/m - D_n(x)) and psi_n (m D_n(mx) - D_n(x)), without their
+    // large cancelling terms: with T_n(z) = psi_{n+1}(z)/psi_n(z) = 1/(D_{n+1}(z) + (n+1)/z),
+    //   a numerator = (n+1)/x (1/m^2 - 1) psi_n + psi_{n+1} - psi_n T_n(mx) / m
+    //   b numerator = psi_{n+1} - m psi_n T_n(mx).
+    // Written as in (4.88), the b numerator loses digits like 1/(x^2 |m^2 - 1|) for small x; this
+    // form loses only the 1/|m^2 - 1| the physics has. Using the numerator inside the
+    // denominator also keeps Re a_n = |a_n|^2 to rounding for real m (no absorption).
+    const V wr = hn::MulAdd(n1, zr, D1r), wi = hn::MulAdd(n1, zi, D1i);
+    const V w2 = hn::MulAdd(wr, wr, hn::Mul(wi, wi));
+    const auto w_zero = hn::Eq(w2, zero);  // psi_n(mx) = 0 exactly (real m): T_n -> 1e300
+    const V w_inv = hn::Div(one, hn::IfThenElse(w_zero, one, w2));
+    const V tr = hn::IfThenElse(w_zero, huge, hn::Mul(wr, w_inv));
+    const V ti = hn::IfThenZeroElse(w_zero, hn::Neg(hn::Mul(wi, w_inv)));
+    const V ptr = hn::Mul(p1, tr), pti = hn::Mul(p1, ti);
+    const V s = hn::Mul(hn::Mul(n1, xinv), p1);
+    const V nar = hn::Sub(hn::MulAdd(s, qr, p2), hn::MulSub(ptr, ir, hn::Mul(pti, ii)));
+    const V nai = hn::Sub(hn::Mul(s, qi), hn::MulAdd(ptr, ii, hn::Mul(pti, ir)));
+    const V nbr = hn::Sub(p2, hn::MulSub(mr, ptr, hn::Mul(mi, pti)));
+    const V nbi = hn::Neg(hn::MulAdd(mr, pti, hn::Mul(mi, ptr)));
+    // a = num / (num - i C) = num conj(den) / |den|^2, den = (num_re + C_im, num_im - C_re).
+    const auto divide = [&](V nr, V ni, V cr, V ci, V& out_r, V& out_i) HWY_ATTR {
+      const V er = hn::Add(nr, ci), ei = hn::Sub(ni, cr);
+      const V inv = hn::Div(one, hn::MulAdd(er, er, hn::Mul(ei, ei)));
+      out_r = hn::Mul(hn::MulAdd(nr, er, hn::Mul(ni, ei)), inv);
+      out_i = hn::Mul(hn::MulSub(ni, er, hn::Mul(nr, ei)), inv);
+    };
+    V ar, ai, br, bi;
+    divide(nar, nai, car, cai, ar, ai);
+    divide(nbr, nbi, cbr, cbi, br, bi);
+    // Where chi_n(x) (nearly) overflowed, which needs far more terms than x calls for, a_n, b_n
+    // ~ psi_n / chi_n have underflowed to zero.
+    const auto finite = hn::And(hn::And(hn::IsFinite(car), hn::IsFinite(cai)),
+                                hn::And(hn::IsFinite(cbr), hn::IsFinite(cbi)));
+    hn::StoreInterleaved2(hn::IfThenElseZero(finite, ar), hn::IfThenElseZero(finite, ai), d,
+                          a + 2 * (n - 1));
+    hn::StoreInterleaved2(hn::IfThenElseZero(finite, br), hn::IfThenElseZero(finite, bi), d,
+                          b + 2 * (n - 1));
+  }
+}
+
+// The sums over n = 1..n_max behind the efficiencies ([BH] ch. 4; the g series is MIEV0's GQSC,
+// [W79], equal to [BH] eq. 4.92), with a_{n_max+1} = b_{n_max+1} = 0:
+//   out[0] ext  = sum (2n+1) Re(a_n + b_n)
+//   out[1] sca  = sum (2n+1) (|a_n|^2 + |b_n|^2)
+//   out[2..3] back = sum (2n+1) (-1)^n (a_n - b_n)
+//   out[4] gsca = sum n(n+2)/(n+1) Re(a_n a*_{n+1} + b_n b*_{n+1}) + (2n+1)/(n(n+1)) Re(a_n b*_n)
+// a, b interleaved, exactly n_max values each (the last vector is copied to a zero-padded
+// buffer). The alternating back sum is reduced to a scalar every vector, so its partial sums stay
+// the size of a few terms rather than growing to the sum of all terms of one sign.
+void SumsKernel(const double* HWY_RESTRICT a, const double* HWY_RESTRICT b, std::size_t n_max,
+                double* HWY_RESTRICT out) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t lanes = hn::Lanes(d);
+  // (-1)^n for n = n0 + j with n0 odd; negated for a block starting at an even n0 (which happens
+  // only with an odd lane count: the one-lane scalar target).
+  HWY_ALIGN double sign_lanes[(HWY_MAX_BYTES / sizeof(double))];
+  for (std::size_t j = 0; j < lanes; ++j) sign_lanes[j] = (j % 2 == 0) ? -1.0 : 1.0;
+  const V sign_odd = hn::Load(d, sign_lanes), sign_even = hn::Neg(sign_odd);
+  const V one = hn::Set(d, 1.0), two = hn::Set(d, 2.0);
+  V ext = hn::Zero(d), sca = hn::Zero(d), gsca = hn::Zero(d);
+  double back_re = 0, back_im = 0;
+  const auto block = [&](std::size_t n, const double* pa, const double* pb) HWY_ATTR {
+    const V nv = hn::Iota(d, static_cast<double>(n));
+    const V f = hn::MulAdd(two, nv, one);  // 2n + 1
+    V ar, ai, br, bi, a1r, a1i, b1r, b1i;
+    hn::LoadInterleaved2(d, pa, ar, ai);
+    hn::LoadInterleaved2(d, pb, br, bi);
+    hn::LoadInterleaved2(d, pa + 2, a1r, a1i);  // a_{n+1}
+    hn::LoadInterleaved2(d, pb + 2, b1r, b1i);
+    ext = hn::MulAdd(f, hn::Add(ar, br), ext);
+    const V norms = hn::MulAdd(ar, ar, hn::MulAdd(ai, ai, hn::MulAdd(br, br, hn::Mul(bi, bi))));
+    sca = hn::MulAdd(f, norms, sca);
+    const V fs = hn::Mul(f, n % 2 == 1 ? sign_odd : sign_even);
+    back_re += hn::GetLane(hn::SumOfLanes(d, hn::Mul(fs, hn::Sub(ar, br))));
+    back_im += hn::GetLane(hn::SumOfLanes(d, hn::Mul(fs, hn::Sub(ai, bi))));
+    const V np1 = hn::Add(nv, one);
+    const V cross = hn::MulAdd(ar, a1r, hn::MulAdd(ai, a1i, hn::MulAdd(br, b1r, hn::Mul(bi, b1i))));
+    const V ab = hn::MulAdd(ar, br, hn::Mul(ai, bi));
+    const V g1 = hn::Div(hn::Mul(nv, hn::Add(np1, one)), np1);  // n(n+2)/(n+1)
+    const V g2 = hn::Div(f, hn::Mul(nv, np1));                    // (2n+1)/(n(n+1))
+    gsca = hn::MulAdd(g1, cross, hn::MulAdd(g2, ab, gsca));
+  };
+  std::size_t n = 1;
+  // Whole vectors while a_{n+lanes} (the last lane's a_{n+1}) is still inside the arrays.
+  for (; n + lanes <= n_max; n += lanes) block(n, a + 2 * (n - 1), b + 2 * (n - 1));
+  if (n <= n_max) {
+    HWY_ALIGN double ta[2 * ((HWY_MAX_BYTES / sizeof(double)) + 1)] = {};
+    HWY_ALIGN double tb[2 * ((HWY_MAX_BYTES / sizeof(double)) + 1)] = {};
+    const std::size_t rest = n_max - n + 1;  // 1..lanes values
+    for (std::size_t k = 0; k < 2 * rest; ++k) {
+      ta[k] = a[2 * (n - 1) + k];
+      tb[k] = b[2 * (n - 1) + k];
+    }
+    block(n, ta, tb);
+  }
+  out[0] = hn::GetLane(hn::SumOfLanes(d, ext));
+  out[1] = hn::GetLane(hn::SumOfLanes(d, sca));
+  out[2] = back_re;
+  out[3] = back_im;
+  out[4] = hn::GetLane(hn::SumOfLanes(d, gsca));
+}
+
+}  // namespace hydrolux::scatter::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include <algorithm>
 #include <limits>
 #include <string>
+#include <vector>
 
+#include "hydrolux/core/complex.hpp"
 #include "hydrolux/core/error.hpp"
-#include "hydrolux/scatter/riccati_bessel.hpp"
+#include "hydrolux/scatter/mie.hpp"
+#include "src/core/simd_dispatch.hpp"
+#include "src/scatter/recurrences.hpp"
 
 namespace hydrolux::scatter {
+
+HYDROLUX_SIMD_EXPORT(CoefficientsKernel);
+HYDROLUX_SIMD_EXPORT(SumsKernel);
 
 namespace {
 
 constexpr const char* kContext = "the Lorenz-Mie solver";
 
-
-// a b and a - i b without the C99 Annex G inf/nan recovery of the compiler's complex multiply
-// (a library call without -ffast-math); every operand here is finite.
-inline Complex mul(Complex a, Complex b) noexcept {
-  return {a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real()};
-}
-inline Complex minus_i_times(Complex a, Complex b) noexcept {
-  return {a.real() + b.imag(), a.imag() - b.real()};
-}
-
-// An exact zero denominator (psi_n(mx) = 0 exactly, real m) replaced by a tiny number, as the
-// downward recurrence of D_n does: the coefficients then take their limit psi_n / xi_n.
-inline Complex nonzero(Complex v) noexcept { return v == Complex(0, 0) ? Complex(1e-300, 0) : v; }
-
 void require_size_parameter(double x) {
-  require_in_range("x", x, kMinSizeParameter, kMaxSizeParameter, kContext);
+  require_in_range("x", x, kMieMinSizeParameter, kMieMaxSizeParameter, kContext);
+}
+
+void require_index(Complex m) {
+  if (m.imag() < 0)
+    throw DomainError("m_imag", m.imag(), 0, kMieMaxIndex,
+                      "the Lorenz-Mie solver, whose convention is m = n + ik with k >= 0 for an "
+                      "absorbing sphere (Bohren & Huffman); an index written n - ik (MIEV0, van de "
+                      "Hulst) must have its imaginary part negated, not be passed as it is");
+  require_in_range("m_real", m.real(), 0.0, kMieMaxIndex, kContext);
+  require_in_range("m_imag", m.imag(), 0.0, kMieMaxIndex, kContext);
+  const double abs_m = std::sqrt(std::norm(m));  // no overflow: both parts are at most 1e3
+  if (abs_m < kMieMinIndex)
+    throw DomainError("m_abs", abs_m, kMieMinIndex, std::sqrt(2.0) * kMieMaxIndex, kContext);
+}
+
+// Lanes of the chosen SIMD target: the padding every kernel array needs.
+std::size_t simd_lanes() { return detail::simd_padding(); }
+
+// Per-thread working arrays; they only grow.
+struct Workspace {
+  std::vector<double> dz, p, psi, chi, a, b;
+};
+Workspace& workspace() {
+  thread_local Workspace w;
+  return w;
+}
+
+template <typename T>
+T* grow(std::vector<T>& v, std::size_t size) {
+  if (v.size() < size) v.resize(size);
+  return v.data();
+}
+
+// a_n, b_n for n = 1..n_max into a, b (interleaved; room for 2 (n_max + lanes) doubles each).
+void solve(Complex m, double x, int n_max, double* a, double* b) {
+  Workspace& w = workspace();
+  const std::size_t lanes = simd_lanes();
+  const auto n = static_cast<std::size_t>(n_max);
+  const std::size_t rows = n + lanes + 3;  // orders 0..n_max+1, the recurrences' extra order, padding
+  double* dz = grow(w.dz, 2 * rows);
+  double* p = grow(w.p, 2 * (rows + detail::kMaxMillerOrders));
+  double* psi = grow(w.psi, rows);
+  double* chi = grow(w.chi, rows);
+  // D_n(mx) for n = 0..n_max+1 (one order past n_max for T_n); for real m in real arithmetic.
+  if (m.imag() == 0) {
+    // The real recurrence writes D_n at dz[n]; spread it out to (re, 0) pairs from the top down.
+    detail::log_derivative_real(m.real() * x, n_max + 1, dz, p);
+    for (std::size_t k = n + 2; k-- > 0;) {
+      dz[2 * k] = dz[k];
+      dz[2 * k + 1] = 0;
+    }
+  } else {
+    detail::log_derivative(m * x, n_max + 1, dz, p);
+  }
+  detail::psi_chi(x, n_max + 1, psi, chi);
+  // Padding read by the last vector: harmless values (its lanes are overwritten below).
+  for (std::size_t k = n + 2; k < rows; ++k) {
+    dz[2 * k] = 1;
+    dz[2 * k + 1] = 0;
+    psi[k] = 0;
+    chi[k] = 1;
+  }
+  HYDROLUX_SIMD_DISPATCH(CoefficientsKernel)(dz, psi, chi, n, m.real(), m.imag(), x, a, b);
+  for (std::size_t k = 2 * n; k < 2 * (n + lanes); ++k) a[k] = b[k] = 0;
+}
+
+MieEfficiencies efficiencies_from(const Complex* a, const Complex* b, int n_max, double x,
+                                  Complex m) {
+  double s[5] = {};
+  if (n_max > 0)
+    HYDROLUX_SIMD_DISPATCH(SumsKernel)(reinterpret_cast<const double*>(a),
+                                       reinterpret_cast<const double*>(b),
+                                       static_cast<std::size_t>(n_max), s);
+  const double x2 = x * x;
+  MieEfficiencies q;
+  q.qext = 2.0 / x2 * s[0];
+  q.qsca = 2.0 / x2 * s[1];
+  // A sphere with real m absorbs nothing: report exactly 0 rather than the rounding-level
+  // difference of two sums (|qext - qsca| ~ 1e-15 qext there).
+  q.qabs = m.imag() == 0 ? 0.0 : q.qext - q.qsca;
+  q.qback = (s[2] * s[2] + s[3] * s[3]) / x2;
+  q.g = q.qsca > 0 ? 4.0 / x2 * s[4] / q.qsca : 0.0;
+  return q;
 }
 
 }  // namespace
@@ -64,107 +314,54 @@ int wiscombe_terms(double x) {
   return static_cast<int>(n);
 }
 
-MieCoefficients mie_coefficients(Complex m, double x, int n_terms) {
+int mie_terms(double x) {
   require_size_parameter(x);
-  require_in_range("m_real", m.real(), 1e-3, 10.0, kContext);
-  require_in_range("m_imag", m.imag(), 0.0, 1.0, kContext);
-  require_in_range("n_terms", n_terms, 0, 1e6, kContext);
-  const int n_max = n_terms > 0 ? n_terms : wiscombe_terms(x);
+  // See mie.hpp: Wiscombe's count plus what Qback and the amplitudes near backscatter need,
+  // and at least three terms (g of a small sphere needs a_2).
+  const double cbrt = std::cbrt(x);
+  return std::max(3, static_cast<int>(x + kMieTermsCbrt * cbrt + kMieTermsConstant));
+}
 
-  // D_n(mx) downward from an exact continued-fraction start; psi_n(x), xi_n(x) stably
-  // (riccati_bessel.cpp). One order past n_max for the ratios T_n below. Three arrays of
-  // n_max + 2 values: the only allocations besides a, b.
-  const std::vector<Complex> d = log_derivative_psi(m * x, n_max + 1);
-  std::vector<double> psi(static_cast<std::size_t>(n_max) + 2);
-  std::vector<Complex> xi(psi.size());
-  riccati_bessel(x, n_max + 1, psi, xi);
+void mie_coefficients(Complex m, double x, MieCoefficients& out, int n_terms) {
+  require_size_parameter(x);
+  require_index(m);
+  require_in_range("n_terms", n_terms, 0, 2e7, kContext);
+  const int n_max = n_terms > 0 ? n_terms : mie_terms(x);
+  const std::size_t size = static_cast<std::size_t>(n_max) + simd_lanes();
+  out.m = m;
+  out.x = x;
+  // The kernels write whole vectors: room for them, then trimmed (resize keeps the storage).
+  out.a.resize(size);
+  out.b.resize(size);
+  solve(m, x, n_max, reinterpret_cast<double*>(out.a.data()), reinterpret_cast<double*>(out.b.data()));
+  out.a.resize(static_cast<std::size_t>(n_max));
+  out.b.resize(static_cast<std::size_t>(n_max));
+}
 
+MieCoefficients mie_coefficients(Complex m, double x, int n_terms) {
   MieCoefficients c;
-  c.m = m;
-  c.x = x;
-  c.a.resize(static_cast<std::size_t>(n_max));
-  c.b.resize(static_cast<std::size_t>(n_max));
-  const Complex m_inv = reciprocal(m);
-  const Complex one_minus_m2_over_m2 = mul(mul(1.0 - m, 1.0 + m), mul(m_inv, m_inv));  // 1/m^2-1
-  const Complex z_inv = reciprocal(m * x);
-  const double x_inv = 1.0 / x;
-  const auto finite = [](Complex v) { return std::isfinite(v.real()) && std::isfinite(v.imag()); };
-  for (int n = 1; n <= n_max; ++n) {
-    const auto i = static_cast<std::size_t>(n);
-    const double chi = -xi[i].imag(), chi_prev = -xi[i - 1].imag();
-    const double n_over_x = n * x_inv;
-    // Equation (4.88) [BH]:
-    //   a_n = [(D_n(mx)/m + n/x) psi_n - psi_{n-1}] / [(D_n(mx)/m + n/x) xi_n - xi_{n-1}]
-    //   b_n = [(m D_n(mx) + n/x) psi_n - psi_{n-1}] / [(m D_n(mx) + n/x) xi_n - xi_{n-1}]
-    // With xi = psi - i chi each denominator is its numerator minus i [(...) chi_n - chi_{n-1}].
-    const Complex da = mul(d[i], m_inv) + n_over_x;
-    const Complex db = mul(m, d[i]) + n_over_x;
-    const Complex chi_a = da * chi - chi_prev, chi_b = db * chi - chi_prev;
-    if (!finite(chi_a) || !finite(chi_b)) {
-      // chi_n(x) (nearly) overflowed, which needs far more terms than x calls for (n_terms):
-      // a_n, b_n ~ psi_n / chi_n have underflowed to zero.
-      c.a[i - 1] = c.b[i - 1] = Complex(0, 0);
-      continue;
-    }
-    // The numerators, psi_n (D_n(mx)/m - D_n(x)) and psi_n (m D_n(mx) - D_n(x)), are evaluated
-    // without their large cancelling terms: with T_n(z) = psi_{n+1}(z) / psi_n(z)
-    // = 1 / (D_{n+1}(z) + (n+1)/z), D_n(z) = (n+1)/z - T_n(z), so
-    //   a numerator = (n+1)/x (1/m^2 - 1) psi_n + psi_{n+1} - psi_n T_n(mx) / m
-    //   b numerator = psi_{n+1} - m psi_n T_n(mx).
-    // Written as in (4.88), the b numerator loses digits like 1 / (x^2 |m^2 - 1|) for small x
-    // (1e-7 relative at x = 1e-3, m = 1.001); this form loses only the 1 / |m^2 - 1| that the
-    // physics itself has. Using the same numerator in the denominator also keeps
-    // Re a_n = |a_n|^2 to rounding for real m (no absorption by construction).
-    const Complex t = reciprocal(nonzero(d[i + 1] + static_cast<double>(n + 1) * z_inv));  // T_n
-    const Complex psi_t = psi[i] * t;
-    const Complex num_a = ((n + 1) * x_inv * psi[i]) * one_minus_m2_over_m2 + psi[i + 1] -
-                          mul(psi_t, m_inv);
-    const Complex num_b = psi[i + 1] - mul(m, psi_t);
-    c.a[i - 1] = mul(num_a, reciprocal(minus_i_times(num_a, chi_a)));
-    c.b[i - 1] = mul(num_b, reciprocal(minus_i_times(num_b, chi_b)));
-  }
+  mie_coefficients(m, x, c, n_terms);
   return c;
 }
 
 MieEfficiencies mie_efficiencies(const MieCoefficients& c) {
   require_size_parameter(c.x);
   if (c.a.size() != c.b.size()) throw Error("mie_efficiencies: a and b differ in length");
-  const int n_max = c.terms();
-  // Sums over n ([BH] ch. 4; the g series is MIEV0's GQSC, [W79], equal to [BH] eq. 4.92):
-  //   ext  = sum (2n+1) Re(a_n + b_n)
-  //   sca  = sum (2n+1) (|a_n|^2 + |b_n|^2)
-  //   back = sum (2n+1) (-1)^n (a_n - b_n)
-  //   gsca = sum n(n+2)/(n+1) Re(a_n a*_{n+1} + b_n b*_{n+1}) + (2n+1)/(n(n+1)) Re(a_n b*_n)
-  double ext = 0, sca = 0, gsca = 0;
-  Complex back = 0;
-  double sign = -1;  // (-1)^n
-  for (int n = 1; n <= n_max; ++n) {
-    const Complex an = c.a[static_cast<std::size_t>(n - 1)];
-    const Complex bn = c.b[static_cast<std::size_t>(n - 1)];
-    const double fn = n, two_n_plus_1 = 2.0 * n + 1.0;
-    ext += two_n_plus_1 * (an.real() + bn.real());
-    sca += two_n_plus_1 * (std::norm(an) + std::norm(bn));
-    back += (sign * two_n_plus_1) * (an - bn);
-    sign = -sign;
-    gsca += two_n_plus_1 / (fn * (fn + 1)) * (an.real() * bn.real() + an.imag() * bn.imag());
-    if (n < n_max) {
-      const Complex an1 = c.a[static_cast<std::size_t>(n)];
-      const Complex bn1 = c.b[static_cast<std::size_t>(n)];
-      gsca += fn * (fn + 2) / (fn + 1) *
-              (an.real() * an1.real() + an.imag() * an1.imag() + bn.real() * bn1.real() +
-               bn.imag() * bn1.imag());
-    }
-  }
-  const double x2 = c.x * c.x;
-  MieEfficiencies q;
-  q.qext = 2.0 / x2 * ext;
-  q.qsca = 2.0 / x2 * sca;
-  // A sphere with real m absorbs nothing: report exactly 0 rather than the rounding-level
-  // difference of two sums (|qext - qsca| ~ 1e-15 qext there).
-  q.qabs = c.m.imag() == 0 ? 0.0 : q.qext - q.qsca;
-  q.qback = std::norm(back) / x2;
-  q.g = q.qsca > 0 ? 4.0 / x2 * gsca / q.qsca : 0.0;
-  return q;
+  return efficiencies_from(c.a.data(), c.b.data(), c.terms(), c.x, c.m);
+}
+
+MieEfficiencies mie_efficiencies(Complex m, double x, int n_terms) {
+  require_size_parameter(x);
+  require_index(m);
+  require_in_range("n_terms", n_terms, 0, 2e7, kContext);
+  const int n_max = n_terms > 0 ? n_terms : mie_terms(x);
+  Workspace& w = workspace();
+  const std::size_t size = 2 * (static_cast<std::size_t>(n_max) + simd_lanes());
+  double* a = grow(w.a, size);
+  double* b = grow(w.b, size);
+  solve(m, x, n_max, a, b);
+  return efficiencies_from(reinterpret_cast<const Complex*>(a), reinterpret_cast<const Complex*>(b),
+                           n_max, x, m);
 }
 
 void mie_amplitudes_reference(const MieCoefficients& c, std::span<const double> mu,
@@ -199,3 +396,4 @@ void mie_amplitudes_reference(const MieCoefficients& c, std::span<const double> 
 }
 
 }  // namespace hydrolux::scatter
+#endif  // HWY_ONCE

@@ -426,7 +426,7 @@ TEST(DebyeIdentity, SingleOrdersAddUpToRanges) {
   const auto r3 = debye_remainder(m, x, 3);
   const auto r3d = debye_remainder(d, 3);
   const auto o3 = debye_orders(d, 0, 3);
-  EXPECT_EQ(c3.terms(), mie_coefficients(m, x).terms());  // the Wiscombe truncation
+  EXPECT_EQ(c3.terms(), mie_coefficients(m, x).terms());  // the solver's truncation, mie_terms
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(c3.a[i], debye_coefficients(d, 3).a[i]);
     EXPECT_EQ(s3.b[i], o3.b[i]);

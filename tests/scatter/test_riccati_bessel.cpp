@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <complex>
 #include <limits>
 #include <string>
@@ -195,6 +196,70 @@ TEST(RiccatiBessel, OverflowGivesInfinityNotNan) {
     EXPECT_FALSE(std::isnan(r.psi[n])) << n;
     EXPECT_FALSE(std::isnan(r.xi[n].imag())) << n;
     EXPECT_GE(r.psi[n], 0.0) << n;  // psi_n(x) > 0 for x < first zero
+  }
+}
+
+// log_derivative_psi picks its method by z and n_max (riccati_bessel.cpp): the three-term
+// recurrence upward from cos z, sin z where every order lies below the turning point and
+// absorption is weak; downward from the continued fraction otherwise; downward from an
+// approximate start far above the turning point (Miller). Across each boundary the two methods
+// must give the same D_n at the orders both compute: n_max on one side of the boundary and a few
+// orders past it on the other. Tolerance 100 sqrt(L) eps of max(1, |D_n| + n/|z|) (D_n of a nearly
+// real z oscillates like cot z, with an absolute error where it passes 0), times |D_n| / (1 +
+// n/|z|) where that exceeds 1: near a zero of psi_n (a pole of D_n, only for
+// nearly real z below the turning point) a rounding error delta in psi_n makes D_n wrong by
+// D_n^2 delta, so its relative error grows with |D_n| (mpmath at z = 1333 + 1e-5i, n = 305, where
+// D = -2386: upward 1.4e-12, downward 3.7e-11 relative). What enters a_n there is psi_n / psi_{n-1}
+// = 1/(D_n + n/z), which keeps its relative accuracy. Tolerance 300 sqrt(L) eps on that scale:
+// measured worst 101, at z = 1.5e5, n = 149827, a few orders below the turning point, where both
+// methods are 1e-11 and 5e-11 relative from mpmath (the ratio recurrence used before them: 1e-10).
+TEST(LogDerivative, MethodsAgreeAcrossTheirBoundaries) {
+  double worst = 0;
+  const auto compare = [&worst](Complex z, int n_a, int n_b, const char* what) {
+    const auto a = log_derivative_psi(z, n_a), b = log_derivative_psi(z, n_b);
+    const double length = std::max<double>(std::max(n_a, n_b), std::abs(z)) + 1;
+    const double tol = 300 * std::sqrt(length) * kEps;
+    for (int n = 0; n <= std::min(n_a, n_b); ++n) {
+      const auto i = static_cast<std::size_t>(n);
+      const double nz = n / std::abs(z), d = std::abs(b[i]);
+      const double scale = std::max(1.0, d + nz) * std::max(1.0, d / (1 + nz));
+      EXPECT_LE(std::abs(a[i] - b[i]), tol * scale) << what << " z=" << z << " n=" << n;
+      worst = std::max(worst, std::abs(a[i] - b[i]) / (std::sqrt(length) * kEps * scale));
+    }
+  };
+  // The turning point: upward needs n_max <= |z| - 3 |z|^(1/3) - 5.
+  for (const Complex z : {Complex(40, 0), Complex(1333, 1e-5), Complex(1.5e5, 0), Complex(2e4, 3)}) {
+    const double az = std::abs(z);
+    const int edge = static_cast<int>(std::floor(az - 3 * std::cbrt(az) - 5));
+    compare(z, edge, edge + 8, "turning point");
+  }
+  // Absorption: upward needs n_max^2 Im z <= |z|^2; at n_max = 1000, |z| = 2000 the edge is at
+  // Im z = 4.
+  for (const double im : {3.9, 4.1}) compare(Complex(2000, im), 1000, 1001, "absorption");
+  // Far above the turning point (n_max >= 1.5 |z| + 5) the start is approximate (Miller).
+  for (const Complex z : {Complex(1.0, 0), Complex(1.333, 1e-8), Complex(7, 2), Complex(0.3, 0.3)}) {
+    const int edge = static_cast<int>(std::ceil(1.5 * std::abs(z) + 5));
+    compare(z, edge - 1, edge + 3, "Miller start");
+  }
+  std::printf("worst disagreement: %.3g sqrt(L) eps\n", worst);
+}
+
+// The unnormalised psi_n(z) of the downward recurrence grow by up to (2n+1)/|z| per order and
+// are rescaled by 2^-300 as they pass 2^300, the order noted and its D_n recomputed. Where that
+// happens many times (tiny |z|, many orders; a real z far past its turning point), every D_n must
+// still satisfy the recurrence D_{n-1} = n/z - 1/(D_n + n/z) to rounding, across the rescaled
+// orders too. Tolerance 1e-13 relative to |D_{n-1}| + n/|z| (measured: rounding, 1e-16).
+TEST(LogDerivative, RescaledRecurrenceStaysConsistent) {
+  for (const auto& [z, n_max] : {std::pair{Complex(1e-3, 1e-4), 600}, std::pair{Complex(100, 0), 3000},
+                                 std::pair{Complex(100, 1), 3000}, std::pair{Complex(1e-9, 0), 200}}) {
+    const auto d = log_derivative_psi(z, n_max);
+    for (int n = 1; n <= n_max; ++n) {
+      const auto i = static_cast<std::size_t>(n);
+      const Complex nz = double(n) / z;
+      const Complex expected = nz - 1.0 / (d[i] + nz);
+      ASSERT_TRUE(std::isfinite(d[i].real()) && std::isfinite(d[i].imag())) << z << " n=" << n;
+      EXPECT_LE(std::abs(d[i - 1] - expected), 1e-13 * (std::abs(d[i - 1]) + std::abs(nz))) << z << " n=" << n;
+    }
   }
 }
 

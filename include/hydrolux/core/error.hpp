@@ -65,5 +65,11 @@ std::string printable(std::string_view text);
 // Throws DomainError unless lo <= value <= hi (NaN always throws).
 void require_in_range(const char* quantity, double value, double lo, double hi,
                       const std::string& context = {});
+// The same with a literal context: nothing is built unless the value is out of range (the checks
+// sit on hot paths such as one Mie solution per size of a distribution).
+inline void require_in_range(const char* quantity, double value, double lo, double hi,
+                             const char* context) {
+  if (!(value >= lo && value <= hi)) throw DomainError(quantity, value, lo, hi, context);
+}
 
 }  // namespace hydrolux

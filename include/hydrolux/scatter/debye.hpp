@@ -59,7 +59,7 @@ struct DebyeInterface {
   int terms() const { return static_cast<int>(a.r22.size()); }
 };
 
-// R22, R11, T21 T12 (and 1 - R22, T21 T12 / (1 - R11)) for n = 1..N, N = wiscombe_terms(x) when
+// R22, R11, T21 T12 (and 1 - R22, T21 T12 / (1 - R11)) for n = 1..N, N = mie_terms(x) when
 // n_terms = 0 (the truncation of mie_coefficients). Cost O(N + |m x|): 5-8 ms at x = 1e4, 65-95 ms
 // at x = 1e5 (long double recurrences; mie_coefficients takes ~1/6 of that).
 DebyeInterface debye_interface(Complex m, double x, int n_terms = 0);

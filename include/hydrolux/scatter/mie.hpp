@@ -22,21 +22,33 @@ namespace hydrolux::scatter {
 
 using Complex = std::complex<double>;
 
-// Valid domain of the solvers (DomainError outside): x in [1e-3, 1e5], Re m in [1e-3, 10] (not 1
-// exactly is fine), Im m in [0, 1].
+// Domain of the Lorenz-Mie solver (DomainError outside; the quantities are named "x", "m_real",
+// "m_imag", "m_abs", "n_terms"): x in [1e-6, 1e6]; m = n + ik with n in [0, 1000], k in [0, 1000]
+// and |m| >= 1e-3. A negative k is refused with a message saying why (the sign convention), never
+// conjugated silently. The accuracy over this domain, range by range, is in docs/mie.md.
+inline constexpr double kMieMinSizeParameter = 1e-6;
+inline constexpr double kMieMaxSizeParameter = 1e6;
+inline constexpr double kMieMinIndex = 1e-3;
+inline constexpr double kMieMaxIndex = 1e3;
+// The domain of the other wave theories built on the Mie coefficients (Debye series, Airy
+// theory) and of the Lee tables: x in [1e-3, 1e5].
 inline constexpr double kMinSizeParameter = 1e-3;
 inline constexpr double kMaxSizeParameter = 1e5;
 
-// Number of terms: Wiscombe (1980, Appl. Opt. 19, 1505), eq. for the "standard" truncation:
+// Wiscombe's number of terms (1980, Appl. Opt. 19, 1505, p. 1508, as coded in MIEV0):
 // x + 4 x^(1/3) + 1 (x <= 8), x + 4.05 x^(1/3) + 2 (8 < x < 4200), x + 4 x^(1/3) + 2 (x >= 4200),
-// truncated to an integer as MIEV0 does. DomainError for x outside [1e-3, 1e5].
-// What it leaves out (tests/scatter/test_mie.cpp, TruncationAndExtraTerms): below 1e-6 relative
-// in Qext, Qsca and g and below 2e-6 in Qback once N >= 2 (x >= 0.0147); below 1e-9 in Qext and
-// 2e-7 in Qback for x > 1. Below x = 0.0147 it gives N = 1 (MIEV0 used small-particle expansions
-// there): Qext and Qback then miss O(x^2) relative (2e-5 at x = 0.0146, absorbing m), and g,
-// itself O(x^2), misses the a_1 a_2* term of its own order (it comes out 30% low for m = 1.333).
-// Passing n_terms = 3 there converges all of them to rounding.
+// truncated to an integer. It converges Qext and Qsca, but not Qback (7e-6 relative short at
+// x = 1e4) nor g below x = 0.0147 (where it gives one term, and g needs a_2). DomainError for x
+// outside the Mie domain.
 int wiscombe_terms(double x);
+
+// The number of terms the solver uses by default: x + c x^(1/3) + d with the constants below and
+// at least 3, chosen (tests/scatter/test_mie.cpp, TermCount) so that every output it returns,
+// Qext, Qsca, Qabs, g, Qback and S1, S2 at every angle, is within 1e-13 relative of the infinite
+// series, from x = 1e-6 to 1e6. About 0.3% more terms than Wiscombe's at x = 1e4.
+inline constexpr double kMieTermsCbrt = 7.0;
+inline constexpr double kMieTermsConstant = 2.0;
+int mie_terms(double x);
 
 // Mie coefficients a_n, b_n for n = 1..N (stored at index n - 1).
 struct MieCoefficients {
@@ -46,13 +58,14 @@ struct MieCoefficients {
   int terms() const { return static_cast<int>(a.size()); }
 };
 
-// The coefficients with the Wiscombe truncation (n_terms = 0) or a given number of terms.
-// DomainError (quantities "x", "m_real", "m_imag", "n_terms") outside the domain above. Against
-// the same truncated series in 45-digit arithmetic (scripts/reference/mie_mpmath.py), the
-// efficiencies below are within 1e-13 relative (Qback 1e-10 at x = 1e5) and the amplitudes within
-// 2e-10 of |S| at any angle, for x up to 1e5. O(N) time, three work arrays of N + 2 values: about
-// 1 ms at x = 1e4 and 10 ms at x = 1e5 on one core (x86-64, g++ -O3).
+// The coefficients with mie_terms(x) terms (n_terms = 0) or a given number of terms (up to 2e7).
+// DomainError outside the domain above. Against the same truncated series in 45-digit arithmetic
+// (scripts/reference/mie_mpmath.py) the efficiencies are within 1e-13 relative (Qback 1e-10 at
+// x = 1e5) and the amplitudes within 2e-10 of |S| at any angle; docs/mie.md lists each range.
+// O(N + the continued fraction's depth) time; the working arrays are per thread and reused.
 MieCoefficients mie_coefficients(Complex m, double x, int n_terms = 0);
+// The same into `out`, reusing its storage (no allocation once it has held as many terms).
+void mie_coefficients(Complex m, double x, MieCoefficients& out, int n_terms = 0);
 
 struct MieEfficiencies {
   double qext = 0, qsca = 0, qabs = 0, qback = 0, g = 0;
@@ -60,6 +73,10 @@ struct MieEfficiencies {
 // Sums over the coefficients (g by the Wiscombe/B&H series in a_n a*_{n+1}, b_n b*_{n+1},
 // a_n b*_n). qabs = qext - qsca, and exactly 0 when Im m = 0. g = 0 when qsca = 0 (m = 1).
 MieEfficiencies mie_efficiencies(const MieCoefficients& c);
+// The efficiencies alone, without angles and without keeping the coefficients: the path for size
+// averages and extinction. Same terms and accuracy as mie_coefficients; no allocation once the
+// thread has solved a sphere as large.
+MieEfficiencies mie_efficiencies(Complex m, double x, int n_terms = 0);
 
 // Scalar reference summation of S1, S2 at the given mu = cos(theta) values (any order, any
 // count). The fast path (scatter/amplitudes.hpp) must agree with it. Plain double-precision sums
