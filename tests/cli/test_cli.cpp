@@ -1,16 +1,20 @@
 // End-to-end tests of the hydrolux command line: the contract of issue #2 (flags, JSON fields,
 // exit codes, one-line errors) as a user or script sees it.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 
 #include <array>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "hydrolux/optics/fresnel.hpp"
+#include "support/asan.hpp"
 #include "support/cli.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/mie.hpp"
@@ -161,10 +165,16 @@ TEST(Cli, MiePhysicalForm) {
 TEST(Cli, MieBadInput) {
   const std::pair<const char*, const char*> cases[] = {
       {"mie --m 1.333 --x 0", "--x"},
-      {"mie --m 1.333 --x 2e5", "--x"},
+      {"mie --m 1.333 --x 2e6", "--x"},
+      {"mie --m 1.333 --x 5e-7", "--x"},
       {"mie --m 1.333-1i --x 10", "--m"},
       {"mie --m abc --x 10", "--m"},
-      {"mie --m 20 --x 10", "--m"},
+      {"mie --m 2000 --x 10", "--m"},
+      {"mie --m 1+2000i --x 10", "--m"},
+      {"mie --m 0 --x 10", "--m"},
+      {"mie --m 1.333 --x 10 -o /tmp/hydrolux_mie_never.txt", "-o"},
+      {"mie --m 1.333 --x 10 -o /nonexistent-folder/s.npy", "-o"},
+      {"mie --m 1.333 --x 10 --no-angles -o /tmp/hydrolux_mie_never.npy", "-o"},
       {"mie --m 1.333 --x 10 --angles-deg 0:200:5", "--angles-deg"},
       {"mie --m 1.333 --x 10 --angles-deg 0:180:0", "--angles-deg"},
       {"mie --m 1.333 --x 10 --angles-deg 10,abc", "--angles-deg"},
@@ -175,6 +185,101 @@ TEST(Cli, MieBadInput) {
       {"mie --m 1.333 --x 10 --threads -1", "--threads"},
   };
   expect_usage_errors(cases);
+  // A negative imaginary part is refused with the reason, the sign convention; never conjugated.
+  const auto r = run("mie --m 1.5-0.1i --x 10");
+  EXPECT_NE(r.err.find("n + ik"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists("/tmp/hydrolux_mie_never.txt"));
+  EXPECT_FALSE(fs::exists("/tmp/hydrolux_mie_never.npy"));
+}
+
+// Du 2004 / MIEV0 case 19 through the CLI, efficiencies only: m = 10 + 10i, x = 1e4.
+TEST(Cli, MieNoAnglesAndStrongAbsorption) {
+  const auto r = run("mie --m 10+10i --x 1e4 --no-angles --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(j.contains("angles_deg"));
+  EXPECT_FALSE(j.contains("s1"));
+  const auto q = hydrolux::scatter::mie_efficiencies({10, 10}, 1e4);
+  EXPECT_EQ(j.at("qext").get<double>(), q.qext);
+  EXPECT_EQ(j.at("n_terms").get<int>(), hydrolux::scatter::mie_terms(1e4));
+  EXPECT_NEAR(j.at("qsca").get<double>(), 1.795393, 1e-6 * 1.795393);  // MVTstNew.f, 7 digits
+}
+
+// -o writes S1, S2 as .npy (NumPy format 1.0, float64, shape (angles, 5)), .csv or .json, each
+// the same numbers as --json (shortest round-trip text, so equal to the last bit), whole, while
+// stdout keeps the efficiencies.
+TEST(Cli, MieOutputFiles) {
+  const fs::path dir = hydrolux::testing::temp_dir("hydrolux_mie_out");
+  const std::string args = "mie --m 1.5+0.01i --x 30 --angles-deg 0:180:91";
+  const auto ref = nlohmann::json::parse(run(args + " --json").out);
+  const auto& angles = ref.at("angles_deg");
+  ASSERT_EQ(angles.size(), 91u);
+  const auto expect_row = [&](std::size_t i, const double* v) {
+    EXPECT_EQ(v[0], angles[i].get<double>()) << i;
+    EXPECT_EQ(v[1], ref.at("s1")[i][0].get<double>()) << i;
+    EXPECT_EQ(v[2], ref.at("s1")[i][1].get<double>()) << i;
+    EXPECT_EQ(v[3], ref.at("s2")[i][0].get<double>()) << i;
+    EXPECT_EQ(v[4], ref.at("s2")[i][1].get<double>()) << i;
+  };
+
+  auto r = run(args + " -o " + (dir / "s.npy").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("Qext"), std::string::npos);
+  EXPECT_EQ(r.out.find("Re S1"), std::string::npos);  // the table went to the file
+  const std::string npy = hydrolux::testing::slurp(dir / "s.npy");
+  ASSERT_GE(npy.size(), 10u);
+  EXPECT_EQ(npy.substr(0, 8), std::string("\x93NUMPY\x01\x00", 8));
+  const std::size_t header = 10 + (std::uint8_t(npy[8]) | (std::uint8_t(npy[9]) << 8));
+  EXPECT_EQ(header % 64, 0u);
+  EXPECT_NE(npy.find("'descr': '<f8', 'fortran_order': False, 'shape': (91, 5)"), std::string::npos);
+  ASSERT_EQ(npy.size(), header + 91 * 5 * 8);
+  for (std::size_t i = 0; i < 91; ++i) {
+    double v[5];
+    std::memcpy(v, npy.data() + header + i * 40, 40);  // little-endian float64 (x86-64, aarch64)
+    expect_row(i, v);
+  }
+
+  r = run(args + " -o " + (dir / "s.csv").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream csv(hydrolux::testing::slurp(dir / "s.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "theta_deg,s1_re,s1_im,s2_re,s2_im");
+  std::size_t rows = 0;
+  while (std::getline(csv, line)) {
+    double v[5];
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3], &v[4]), 5);
+    expect_row(rows++, v);
+  }
+  EXPECT_EQ(rows, 91u);
+
+  r = run(args + " --json -o " + (dir / "s.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(hydrolux::testing::slurp(dir / "s.json"));
+  EXPECT_EQ(j.at("angles_deg"), angles);
+  EXPECT_EQ(j.at("s1"), ref.at("s1"));
+  EXPECT_EQ(j.at("s2"), ref.at("s2"));
+  const auto out = nlohmann::json::parse(r.out);
+  EXPECT_EQ(out.at("output").get<std::string>(), (dir / "s.json").string());
+  EXPECT_FALSE(out.contains("s1"));
+  fs::remove_all(dir);
+}
+
+// --json streams: a million angles (99 MB of JSON) fit in a 256 MiB address space, where the
+// document built in memory (440 MB, as before) could not. Without AddressSanitizer, whose shadow
+// memory needs far more address space.
+TEST(Cli, MieJsonStreamsAMillionAngles) {
+#if !HYDROLUX_TEST_ASAN
+  const auto r = hydrolux::testing::run_argv({"mie", "--m", "1.333", "--x", "10", "--angles-deg", "0:180:1000000", "--json"}, [] {
+    const rlimit lim{std::uint64_t(256) << 20, std::uint64_t(256) << 20};
+    ::setrlimit(RLIMIT_AS, &lim);
+  });
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GT(r.out.size(), 90'000'000u);
+  EXPECT_EQ(r.out.rfind("{\"x\":10.0,\"m\":[1.333,0.0],\"n_terms\":27,", 0), 0u) << r.out.substr(0, 200);
+  EXPECT_NE(r.out.find("\"s2\":[["), std::string::npos);
+  EXPECT_EQ(r.out.substr(r.out.size() - 2), "}\n");
+#endif
 }
 
 // phase: the same intensities as the library, as text or CSV, for every theory.

@@ -20,19 +20,10 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/image_io.hpp"
+#include "support/asan.hpp"
 #include "support/crafted_images.hpp"
 #include "support/sandbox.hpp"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define HYDROLUX_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define HYDROLUX_TEST_ASAN 1
-#endif
-#endif
-#ifndef HYDROLUX_TEST_ASAN
-#define HYDROLUX_TEST_ASAN 0
-#endif
 
 namespace hydrolux::io {
 namespace {

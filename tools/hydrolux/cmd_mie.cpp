@@ -2,18 +2,24 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <iostream>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <string_view>
 
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/io/files.hpp"
+#include "hydrolux/io/npy.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/debye.hpp"
 #include "hydrolux/scatter/mie.hpp"
 #include "hydrolux/scatter/sphere.hpp"
+#include "progress.hpp"
 
 namespace hydrolux::cli {
 
@@ -26,18 +32,92 @@ struct MieArgs {
   std::string angles = "0:180:181";
   std::optional<int> debye;
   int threads = 0;
-  bool json = false;
+  bool json = false, no_angles = false, quiet = false;
+  std::optional<std::string> output;
 };
+
+// Where a large output goes: stdout or a reserved output file, in pieces of about a megabyte, so
+// that a million angles never sit in memory as text.
+class Sink {
+ public:
+  explicit Sink(io::OutputFile* file) : file_(file) { buffer_.reserve(kChunk + 4096); }
+  std::string& buffer() { return buffer_; }
+  // Passes the buffer on once it holds a chunk (or always, with force).
+  void flush(bool force = false) {
+    if (buffer_.empty() || (!force && buffer_.size() < kChunk)) return;
+    if (file_) {
+      file_->write(buffer_);
+    } else if (std::fwrite(buffer_.data(), 1, buffer_.size(), stdout) != buffer_.size()) {
+      throw IoFailure("standard output: write failed");
+    }
+    buffer_.clear();
+  }
+
+ private:
+  static constexpr std::size_t kChunk = 1 << 20;
+  io::OutputFile* file_;
+  std::string buffer_;
+};
+
+// The JSON object's members after "angles_deg": the angle array and S1, S2 as [re, im] pairs,
+// streamed (numbers in their shortest round-trip form, as nlohmann::json writes them).
+void stream_json_arrays(Sink& sink, const std::vector<double>& angles, const std::vector<scatter::Complex>& s1,
+                        const std::vector<scatter::Complex>& s2) {
+  auto& b = sink.buffer();
+  const auto array = [&](const char* name, const auto& each) {
+    fmt::format_to(std::back_inserter(b), ",\"{}\":[", name);
+    for (std::size_t i = 0; i < angles.size(); ++i) {
+      if (i) b += ',';
+      each(i);
+      sink.flush();
+    }
+    b += ']';
+  };
+  array("angles_deg", [&](std::size_t i) { fmt::format_to(std::back_inserter(b), "{}", angles[i]); });
+  array("s1", [&](std::size_t i) { fmt::format_to(std::back_inserter(b), "[{},{}]", s1[i].real(), s1[i].imag()); });
+  array("s2", [&](std::size_t i) { fmt::format_to(std::back_inserter(b), "[{},{}]", s2[i].real(), s2[i].imag()); });
+}
+
+// The efficiencies and the problem as a JSON object's members, without the closing brace.
+std::string json_head(double x, scatter::Complex m, int terms, const scatter::MieEfficiencies& q,
+                      std::optional<int> debye) {
+  nlohmann::ordered_json j;
+  j["x"] = x;
+  j["m"] = {m.real(), m.imag()};
+  j["n_terms"] = terms;
+  j["qext"] = q.qext;
+  j["qsca"] = q.qsca;
+  j["qabs"] = q.qabs;
+  j["qback"] = q.qback;
+  j["g"] = q.g;
+  if (debye) j["debye_p"] = *debye;
+  std::string s = j.dump();
+  s.pop_back();  // the closing brace: members follow
+  return s;
+}
+
+enum class FileFormat { csv, npy, json };
+
+FileFormat output_format(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".csv") return FileFormat::csv;
+  if (ext == ".npy") return FileFormat::npy;
+  if (ext == ".json") return FileFormat::json;
+  throw Error(fmt::format("-o {}: the amplitudes are written as .csv, .npy or .json; give one of those extensions",
+                          path));
+}
 
 int run_mie(const MieArgs& a) {
   const bool dimensionless = !a.m_text.empty() || a.x;
   const bool physical = a.radius_um || a.wavelength_nm;
   if (dimensionless && physical)
     throw Error("give either --m and --x, or --radius-um and --wavelength-nm (with --medium), not both");
+  if (a.output && a.output->empty()) throw Error("-o: give a file name (.csv, .npy or .json)");
+  if (a.no_angles && a.output) throw Error("-o writes the amplitudes; --no-angles computes none");
+  if (a.no_angles && a.debye) throw Error("--debye restricts the amplitudes; --no-angles computes none");
   scatter::Complex m;
   double x = 0;
   if (physical) {
-
     if (!a.radius_um || !a.wavelength_nm) throw Error("--radius-um and --wavelength-nm go together");
     const auto sphere = medium_flag("--medium", a.medium);
     const auto outside = medium_flag("--surrounding", a.surrounding);
@@ -50,14 +130,38 @@ int run_mie(const MieArgs& a) {
     m = parse_complex(a.m_text, "--m");
     x = *a.x;
   }
-  const auto angles = parse_angles_deg(a.angles, "--angles-deg");
-  std::vector<double> mu(angles.size());
-  for (std::size_t i = 0; i < mu.size(); ++i) mu[i] = std::cos(deg_to_rad(angles[i]));
+  std::vector<double> angles, mu;
+  if (!a.no_angles) {
+    angles = parse_angles_deg(a.angles, "--angles-deg");
+    mu.resize(angles.size());
+    for (std::size_t i = 0; i < mu.size(); ++i) mu[i] = std::cos(deg_to_rad(angles[i]));
+  }
+  // The output is reserved before the work (its folder exists and takes a file).
+  io::FileSet files;
+  io::OutputFile* out_file = nullptr;
+  FileFormat format = FileFormat::csv;
+  if (a.output) {
+    format = output_format(*a.output);
+    out_file = &files.output("-o", *a.output);
+  }
 
   const auto start = std::chrono::steady_clock::now();
-  scatter::MieCoefficients c;
+  scatter::MieEfficiencies q;
+  int terms = 0;
+  std::vector<scatter::Complex> s1(mu.size()), s2(mu.size());
   try {
-    c = scatter::mie_coefficients(m, x);
+    if (a.no_angles) {
+      terms = scatter::mie_terms(x);
+      q = scatter::mie_efficiencies(m, x);
+    } else {
+      const scatter::MieCoefficients c = scatter::mie_coefficients(m, x);
+      terms = c.terms();
+      q = scatter::mie_efficiencies(c);  // of the whole sphere, also with --debye
+      ProgressBar bar("mie", a.quiet);
+      scatter::mie_amplitudes(a.debye ? scatter::debye_coefficients(m, x, *a.debye) : c, mu, s1, s2, a.threads,
+                              bar.callback());
+      bar.finish();
+    }
   } catch (const DomainError& e) {
     if (!physical) throw;
     // In the physical form the solver's limits on x and m come from the drop and the light.
@@ -65,42 +169,69 @@ int run_mie(const MieArgs& a) {
                                                   : "--medium/--surrounding (relative index m)";
     throw Error(fmt::format("{}: {} = {:g} is {}", flags, e.quantity(), e.value(), e.range_text()));
   }
-  const auto q = scatter::mie_efficiencies(c);  // of the whole sphere, also with --debye
-  std::vector<scatter::Complex> s1(mu.size()), s2(mu.size());
-  scatter::mie_amplitudes(a.debye ? scatter::debye_coefficients(m, x, *a.debye) : c, mu, s1, s2, a.threads);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  if (a.json) {
-    nlohmann::ordered_json j;
-    j["x"] = x;
-    j["m"] = {m.real(), m.imag()};
-    j["n_terms"] = c.terms();
-    j["qext"] = q.qext;
-    j["qsca"] = q.qsca;
-    j["qabs"] = q.qabs;
-    j["qback"] = q.qback;
-    j["g"] = q.g;
-    if (a.debye) j["debye_p"] = *a.debye;
-    j["angles_deg"] = angles;
-    auto& j1 = j["s1"] = nlohmann::ordered_json::array();
-    auto& j2 = j["s2"] = nlohmann::ordered_json::array();
-    for (std::size_t i = 0; i < mu.size(); ++i) {
-      j1.push_back({s1[i].real(), s1[i].imag()});
-      j2.push_back({s2[i].real(), s2[i].imag()});
+  // The amplitudes to the file, in its format, streamed.
+  if (out_file) {
+    Sink sink(out_file);
+    auto& b = sink.buffer();
+    if (format == FileFormat::npy) {
+      const std::size_t shape[2] = {angles.size(), 5};
+      b = io::npy_header_f8(shape);
+      for (std::size_t i = 0; i < angles.size(); ++i) {
+        const double row[5] = {angles[i], s1[i].real(), s1[i].imag(), s2[i].real(), s2[i].imag()};
+        io::append_f8_le(b, row);
+        sink.flush();
+      }
+    } else if (format == FileFormat::csv) {
+      b = "theta_deg,s1_re,s1_im,s2_re,s2_im\n";
+      for (std::size_t i = 0; i < angles.size(); ++i) {
+        fmt::format_to(std::back_inserter(b), "{},{},{},{},{}\n", angles[i], s1[i].real(), s1[i].imag(),
+                       s2[i].real(), s2[i].imag());
+        sink.flush();
+      }
+    } else {
+      b = json_head(x, m, terms, q, a.debye);
+      stream_json_arrays(sink, angles, s1, s2);
+      fmt::format_to(std::back_inserter(b), ",\"compute_s\":{}}}\n", seconds);
     }
-    j["compute_s"] = seconds;
-    std::cout << j.dump() << "\n";
+    sink.flush(true);
+    files.commit();
+  }
+
+  if (a.json) {
+    Sink sink(nullptr);
+    auto& b = sink.buffer();
+    b = json_head(x, m, terms, q, a.debye);
+    if (out_file)
+      fmt::format_to(std::back_inserter(b), ",\"output\":{}", nlohmann::json(*a.output).dump());
+    else if (!a.no_angles)
+      stream_json_arrays(sink, angles, s1, s2);
+    fmt::format_to(std::back_inserter(b), ",\"compute_s\":{}}}\n", seconds);
+    sink.flush(true);
     return 0;
   }
-  fmt::print("x = {:.10g}, m = {:.8g}{:+.4g}i, {} terms (Wiscombe), computed in {:.3g} s\n", x, m.real(),
-             m.imag(), c.terms(), seconds);
+  fmt::print("x = {:.10g}, m = {:.8g}{:+.4g}i, {} terms, computed in {:.3g} s\n", x, m.real(), m.imag(), terms,
+             seconds);
   fmt::print("Qext = {:.10g}  Qsca = {:.10g}  Qabs = {:.6g}  Qback = {:.8g}  g = {:.10g}\n", q.qext, q.qsca,
              q.qabs, q.qback, q.g);
+  if (a.no_angles) return 0;
+  if (out_file) {
+    fmt::print("S1, S2 at {} angles written to {}\n", angles.size(), *a.output);
+    return 0;
+  }
   if (a.debye) fmt::print("amplitudes of Debye order p = {} alone\n", *a.debye);
-  fmt::print("{:>10}  {:>16}  {:>16}  {:>16}  {:>16}\n", "theta_deg", "Re S1", "Im S1", "Re S2", "Im S2");
-  for (std::size_t i = 0; i < mu.size(); ++i)
-    fmt::print("{:>10.4f}  {:>16.9e}  {:>16.9e}  {:>16.9e}  {:>16.9e}\n", angles[i], s1[i].real(), s1[i].imag(),
-               s2[i].real(), s2[i].imag());
+  Sink sink(nullptr);
+  auto& b = sink.buffer();
+  fmt::format_to(std::back_inserter(b), "{:>10}  {:>16}  {:>16}  {:>16}  {:>16}\n", "theta_deg", "Re S1", "Im S1",
+                 "Re S2", "Im S2");
+  for (std::size_t i = 0; i < mu.size(); ++i) {
+    fmt::format_to(std::back_inserter(b), "{:>10.4f}  {:>16.9e}  {:>16.9e}  {:>16.9e}  {:>16.9e}\n", angles[i],
+                   s1[i].real(), s1[i].imag(), s2[i].real(), s2[i].imag());
+    sink.flush();
+  }
+  std::fflush(stdout);
+  sink.flush(true);
   return 0;
 }
 }  // namespace
@@ -113,8 +244,10 @@ Command add_mie(CLI::App& app) {
       "(Bohren & Huffman conventions). Give --m and --x, or the physical form --radius-um, "
       "--wavelength-nm, --medium.");
   auto* m_opt = sub->add_option("--m", args->m_text,
-                                 "Relative complex index n+ki (k >= 0 absorbing), e.g. 1.333+1e-8i");
-  auto* x_opt = sub->add_option("--x", args->x, "Size parameter 2 pi r / lambda")->check(number_in(1e-3, 1e5));
+                                 "Relative complex index n+ki (k >= 0 absorbing; n, k up to 1000, |m| >= 0.001), "
+                                 "e.g. 1.333+1e-8i or 10+10i");
+  auto* x_opt = sub->add_option("--x", args->x, "Size parameter 2 pi r / lambda, 1e-6 to 1e6")
+                    ->check(number_in(scatter::kMieMinSizeParameter, scatter::kMieMaxSizeParameter));
   sub->add_option("--radius-um", args->radius_um, "Sphere radius, micrometres")
       ->check(positive_number(1e6, "um"));
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")
@@ -131,8 +264,11 @@ Command add_mie(CLI::App& app) {
   // The dimensionless form takes m and x as they are: media flags would be silently ignored.
   for (auto* o : {m_opt, x_opt}) o->excludes(medium_opt)->excludes(surrounding_opt)->excludes(temperature_opt);
   sub->add_option("--angles-deg", args->angles,
-                  "Scattering angles, degrees (0 = forward): A:B:N for N angles from A to B, or a list 0,10,90")
+                  "Scattering angles, degrees (0 = forward): A:B:N for N angles from A to B (N up to 1e6), or a "
+                  "list 0,10,90")
       ->capture_default_str();
+  sub->add_flag("--no-angles", args->no_angles,
+                "Efficiencies only (Qext, Qsca, Qabs, Qback, g): no amplitudes, the fast path for size sweeps");
   sub->add_option("--debye", args->debye,
                   "Restrict S1, S2 to Debye order P (0 diffraction + external reflection, 1 direct "
                   "transmission, 2 primary rainbow, 3 secondary, ...); efficiencies stay the whole sphere's")
@@ -140,14 +276,21 @@ Command add_mie(CLI::App& app) {
   sub->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
       ->transform(integer_in(0, 1024))
       ->capture_default_str();
+  sub->add_option("-o,--output", args->output,
+                  "Write S1, S2 to this file instead of printing them, by extension: .csv (theta_deg,s1_re,s1_im,"
+                  "s2_re,s2_im), .npy (float64 array, one row per angle, the same five columns) or .json (the "
+                  "--json object); written whole or not at all");
   sub->add_flag("--json", args->json,
                 "Print one JSON object: x, m, n_terms, qext, qsca, qabs, qback, g, [debye_p,] angles_deg, "
-                "s1, s2 ([re, im] pairs), compute_s (seconds of computation alone)");
+                "s1, s2 ([re, im] pairs; with -o: \"output\", the file, instead), compute_s (seconds of "
+                "computation alone); streamed, so a million angles need no more memory than their values");
+  sub->add_flag("-q,--quiet", args->quiet, "No progress bar on stderr");
   return {sub,
           [args] { return run_mie(*args); },
           {{"x", "--x"},
            {"m_real", "--m (real part)"},
            {"m_imag", "--m (imaginary part)"},
+           {"m_abs", "--m (its modulus)"},
            {"radius_um", "--radius-um"},
            {"wavelength_nm", "--wavelength-nm"},
            {"temperature_c", "--temperature-c"}}};
