@@ -19,16 +19,48 @@ std::vector<double> grid(int n) {
   return mu;
 }
 
+const Complex kWater(1.333, 1e-8);
+
+// The efficiencies alone (no angles): range(0) = x.
+void BM_MieEfficiencies(benchmark::State& state) {
+  const double x = double(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(mie_efficiencies(kWater, x));
+  state.SetLabel("x=" + std::to_string(state.range(0)) + ", " + std::to_string(mie_terms(x)) + " terms");
+}
+BENCHMARK(BM_MieEfficiencies)->RangeMultiplier(10)->Range(1, 1000000)->Unit(benchmark::kMicrosecond);
+
+// The coefficients into a reused MieCoefficients.
 void BM_MieCoefficients(benchmark::State& state) {
   const double x = double(state.range(0));
-  for (auto _ : state) benchmark::DoNotOptimize(mie_coefficients({1.333, 1e-8}, x));
+  MieCoefficients c;
+  for (auto _ : state) {
+    mie_coefficients(kWater, x, c);
+    benchmark::DoNotOptimize(c.a.data());
+  }
   state.SetLabel("x=" + std::to_string(state.range(0)));
 }
-BENCHMARK(BM_MieCoefficients)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MieCoefficients)->RangeMultiplier(10)->Range(1, 1000000)->Unit(benchmark::kMicrosecond);
+
+// The whole job of the side-by-side comparison with MIEV0 (BENCHMARKS.md): coefficients,
+// efficiencies and S1/S2 at 1801 angles 0..180 degrees, one thread: range(0) = x.
+void BM_MieFull(benchmark::State& state) {
+  const double x = double(state.range(0));
+  const auto mu = grid(1801);
+  std::vector<Complex> s1(mu.size()), s2(mu.size());
+  MieCoefficients c;
+  for (auto _ : state) {
+    mie_coefficients(kWater, x, c);
+    benchmark::DoNotOptimize(mie_efficiencies(c));
+    mie_amplitudes(c, mu, s1, s2, 1);
+    benchmark::DoNotOptimize(s1.data());
+  }
+  state.SetLabel("x=" + std::to_string(state.range(0)));
+}
+BENCHMARK(BM_MieFull)->RangeMultiplier(10)->Range(1, 100000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 // S1, S2 at x = 10 000 on 1801 angles 0..180: range(0) = threads (0 = all).
 void BM_MieAmplitudes(benchmark::State& state) {
-  const auto c = mie_coefficients({1.333, 1e-8}, 10000.0);
+  const auto c = mie_coefficients(kWater, 10000.0);
   const auto mu = grid(1801);
   std::vector<Complex> s1(mu.size()), s2(mu.size());
   const int threads = int(state.range(0));
@@ -42,20 +74,8 @@ void BM_MieAmplitudes(benchmark::State& state) {
 }
 BENCHMARK(BM_MieAmplitudes)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The whole job the issue times: coefficients + S1/S2 at 1801 angles for x = 10 000, one core.
-void BM_MieFullX10000(benchmark::State& state) {
-  const auto mu = grid(1801);
-  std::vector<Complex> s1(mu.size()), s2(mu.size());
-  for (auto _ : state) {
-    const auto c = mie_coefficients({1.333, 1e-8}, 10000.0);
-    mie_amplitudes(c, mu, s1, s2, 1);
-    benchmark::DoNotOptimize(s1.data());
-  }
-}
-BENCHMARK(BM_MieFullX10000)->Unit(benchmark::kMillisecond)->UseRealTime();
-
 void BM_MieAmplitudesReference(benchmark::State& state) {
-  const auto c = mie_coefficients({1.333, 1e-8}, 10000.0);
+  const auto c = mie_coefficients(kWater, 10000.0);
   const auto mu = grid(1801);
   std::vector<Complex> s1(mu.size()), s2(mu.size());
   for (auto _ : state) {
