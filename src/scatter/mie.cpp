@@ -29,50 +29,75 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstddef>
+#include <type_traits>
+#include <vector>
+
+#include "src/scatter/recurrences-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace hydrolux::scatter::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// a_n, b_n for n = 1..n_max into a[2(n-1)], a[2(n-1)+1] (real, imaginary), likewise b, whole
-// vectors at a time: the lanes past n_max are written too (garbage the caller overwrites), and
-// the inputs must be readable that far (d: 2 (n_max + lanes + 1) doubles, psi: n_max + lanes + 1,
-// chi: n_max + lanes).
-//   d    D_n(mx), n = 0..n_max+1, interleaved (re, im)
-//   psi  psi_n(x), n = 0..n_max+1
-//   chi  chi_n(x), n = 0..n_max (+inf past its overflow)
-void CoefficientsKernel(const double* HWY_RESTRICT dz, const double* HWY_RESTRICT psi,
-                        const double* HWY_RESTRICT chi, std::size_t n_max, double m_re, double m_im,
-                        double x, double* HWY_RESTRICT a, double* HWY_RESTRICT b) {
-  const hn::ScalableTag<double> d;
-  using V = hn::Vec<decltype(d)>;
+// a_n, b_n for the orders n = n_first..n_first+count-1 from the unnormalised psi_k(mx) of PsiAll,
+// a vector of orders at a time (the tag d: the target's full width, or one lane for the few
+// orders around a rescaling). Arrays are passed from the first order: for order n = n_first + j,
+//   p[j], p[j+1], p[j+2] = psi_{n-1}, psi_n, psi_{n+1} of mx (complex (re, im) pairs, or real
+//     values when kRealP: real m), each run between two rescalings to its own scale;
+//   psi[j+1], psi[j+2] = psi_n(x), psi_{n+1}(x); chi[j], chi[j+1] = chi_{n-1}(x), chi_n(x);
+//   a[2j], a[2j+1] = Re, Im a_n (likewise b).
+// Whole vectors: the inputs must be readable a vector past the last order, and the lanes past it
+// are written as zeros, followed by one more vector of zeros (for the sums' a_{n+1}).
+template <bool kRealP, class DTag>
+HWY_INLINE void Coefficients(DTag d, const double* HWY_RESTRICT p, const double* HWY_RESTRICT psi,
+                             const double* HWY_RESTRICT chi, std::size_t n_first, std::size_t count,
+                             double m_re, double m_im, double x, Cx zinv_hi, Cx zinv_lo,
+                             double* HWY_RESTRICT a, double* HWY_RESTRICT b) {
+  using V = hn::Vec<DTag>;
   const std::size_t lanes = hn::Lanes(d);
-  // Scalar constants: 1/m, 1/m^2 - 1 = (1 - m)(1 + m)/m^2, 1/(mx), 1/x.
-  // (Written without complex division, which is a library call, __divdc3, in this build.)
-  const std::complex<double> m(m_re, m_im);
+  // Scalar constants: 1/m, 1/m^2 - 1, 1/x (written without complex division, which is a library
+  // call, __divdc3, in this build).
   const double m2 = m_re * m_re + m_im * m_im;
-  const std::complex<double> minv(m_re / m2, -m_im / m2);
-  const std::complex<double> minv2(minv.real() * minv.real() - minv.imag() * minv.imag(),
-                                   2 * minv.real() * minv.imag());
-  const std::complex<double> q(minv2.real() - 1, minv2.imag());  // 1/m^2 - 1
-  const std::complex<double> zinv(minv.real() / x, minv.imag() / x);
+  const Cx minv(m_re / m2, -m_im / m2);
+  const Cx q(minv.real() * minv.real() - minv.imag() * minv.imag() - 1, 2 * minv.real() * minv.imag());
   const V mr = hn::Set(d, m_re), mi = hn::Set(d, m_im);
   const V ir = hn::Set(d, minv.real()), ii = hn::Set(d, minv.imag());
   const V qr = hn::Set(d, q.real()), qi = hn::Set(d, q.imag());
-  const V zr = hn::Set(d, zinv.real()), zi = hn::Set(d, zinv.imag());
+  // n/z in two parts, as the recurrences use it (InverseComplex).
+  const V zhr = hn::Set(d, zinv_hi.real()), zhi = hn::Set(d, zinv_hi.imag());
+  const V zlr = hn::Set(d, zinv_lo.real()), zli = hn::Set(d, zinv_lo.imag());
   const V xinv = hn::Set(d, 1.0 / x);
   const V one = hn::Set(d, 1.0), zero = hn::Zero(d), huge = hn::Set(d, 1e300);
-  for (std::size_t n = 1; n <= n_max; n += lanes) {
-    const V nv = hn::Iota(d, static_cast<double>(n));
+  const auto load_p = [&](std::size_t k, V& re, V& im) HWY_ATTR {
+    if constexpr (kRealP) {
+      re = hn::LoadU(d, p + k);
+      im = zero;
+    } else {
+      hn::LoadInterleaved2(d, p + 2 * k, re, im);
+    }
+  };
+  for (std::size_t j = 0; j < count; j += lanes) {
+    const V nv = hn::Iota(d, static_cast<double>(n_first + j));
     const V n1 = hn::Add(nv, one);
-    V Dr, Di, D1r, D1i;
-    hn::LoadInterleaved2(d, dz + 2 * n, Dr, Di);          // D_n(mx)
-    hn::LoadInterleaved2(d, dz + 2 * (n + 1), D1r, D1i);  // D_{n+1}(mx)
-    const V p1 = hn::LoadU(d, psi + n), p2 = hn::LoadU(d, psi + n + 1);
-    const V c0 = hn::LoadU(d, chi + n - 1), c1 = hn::LoadU(d, chi + n);
+    V p0r, p0i, p1r, p1i, p2r, p2i;
+    load_p(j, p0r, p0i);      // psi_{n-1}(mx)
+    load_p(j + 1, p1r, p1i);  // psi_n(mx)
+    load_p(j + 2, p2r, p2i);  // psi_{n+1}(mx)
+    const V s1 = hn::LoadU(d, psi + j + 1), s2 = hn::LoadU(d, psi + j + 2);
+    const V c0 = hn::LoadU(d, chi + j), c1 = hn::LoadU(d, chi + j + 1);
+    // D_n(mx) = psi_{n-1}/psi_n - n/(mx) and T_n(mx) = psi_{n+1}/psi_n share one division.
+    const V w2 = hn::MulAdd(p1r, p1r, hn::Mul(p1i, p1i));
+    const auto w_zero = hn::Eq(w2, zero);  // psi_n(mx) = 0 exactly (real m): D_n, T_n -> 1e300
+    const V w_inv = hn::Div(one, hn::IfThenElse(w_zero, one, w2));
+    const V ur = hn::Mul(p1r, w_inv), ui = hn::Neg(hn::Mul(p1i, w_inv));  // 1/psi_n
+    const V nzr = hn::MulAdd(nv, zhr, hn::Mul(nv, zlr)), nzi = hn::MulAdd(nv, zhi, hn::Mul(nv, zli));
+    const V Dr = hn::IfThenElse(w_zero, huge, hn::Sub(hn::MulSub(p0r, ur, hn::Mul(p0i, ui)), nzr));
+    const V Di = hn::IfThenZeroElse(w_zero, hn::Sub(hn::MulAdd(p0r, ui, hn::Mul(p0i, ur)), nzi));
+    const V tr = hn::IfThenElse(w_zero, huge, hn::MulSub(p2r, ur, hn::Mul(p2i, ui)));
+    const V ti = hn::IfThenZeroElse(w_zero, hn::MulAdd(p2r, ui, hn::Mul(p2i, ur)));
     const V nx = hn::Mul(nv, xinv);
     // Equation (4.88) [BH], with xi = psi - i chi:
     //   a_n = [(D_n(mx)/m + n/x) psi_n - psi_{n-1}] / [(D_n(mx)/m + n/x) xi_n - xi_{n-1}]
@@ -85,23 +110,17 @@ void CoefficientsKernel(const double* HWY_RESTRICT dz, const double* HWY_RESTRIC
     const V car = hn::MulSub(dar, c1, c0), cai = hn::Mul(dai, c1);
     const V cbr = hn::MulSub(dbr, c1, c0), cbi = hn::Mul(dbi, c1);
     // The numerators, psi_n (D_n(mx)/m - D_n(x)) and psi_n (m D_n(mx) - D_n(x)), without their
-    // large cancelling terms: with T_n(z) = psi_{n+1}(z)/psi_n(z) = 1/(D_{n+1}(z) + (n+1)/z),
+    // large cancelling terms: with T_n(z) = psi_{n+1}(z)/psi_n(z) and D_n(z) = (n+1)/z - T_n(z),
     //   a numerator = (n+1)/x (1/m^2 - 1) psi_n + psi_{n+1} - psi_n T_n(mx) / m
     //   b numerator = psi_{n+1} - m psi_n T_n(mx).
     // Written as in (4.88), the b numerator loses digits like 1/(x^2 |m^2 - 1|) for small x; this
     // form loses only the 1/|m^2 - 1| the physics has. Using the numerator inside the
     // denominator also keeps Re a_n = |a_n|^2 to rounding for real m (no absorption).
-    const V wr = hn::MulAdd(n1, zr, D1r), wi = hn::MulAdd(n1, zi, D1i);
-    const V w2 = hn::MulAdd(wr, wr, hn::Mul(wi, wi));
-    const auto w_zero = hn::Eq(w2, zero);  // psi_n(mx) = 0 exactly (real m): T_n -> 1e300
-    const V w_inv = hn::Div(one, hn::IfThenElse(w_zero, one, w2));
-    const V tr = hn::IfThenElse(w_zero, huge, hn::Mul(wr, w_inv));
-    const V ti = hn::IfThenZeroElse(w_zero, hn::Neg(hn::Mul(wi, w_inv)));
-    const V ptr = hn::Mul(p1, tr), pti = hn::Mul(p1, ti);
-    const V s = hn::Mul(hn::Mul(n1, xinv), p1);
-    const V nar = hn::Sub(hn::MulAdd(s, qr, p2), hn::MulSub(ptr, ir, hn::Mul(pti, ii)));
+    const V ptr = hn::Mul(s1, tr), pti = hn::Mul(s1, ti);
+    const V s = hn::Mul(hn::Mul(n1, xinv), s1);
+    const V nar = hn::Sub(hn::MulAdd(s, qr, s2), hn::MulSub(ptr, ir, hn::Mul(pti, ii)));
     const V nai = hn::Sub(hn::Mul(s, qi), hn::MulAdd(ptr, ii, hn::Mul(pti, ir)));
-    const V nbr = hn::Sub(p2, hn::MulSub(mr, ptr, hn::Mul(mi, pti)));
+    const V nbr = hn::Sub(s2, hn::MulSub(mr, ptr, hn::Mul(mi, pti)));
     const V nbi = hn::Neg(hn::MulAdd(mr, pti, hn::Mul(mi, ptr)));
     // a = num / (num - i C) = num conj(den) / |den|^2, den = (num_re + C_im, num_im - C_re).
     const auto divide = [&](V nr, V ni, V cr, V ci, V& out_r, V& out_i) HWY_ATTR {
@@ -114,14 +133,16 @@ void CoefficientsKernel(const double* HWY_RESTRICT dz, const double* HWY_RESTRIC
     divide(nar, nai, car, cai, ar, ai);
     divide(nbr, nbi, cbr, cbi, br, bi);
     // Where chi_n(x) (nearly) overflowed, which needs far more terms than x calls for, a_n, b_n
-    // ~ psi_n / chi_n have underflowed to zero.
-    const auto finite = hn::And(hn::And(hn::IsFinite(car), hn::IsFinite(cai)),
-                                hn::And(hn::IsFinite(cbr), hn::IsFinite(cbi)));
-    hn::StoreInterleaved2(hn::IfThenElseZero(finite, ar), hn::IfThenElseZero(finite, ai), d,
-                          a + 2 * (n - 1));
-    hn::StoreInterleaved2(hn::IfThenElseZero(finite, br), hn::IfThenElseZero(finite, bi), d,
-                          b + 2 * (n - 1));
+    // ~ psi_n / chi_n have underflowed to zero; lanes past the last order are zeroed too.
+    const auto keep = hn::And(hn::And(hn::And(hn::IsFinite(car), hn::IsFinite(cai)),
+                                      hn::And(hn::IsFinite(cbr), hn::IsFinite(cbi))),
+                              hn::FirstN(d, count - j));
+    hn::StoreInterleaved2(hn::IfThenElseZero(keep, ar), hn::IfThenElseZero(keep, ai), d, a + 2 * j);
+    hn::StoreInterleaved2(hn::IfThenElseZero(keep, br), hn::IfThenElseZero(keep, bi), d, b + 2 * j);
   }
+  const std::size_t end = (count + lanes - 1) / lanes * lanes;
+  hn::StoreInterleaved2(zero, zero, d, a + 2 * end);
+  hn::StoreInterleaved2(zero, zero, d, b + 2 * end);
 }
 
 // The sums over n = 1..n_max behind the efficiencies ([BH] ch. 4; the g series is MIEV0's GQSC,
@@ -133,8 +154,8 @@ void CoefficientsKernel(const double* HWY_RESTRICT dz, const double* HWY_RESTRIC
 // a, b interleaved, exactly n_max values each (the last vector is copied to a zero-padded
 // buffer). The alternating back sum is reduced to a scalar every vector, so its partial sums stay
 // the size of a few terms rather than growing to the sum of all terms of one sign.
-void SumsKernel(const double* HWY_RESTRICT a, const double* HWY_RESTRICT b, std::size_t n_max,
-                double* HWY_RESTRICT out) {
+inline void Sums(const double* HWY_RESTRICT a, const double* HWY_RESTRICT b, std::size_t n_max,
+                double* HWY_RESTRICT out, bool padded = false) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const std::size_t lanes = hn::Lanes(d);
@@ -168,12 +189,14 @@ void SumsKernel(const double* HWY_RESTRICT a, const double* HWY_RESTRICT b, std:
     gsca = hn::MulAdd(g1, cross, hn::MulAdd(g2, ab, gsca));
   };
   std::size_t n = 1;
-  // Whole vectors while a_{n+lanes} (the last lane's a_{n+1}) is still inside the arrays.
-  for (; n + lanes <= n_max; n += lanes) block(n, a + 2 * (n - 1), b + 2 * (n - 1));
-  if (n <= n_max) {
+  // Whole vectors while a_{n+lanes} (the last lane's a_{n+1}) is still inside the arrays; to the
+  // end where they are zero-padded by a vector (CoefficientsKernel's output).
+  const std::size_t whole = padded ? n_max + lanes : n_max;
+  for (; n + lanes <= whole; n += lanes) block(n, a + 2 * (n - 1), b + 2 * (n - 1));
+  if (!padded && n <= n_max) {
     HWY_ALIGN double ta[2 * ((HWY_MAX_BYTES / sizeof(double)) + 1)] = {};
     HWY_ALIGN double tb[2 * ((HWY_MAX_BYTES / sizeof(double)) + 1)] = {};
-    const std::size_t rest = n_max - n + 1;  // 1..lanes values
+    const std::size_t rest = std::min(n_max + 1 - n, lanes);  // 1..lanes values
     for (std::size_t k = 0; k < 2 * rest; ++k) {
       ta[k] = a[2 * (n - 1) + k];
       tb[k] = b[2 * (n - 1) + k];
@@ -185,6 +208,82 @@ void SumsKernel(const double* HWY_RESTRICT a, const double* HWY_RESTRICT b, std:
   out[2] = back_re;
   out[3] = back_im;
   out[4] = hn::GetLane(hn::SumOfLanes(d, gsca));
+}
+
+void SumsKernel(const double* HWY_RESTRICT a, const double* HWY_RESTRICT b, std::size_t n_max,
+                double* HWY_RESTRICT out) {
+  Sums(a, b, n_max, out);
+}
+
+// One sphere, one call: psi_k(mx) (k = -1..n_max+1), psi_n(x), chi_n(x), then a_n, b_n into a,
+// b (interleaved, room for 2 (n_max + 2 lanes) doubles each), and the efficiency sums into `sums`
+// if it is not null. Working arrays: p 2 (rows + kMaxMillerOrders), psi and chi rows doubles,
+// rows = n_max + 2 lanes + 3.
+template <bool kRealP, class Inverse>
+HWY_INLINE void Solve(Cx z, const Inverse& zinv, double m_re, double m_im, double x, int n_max,
+                      double* HWY_RESTRICT p, double* HWY_RESTRICT psi, double* HWY_RESTRICT chi,
+                      double* HWY_RESTRICT a, double* HWY_RESTRICT b) {
+  const hn::ScalableTag<double> d;
+  const std::size_t lanes = hn::Lanes(d);
+  const auto n = static_cast<std::size_t>(n_max);
+  using T = std::conditional_t<kRealP, double, Cx>;
+  T* pt = reinterpret_cast<T*>(p);
+  // psi(x), chi(x) past n_max + 1 (read by the last vector of orders; PsiChi writes up to
+  // n_max + 1 only), set before anything else so that no store is pending when they are read;
+  // then psi(x), chi(x), then psi(mx), whose stores have retired by the time the kernel reads them.
+  for (std::size_t k = n + 2; k < n + 2 + lanes; ++k) {
+    psi[k] = 0;
+    chi[k] = 1;
+  }
+  PsiChi(x, n_max + 1, psi, chi);
+  std::vector<Rescale> rescales;
+  bool exact = false;
+  PsiAll(z, zinv, n_max + 1, pt, rescales, &exact);  // p[k] = psi_{k-1}(mx), k = 0..n_max+2
+  Cx zh, zl;
+  if constexpr (kRealP) {
+    zh = Cx(zinv.hi, 0);
+    zl = Cx(zinv.lo, 0);
+  } else {
+    zh = zinv.hi;
+    zl = zinv.lo;
+  }
+  Coefficients<kRealP>(d, p + (kRealP ? 1 : 2), psi, chi, 1, n, m_re, m_im, x, zh, zl, a, b);
+  // Where the scale of p changes between p[k] and p[k+1], orders k (its D) and k - 1 (its T)
+  // mixed two scales: recomputed one lane at a time from p brought to one scale.
+  const hn::CappedTag<double, 1> d1;
+  for (const Rescale& r : rescales) {
+    const std::size_t k = static_cast<std::size_t>(r.n);
+    if (k < 1 || k > n + 1) continue;
+    const std::size_t first = std::max<std::size_t>(1, k - 1), last = std::min(n, k);
+    if (first > last) continue;
+    // Window p[first .. last + 2], the orders <= k multiplied by 2^shift.
+    T w[8];
+    for (std::size_t i = first; i <= last + 2; ++i) {
+      const T v = pt[i];
+      w[i - first] = i <= k ? scaled(v, r.shift) : v;
+    }
+    const std::size_t count = last - first + 1;
+    double wa[2 * 4] = {}, wb[2 * 4] = {};  // count + one zero lane, (re, im)
+    Coefficients<kRealP>(d1, reinterpret_cast<const double*>(w), psi + first - 1, chi + first - 1, first, count,
+                         m_re, m_im, x, zh, zl, wa, wb);
+    for (std::size_t i = 0; i < 2 * count; ++i) {
+      a[2 * (first - 1) + i] = wa[i];
+      b[2 * (first - 1) + i] = wb[i];
+    }
+  }
+}
+
+void SolveKernel(double m_re, double m_im, double x, int n_max, double* HWY_RESTRICT p,
+                 double* HWY_RESTRICT psi, double* HWY_RESTRICT chi, double* HWY_RESTRICT a,
+                 double* HWY_RESTRICT b, double* HWY_RESTRICT sums) {
+  if (m_im == 0) {
+    const double z = m_re * x;
+    Solve<true>(Cx(z, 0), InverseReal(z), m_re, m_im, x, n_max, p, psi, chi, a, b);
+  } else {
+    const Cx z = Cx(m_re, m_im) * x;
+    Solve<false>(z, InverseComplex(z), m_re, m_im, x, n_max, p, psi, chi, a, b);
+  }
+  if (sums) Sums(a, b, static_cast<std::size_t>(n_max), sums, /*padded=*/true);
 }
 
 }  // namespace hydrolux::scatter::HWY_NAMESPACE
@@ -204,8 +303,8 @@ HWY_AFTER_NAMESPACE();
 
 namespace hydrolux::scatter {
 
-HYDROLUX_SIMD_EXPORT(CoefficientsKernel);
 HYDROLUX_SIMD_EXPORT(SumsKernel);
+HYDROLUX_SIMD_EXPORT(SolveKernel);
 
 namespace {
 
@@ -228,12 +327,13 @@ void require_index(Complex m) {
     throw DomainError("m_abs", abs_m, kMieMinIndex, std::sqrt(2.0) * kMieMaxIndex, kContext);
 }
 
-// Lanes of the chosen SIMD target: the padding every kernel array needs.
-std::size_t simd_lanes() { return detail::simd_padding(); }
+// Padding after every kernel array: at least two vectors of any target compiled in (64 doubles:
+// 2048-bit vectors; HWY_MAX_BYTES is only the last target's here).
+constexpr std::size_t kPad = 64;
 
 // Per-thread working arrays; they only grow.
 struct Workspace {
-  std::vector<double> dz, p, psi, chi, a, b;
+  std::vector<double> p, psi, chi, a, b;
 };
 Workspace& workspace() {
   thread_local Workspace w;
@@ -246,46 +346,19 @@ T* grow(std::vector<T>& v, std::size_t size) {
   return v.data();
 }
 
-// a_n, b_n for n = 1..n_max into a, b (interleaved; room for 2 (n_max + lanes) doubles each).
-void solve(Complex m, double x, int n_max, double* a, double* b) {
+// a_n, b_n for n = 1..n_max into a, b (interleaved; room for 2 (n_max + kPad) doubles each), and
+// the efficiency sums into `sums` unless it is null: one dispatched kernel.
+void solve(Complex m, double x, int n_max, double* a, double* b, double* sums) {
   Workspace& w = workspace();
-  const std::size_t lanes = simd_lanes();
-  const auto n = static_cast<std::size_t>(n_max);
-  const std::size_t rows = n + lanes + 3;  // orders 0..n_max+1, the recurrences' extra order, padding
-  double* dz = grow(w.dz, 2 * rows);
+  const std::size_t rows = static_cast<std::size_t>(n_max) + kPad + 3;
   double* p = grow(w.p, 2 * (rows + detail::kMaxMillerOrders));
   double* psi = grow(w.psi, rows);
   double* chi = grow(w.chi, rows);
-  // D_n(mx) for n = 0..n_max+1 (one order past n_max for T_n); for real m in real arithmetic.
-  if (m.imag() == 0) {
-    // The real recurrence writes D_n at dz[n]; spread it out to (re, 0) pairs from the top down.
-    detail::log_derivative_real(m.real() * x, n_max + 1, dz, p);
-    for (std::size_t k = n + 2; k-- > 0;) {
-      dz[2 * k] = dz[k];
-      dz[2 * k + 1] = 0;
-    }
-  } else {
-    detail::log_derivative(m * x, n_max + 1, dz, p);
-  }
-  detail::psi_chi(x, n_max + 1, psi, chi);
-  // Padding read by the last vector: harmless values (its lanes are overwritten below).
-  for (std::size_t k = n + 2; k < rows; ++k) {
-    dz[2 * k] = 1;
-    dz[2 * k + 1] = 0;
-    psi[k] = 0;
-    chi[k] = 1;
-  }
-  HYDROLUX_SIMD_DISPATCH(CoefficientsKernel)(dz, psi, chi, n, m.real(), m.imag(), x, a, b);
-  for (std::size_t k = 2 * n; k < 2 * (n + lanes); ++k) a[k] = b[k] = 0;
+  HYDROLUX_SIMD_DISPATCH(SolveKernel)(m.real(), m.imag(), x, n_max, p, psi, chi, a, b, sums);
 }
 
-MieEfficiencies efficiencies_from(const Complex* a, const Complex* b, int n_max, double x,
-                                  Complex m) {
-  double s[5] = {};
-  if (n_max > 0)
-    HYDROLUX_SIMD_DISPATCH(SumsKernel)(reinterpret_cast<const double*>(a),
-                                       reinterpret_cast<const double*>(b),
-                                       static_cast<std::size_t>(n_max), s);
+// The efficiencies from the sums of SumsKernel (see there).
+MieEfficiencies efficiencies_from(const double* s, double x, Complex m) {
   const double x2 = x * x;
   MieEfficiencies q;
   q.qext = 2.0 / x2 * s[0];
@@ -327,13 +400,13 @@ void mie_coefficients(Complex m, double x, MieCoefficients& out, int n_terms) {
   require_index(m);
   require_in_range("n_terms", n_terms, 0, 2e7, kContext);
   const int n_max = n_terms > 0 ? n_terms : mie_terms(x);
-  const std::size_t size = static_cast<std::size_t>(n_max) + simd_lanes();
+  const std::size_t size = static_cast<std::size_t>(n_max) + kPad;
   out.m = m;
   out.x = x;
   // The kernels write whole vectors: room for them, then trimmed (resize keeps the storage).
   out.a.resize(size);
   out.b.resize(size);
-  solve(m, x, n_max, reinterpret_cast<double*>(out.a.data()), reinterpret_cast<double*>(out.b.data()));
+  solve(m, x, n_max, reinterpret_cast<double*>(out.a.data()), reinterpret_cast<double*>(out.b.data()), nullptr);
   out.a.resize(static_cast<std::size_t>(n_max));
   out.b.resize(static_cast<std::size_t>(n_max));
 }
@@ -347,7 +420,12 @@ MieCoefficients mie_coefficients(Complex m, double x, int n_terms) {
 MieEfficiencies mie_efficiencies(const MieCoefficients& c) {
   require_size_parameter(c.x);
   if (c.a.size() != c.b.size()) throw Error("mie_efficiencies: a and b differ in length");
-  return efficiencies_from(c.a.data(), c.b.data(), c.terms(), c.x, c.m);
+  double s[5] = {};
+  if (c.terms() > 0)
+    HYDROLUX_SIMD_DISPATCH(SumsKernel)(reinterpret_cast<const double*>(c.a.data()),
+                                       reinterpret_cast<const double*>(c.b.data()),
+                                       static_cast<std::size_t>(c.terms()), s);
+  return efficiencies_from(s, c.x, c.m);
 }
 
 MieEfficiencies mie_efficiencies(Complex m, double x, int n_terms) {
@@ -356,12 +434,12 @@ MieEfficiencies mie_efficiencies(Complex m, double x, int n_terms) {
   require_in_range("n_terms", n_terms, 0, 2e7, kContext);
   const int n_max = n_terms > 0 ? n_terms : mie_terms(x);
   Workspace& w = workspace();
-  const std::size_t size = 2 * (static_cast<std::size_t>(n_max) + simd_lanes());
+  const std::size_t size = 2 * (static_cast<std::size_t>(n_max) + kPad);
   double* a = grow(w.a, size);
   double* b = grow(w.b, size);
-  solve(m, x, n_max, a, b);
-  return efficiencies_from(reinterpret_cast<const Complex*>(a), reinterpret_cast<const Complex*>(b),
-                           n_max, x, m);
+  double s[5] = {};
+  solve(m, x, n_max, a, b, s);
+  return efficiencies_from(s, x, m);
 }
 
 void mie_amplitudes_reference(const MieCoefficients& c, std::span<const double> mu,
