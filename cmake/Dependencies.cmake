@@ -6,11 +6,15 @@ find_package(nlohmann_json REQUIRED)
 find_package(glm REQUIRED)
 find_package(TBB REQUIRED)   # oneTBB: parallel loops over angles, sizes, wavelengths
 find_package(hwy REQUIRED)   # Google Highway: portable SIMD with runtime dispatch
-# Highway's headers only: hydrolux chooses the SIMD target itself (src/core/simd.cpp), because
-# loading libhwy.so calibrates a timer in a static initialiser that costs ~3.5 ms per process.
+# Highway's headers: hydrolux chooses the SIMD target itself (src/core/simd.cpp), because loading
+# libhwy.so calibrates a timer in a static initialiser that costs ~3.5 ms per process. The library
+# stays on the link line for builds with Highway's debug assertions (Debug, Sanitize), whose
+# handler lives there; --as-needed drops it from Release binaries, which reference nothing in it
+# (tests/cli/test_cli.cpp checks that the CLI does not load it).
 add_library(hydrolux_highway_headers INTERFACE)
 target_include_directories(hydrolux_highway_headers SYSTEM INTERFACE
   $<TARGET_PROPERTY:hwy::hwy,INTERFACE_INCLUDE_DIRECTORIES>)
+target_link_libraries(hydrolux_highway_headers INTERFACE hwy::hwy)
 
 # OpenImageIO 2.4's CMake config references tools and include dirs that Debian does not ship
 # (see ../shared/TOOLCHAIN.md); its pkg-config file is clean, so use that.

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -279,6 +280,19 @@ TEST(Cli, MieJsonStreamsAMillionAngles) {
   EXPECT_EQ(r.out.rfind("{\"x\":10.0,\"m\":[1.333,0.0],\"n_terms\":27,", 0), 0u) << r.out.substr(0, 200);
   EXPECT_NE(r.out.find("\"s2\":[["), std::string::npos);
   EXPECT_EQ(r.out.substr(r.out.size() - 2), "}\n");
+#endif
+}
+
+// The CLI does not load Highway's shared library, whose static initialiser calibrates a timer
+// (3.5 ms of every start): hydrolux chooses the SIMD target itself. The dynamic loader lists what
+// it would load (LD_TRACE_LOADED_OBJECTS, as ldd does). Release builds only: the sanitizer build
+// links it for Highway's assertion handler.
+TEST(CliStartup, DoesNotLoadHighwaysLibrary) {
+#if !HYDROLUX_TEST_ASAN && defined(NDEBUG)
+  const auto r = hydrolux::testing::run_argv({"fresnel", "--theta-deg", "30"},
+                                             [] { ::setenv("LD_TRACE_LOADED_OBJECTS", "1", 1); });
+  EXPECT_NE(r.out.find("libstdc++"), std::string::npos) << r.out;  // the listing is there
+  EXPECT_EQ(r.out.find("libhwy"), std::string::npos) << r.out;
 #endif
 }
 
