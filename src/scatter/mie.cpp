@@ -15,11 +15,13 @@
 // Conventions are those of include/hydrolux/scatter/mie.hpp (B&H: m = n + ik, exp(-i omega t)).
 // MIEV0 uses m = n - ik; its amplitudes are the complex conjugates of these.
 //
-// The work is split into kernels compiled once per SIMD target (Highway foreach_target) and
-// chosen at run time (hydrolux::simd):
-//   - D_n(mx), psi_n(x), chi_n(x): scalar recurrences (riccati_bessel.cpp, src/scatter/
-//     recurrences.hpp); each order depends on the last, so they cannot use SIMD lanes;
-//   - a_n, b_n: independent across n, computed for as many orders at once as the vector holds;
+// One kernel per sphere, compiled once per SIMD target (Highway foreach_target) and chosen at
+// run time (hydrolux::simd), runs:
+//   - the scalar recurrences for psi_n(mx) (unnormalised), psi_n(x) and chi_n(x)
+//     (src/scatter/recurrences-inl.h, shared with riccati_bessel.cpp; methods there and in
+//     docs/mie.md): each order depends on the last, so they cannot use SIMD lanes;
+//   - a_n, b_n, independent across n, for as many orders at once as the vector holds, with
+//     D_n(mx) and T_n(mx) formed from the psi_n(mx) on the way;
 //   - the efficiency sums over n, likewise.
 // Working arrays live in a per-thread workspace that only grows, so repeated calls (size
 // distributions, tables) allocate nothing.

@@ -1,6 +1,8 @@
-// Riccati-Bessel functions psi_n, chi_n, xi_n and the logarithmic derivative D_n = psi_n' / psi_n.
-// The recurrences are compiled once per SIMD target (Highway foreach_target) so that their fused
-// multiply-adds are single instructions where the CPU has them; they are scalar code otherwise.
+// Riccati-Bessel functions psi_n, chi_n, xi_n and the logarithmic derivative D_n = psi_n' / psi_n:
+// the public functions of riccati_bessel.hpp over the recurrences of src/scatter/recurrences-inl.h,
+// which the Lorenz-Mie solver (mie.cpp) shares. They are compiled once per SIMD target (Highway
+// foreach_target) so that their fused multiply-adds are single instructions where the CPU has
+// them; they are scalar code otherwise.
 //
 // References:
 //   [BH]  C. F. Bohren and D. R. Huffman, "Absorption and Scattering of Light by Small Particles"
@@ -9,29 +11,36 @@
 //         fractions", Appl. Opt. 15, 668-671 (1976).
 //   [TB]  I. J. Thompson and A. R. Barnett, "Coulomb and Bessel functions of complex arguments and
 //         order", J. Comput. Phys. 64, 490-509 (1986): the modified Lentz algorithm (zero
-//         denominators replaced by a tiny number) used below.
+//         denominators replaced by a tiny number).
 //   [W79] W. J. Wiscombe, "Mie scattering calculations: advances in technique and fast,
-//         vector-speed computer codes", NCAR/TN-140+STR (1979, revised 1996): why D_n must be
-//         recurred downward and psi_n must not be recurred upward past n ~ x.
+//         vector-speed computer codes", NCAR/TN-140+STR (1979, revised 1996), and [W80] Appl. Opt.
+//         19, 1505 (1980): when D_n may be recurred upward, and why psi_n must not be recurred
+//         upward past n ~ x.
 //   [PP]  O. Pena and U. Pal, "Scattering of electromagnetic radiation by a multilayered sphere",
 //         Comput. Phys. Commun. 180, 2348-2354 (2009), the paper of scattnlay, whose
 //         evalUpwardPsi computes psi_n from the ratio psi_n / psi_{n-1} = 1 / (D_n + n/x).
+//   [DLMF] NIST Digital Library of Mathematical Functions, 3.6: Miller's algorithm.
 //
-// Numerical choices (each checked against mpmath in tests/scatter/test_riccati_bessel.cpp):
-// - D_n(z), complex z: downward recurrence D_{n-1} = n/z - 1/(D_n + n/z) ([BH] eq. 4.89), which
-//   damps errors for every z with Im z >= 0, started at n_max with the exact value of the
-//   continued fraction for J_{n-1/2}(z) / J_{n+1/2}(z) ([L76]). Upward recurrence of D_n is
-//   unstable for absorbing spheres ([W79]).
-// - psi_n(x), real x: upward recurrence psi_{n+1} = (2n+1)/x psi_n - psi_{n-1} from sin x while
-//   n <= x, where it is neutrally stable; above x, where it is not, the same D_n(x) in real
-//   arithmetic gives psi_{n-1} / psi_n = D_n + n/x, so psi_n = psi_{n-1} / (D_n + n/x) ([PP]).
-// - chi_n(x): upward recurrence chi_{n+1} = (2n+1)/x chi_n - chi_{n-1} from chi_0 = cos x,
-//   chi_1 = cos x / x + sin x; chi_n is the dominant solution, so the upward direction is stable.
+// Numerical choices (each checked against mpmath in tests/scatter/test_riccati_bessel.cpp;
+// docs/mie.md has the derivations):
+// - D_n(z), complex z: unnormalised psi_n(z) by the three-term recurrence
+//   psi_{n-1} + psi_{n+1} = (2n+1)/z psi_n (the linear form of [BH] eq. 4.89), then
+//   D_n = psi_{n-1}/psi_n - n/z for all orders in SIMD. Upward from cos z, sin z where every order
+//   lies below the turning point and absorption is weak ([W80]'s choice, with a derived
+//   criterion); else downward, the recessive direction, from the exact ratio at n_max (the
+//   continued fraction for J_{n-1/2}(z) / J_{n+1/2}(z), [L76], [TB]) or, far above the turning
+//   point, from an approximate start a few orders higher (Miller, [DLMF]). The values are kept
+//   within 2^+-300 by rescaling, and the orders where the scale changes are recomputed.
+// - psi_n(x), real x: upward recurrence from sin x while n <= x, where it is neutrally stable;
+//   above x, where it is not, from D_n(x) downward: psi_n = psi_{n-1} / (D_n + n/x) ([PP]), or
+//   for small x by Miller's algorithm scaled to the psi_n found upward.
+// - chi_n(x): upward recurrence from chi_0 = cos x, chi_1 = cos x / x + sin x; chi_n is the
+//   dominant solution, so the upward direction is stable.
 // - k/z in every recurrence uses 1/z carried to twice double precision (InverseReal,
-//   InverseComplex below), so that rounding errors add like a random walk, sqrt(n) eps, instead of
-//   the systematic n eps that a rounded 1/z would cause.
-// - 1/w in the recurrences is conj(w) / |w|^2 (one division), falling back to Smith's algorithm
-//   (core/complex.hpp) only where |w|^2 would overflow or underflow.
+//   InverseComplex), so that rounding errors add like a random walk, sqrt(n) eps, instead of the
+//   systematic n eps that a rounded 1/z would cause.
+// - 1/w in the ratio recurrences is conj(w) / |w|^2 (one division), falling back to Smith's
+//   algorithm (core/complex.hpp) only where |w|^2 would overflow or underflow.
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "src/scatter/riccati_bessel.cpp"  // NOLINT

@@ -11,11 +11,14 @@ namespace hydrolux::scatter {
 
 using Complex = std::complex<double>;
 
-// D_n(z) for n = 0..n_max, by downward recurrence D_{n-1} = n/z - 1/(D_n + n/z) started at n_max
-// with the exact value from Lentz's continued fraction (Lentz 1976, Appl. Opt. 15, 668), so the
-// start needs no extra depth. Stable for any complex z with |z| > 0 and Im z >= 0. The fraction
-// takes about |z| - n_max + 1 iterations when |z| > n_max. Accuracy (against mpmath): within
-// 100 sqrt(L) eps of |D_n| + n/|z|, L = max(n_max, |z|) (1.6e-12 relative at z = 1.5e5).
+// D_n(z) for n = 0..n_max, from unnormalised psi_n(z) by their three-term recurrence: upward from
+// cos z, sin z where every order lies below the turning point and absorption is weak, else
+// downward from the exact ratio at n_max (Lentz's continued fraction, Appl. Opt. 15, 668 (1976),
+// about |z| - n_max + 1 iterations when |z| > n_max and z is nearly real, fewer with absorption)
+// or, far above the turning point, from an approximate start a few orders higher (Miller).
+// Stable for any complex z with |z| > 0 and Im z >= 0 (docs/mie.md). Accuracy (against mpmath):
+// within 100 sqrt(L) eps of |D_n| + n/|z|, L = max(n_max, |z|) (1.6e-12 relative at z = 1.5e5);
+// near a zero of psi_n (a pole of D_n, nearly real z) the relative error grows with |D_n|.
 // DomainError for n_max < 0 ("n_max") or z = 0 or not finite ("abs_z").
 std::vector<Complex> log_derivative_psi(Complex z, int n_max);
 
