@@ -18,6 +18,8 @@
 #include <span>
 #include <vector>
 
+#include "hydrolux/scatter/size_distribution.hpp"
+
 namespace hydrolux::scatter {
 
 using Complex = std::complex<double>;
@@ -77,6 +79,22 @@ MieEfficiencies mie_efficiencies(const MieCoefficients& c);
 // averages and extinction. Same terms and accuracy as mie_coefficients; no allocation once the
 // thread has solved a sphere as large.
 MieEfficiencies mie_efficiencies(Complex m, double x, int n_terms = 0);
+
+// The bulk optics of a population of spheres of one index, through the efficiencies-only path:
+// with the quadrature's drops per m^3 w_i at radii a_i and x_i = wavenumber a_i,
+//   extinction  = sum w_i pi a_i^2 Qext(x_i)   (m^-1), likewise scattering and absorption;
+//   backscatter = sum w_i pi a_i^2 Qback(x_i)  (m^-1; divide by 4 pi for the volume backscattering
+//                 coefficient per steradian, B&H's radar convention for Qback);
+//   g = sum w_i pi a_i^2 Qsca g_i / scattering  (the scattering-weighted asymmetry parameter).
+// wavenumber = 2 pi n_medium / lambda_vacuum (m^-1). Radii in parallel on oneTBB (threads: 0 =
+// all cores), summed in a fixed order: the same bits whatever the thread count. DomainError as
+// mie_efficiencies for any radius outside the Mie domain ("x").
+struct MieBulkOptics {
+  double extinction_per_m = 0, scattering_per_m = 0, absorption_per_m = 0, backscatter_per_m = 0,
+         g = 0;
+};
+MieBulkOptics mie_bulk_optics(Complex m, double wavenumber_per_m, const RadiusQuadrature& q,
+                              int threads = 0);
 
 // Scalar reference summation of S1, S2 at the given mu = cos(theta) values (any order, any
 // count). The fast path (scatter/amplitudes.hpp) must agree with it. Plain double-precision sums
