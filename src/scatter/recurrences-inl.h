@@ -234,17 +234,13 @@ HWY_NOINLINE inline Rescaled<C2> RescalePair(C2 a, C2 b) {
 
 // psi downward: p[n_top + 1] = psi_{n_top}, p[n_top] = psi_{n_top - 1} from D_{n_top}, then down
 // to p[0] (p: double pairs for complex z).
-template <typename V, typename Inverse>
-inline void PsiDownward(const Inverse& zinv_ref, int n_top, V d_top, double* p, std::vector<Rescale>& rescales) {
+// T: double or Cx (the value type of zinv.times); the loop carries it as V = double or C2.
+template <typename T, typename Inverse>
+inline void PsiDownward(const Inverse& zinv_ref, int n_top, T d_top, double* p, std::vector<Rescale>& rescales) {
   const Inverse zinv = zinv_ref;  // in registers: p cannot alias it
-  V hi = to_c2(decltype(zinv.times(1))(1));                 // psi_{n+1}
-  V mid = to_c2(decltype(zinv.times(1))(zinv.times(n_top)));  // psi_n, n = n_top - 1 (+ d_top below)
-  if constexpr (std::is_same_v<V, C2>) {
-    mid.re += d_top.re;
-    mid.im += d_top.im;
-  } else {
-    mid += d_top;
-  }
+  using V = decltype(to_c2(T(1)));
+  V hi = to_c2(T(1));                              // psi_{n+1}
+  V mid = to_c2(T(d_top + zinv.times(n_top)));     // psi_n, n = n_top - 1: psi_{n-1}/psi_n = D_n + n/z
   store(p, n_top + 1, hi);
   store(p, n_top, mid);
   // The inner loop has no call in it (a call would make the compiler keep the recurrence's state
@@ -399,11 +395,11 @@ inline T PsiAll(Cx z, const Inverse& zinv, int n_max, T* p, std::vector<Rescale>
   if (miller > 0) {
     // D_{n_top} = psi_{n_top-1}/psi_{n_top} - n_top/z with the ratio taken as (2 n_top + 1)/z.
     const int n_top = n_max + miller;
-    PsiDownward(zinv, n_top, to_c2(T(zinv.times(n_top + 1))), pd, rescales);
+    PsiDownward(zinv, n_top, T(zinv.times(n_top + 1)), pd, rescales);
     return T(0);
   }
   const T d_top = LogDerivativeContinuedFraction<T>(zinv, n_max);
-  PsiDownward(zinv, n_max, to_c2(d_top), pd, rescales);
+  PsiDownward(zinv, n_max, d_top, pd, rescales);
   *exact = true;
   return d_top;
 }
