@@ -523,8 +523,8 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   for (int k = 0; k < K; ++k) {
     const double nm = t.wavelengths_nm[std::size_t(k)];
     const scatter::Complex m = drop->index(nm, spec.temperature_c) / air->n(nm);
-    require_in_range("m_real", m.real(), 1e-3, 10.0, "a Lee table's drop index");
-    require_in_range("m_imag", m.imag(), 0.0, 1.0, "a Lee table's drop index");
+    require_in_range("m_real", m.real(), scatter::kMinIndexReal, scatter::kMaxIndexReal, "a Lee table's drop index");
+    require_in_range("m_imag", m.imag(), 0.0, scatter::kMaxIndexImag, "a Lee table's drop index");
   }
 
   tbb::task_arena arena(spec.threads > 0 ? spec.threads : tbb::task_arena::automatic);

@@ -144,7 +144,7 @@ double airy_argument(double n, double x, int p, double theta) {
 
 AiryRainbow airy_rainbow(double n_real, double x, int p, double kappa) {
   check_airy(n_real, x, p);
-  require_in_range("m_imag", kappa, 0.0, 1.0, "Airy theory");
+  require_in_range("m_imag", kappa, 0.0, kMaxIndexImag, "Airy theory");
   AiryRainbow a;
   a.ray = rainbow_ray(n_real, p);
   a.x = x;

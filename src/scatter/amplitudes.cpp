@@ -218,9 +218,6 @@ AmplitudeScratch& scratch() {
 constexpr double kMergeMu = 1e-15;
 std::size_t merge_keys(std::span<const double> mu, int flags, AmplitudeScratch& sc, bool* mirror) {
   const std::size_t n = mu.size();
-  double* key = sc.key.data();
-  std::uint32_t* order = sc.order.data();
-  std::uint32_t* id = sc.id.data();
   double* unique = sc.unique.data();
   *mirror = (flags & 2) == 0;
   if (*mirror) {
@@ -228,6 +225,12 @@ std::size_t merge_keys(std::span<const double> mu, int flags, AmplitudeScratch& 
     for (std::size_t k = 0; k < half; ++k) unique[k] = std::abs(mu[k]);
     return half;
   }
+  sc.key.resize(n);
+  sc.order.resize(n);
+  sc.id.resize(n);
+  double* key = sc.key.data();
+  std::uint32_t* order = sc.order.data();
+  std::uint32_t* id = sc.id.data();
   int rises = 0, falls = 0;
   for (std::size_t i = 0; i < n; ++i) key[i] = std::abs(mu[i]);
   for (std::size_t i = 1; i < n; ++i) {
@@ -293,9 +296,6 @@ void mie_amplitudes(const MieCoefficients& c, std::span<const double> mu, std::s
   const std::size_t n = mu.size();
   if (n > std::numeric_limits<std::uint32_t>::max())
     throw std::invalid_argument("mie_amplitudes: more than 2^32 - 1 angles");
-  sc.key.resize(n);
-  sc.order.resize(n);
-  sc.id.resize(n);
   sc.unique.resize(n + lanes);
   bool mirror = false;
   const std::size_t count = merge_keys(mu, flags, sc, &mirror);

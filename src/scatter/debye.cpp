@@ -225,9 +225,9 @@ class HankelRatios {
 
 void validate(Complex m, double x, int n_terms) {
   require_in_range("x", x, kMinSizeParameter, kMaxSizeParameter, "Debye series");
-  require_in_range("m_real", m.real(), 1e-3, 10.0, "Debye series");
-  require_in_range("m_imag", m.imag(), 0.0, 1.0, "Debye series");
-  require_in_range("n_terms", n_terms, 0, 1e6, "Debye series (0 = Wiscombe)");
+  require_in_range("m_real", m.real(), kMinIndexReal, kMaxIndexReal, "Debye series");
+  require_in_range("m_imag", m.imag(), 0.0, kMaxIndexImag, "Debye series");
+  require_in_range("n_terms", n_terms, 0, 1e6, "Debye series (0 = mie_terms(x))");
 }
 
 void validate_order(int p) { require_in_range("p", p, 0, kMaxDebyeOrder, "Debye series order"); }

@@ -154,7 +154,7 @@ inline void LogDerivativeDownward(const Inverse& zinv, int n_max, T* out, int n_
 // The ratio recurrence above has a division on its critical path (about 30 cycles a step). The
 // three-term recurrence of psi_n itself, psi_{n-1} + psi_{n+1} = (2n+1)/z psi_n, is the same
 // recurrence in linear form (a multiply-add a step), and D_n = psi_{n-1}/psi_n - n/z then follows
-// for all orders at once, SIMD lanes wide (DFromRatiosKernel). p[k] holds psi_{k-1}(z) up to a
+// for all orders at once, SIMD lanes wide (DFromRatiosComplex, DFromRatiosReal). p[k] holds psi_{k-1}(z) up to a
 // factor that is common to each run of orders between two rescalings: the values are kept within
 // 2^+-300 (so their squares stay normal) by multiplying the two live values by 2^-+300 where they
 // leave that range; each such order is recorded (detail::Rescale) and its D_n recomputed.
@@ -431,9 +431,8 @@ inline void PsiChi(double x, int n_max, double* psi, double* chi) {
   // psi_n for n <= x: upward recurrence from psi_0 = sin x, psi_1 = sin x / x - cos x. Below the
   // turning point n ~ x both solutions oscillate with the same envelope, so rounding errors
   // neither grow nor shrink (they add up like a random walk), exactly as for chi below.
-  // psi_n for n > x: D_n(x) downward from n_max into psi[] itself, then
-  // psi_n = psi_{n-1} / (D_n + n/x) upward in place (psi[n] still holds D_n when step n reads it),
-  // [PP]. Recurring psi itself upward there would amplify rounding by chi_n / psi_n.
+  // psi_n for n > x: from D_n(x) downward, or by Miller's algorithm for small x (below). Recurring
+  // psi itself upward there would amplify rounding by chi_n / psi_n.
   // (The ratio form alone, for every n, is also stable, but its errors at n ~ x are systematic
   // and grow like n eps: 1e-11 at x = 1e5, against 1e-14 for the split.)
   const double s = std::sin(x), c = std::cos(x);
@@ -474,8 +473,8 @@ inline void PsiChi(double x, int n_max, double* psi, double* chi) {
   const int miller = MillerOrders(x, n_max);
   const double psi_up = psi[n_up];  // from the upward recurrence (Miller's loop overwrites it)
   if (miller == 0) {
-    // psi_n for n > x: D_n(x) downward from n_max into psi[] itself, then
-    // psi_n = psi_{n-1} / (D_n + n/x) upward in place (psi[n] still holds D_n when step n reads it).
+    // D_n(x) downward from n_max into psi[] itself, then psi_n = psi_{n-1} / (D_n + n/x) upward in
+    // place (psi[n] still holds D_n when step n reads it), [PP].
     LogDerivativeDownward(xinv, n_max, psi, n_up + 1);
     for (int m = n_up + 1; m <= n_max; ++m) psi[m] = psi[m - 1] / nonzero(psi[m] + xinv.times(m));
     return;

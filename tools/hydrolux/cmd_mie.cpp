@@ -230,7 +230,6 @@ int run_mie(const MieArgs& a) {
                    s1[i].real(), s1[i].imag(), s2[i].real(), s2[i].imag());
     sink.flush();
   }
-  std::fflush(stdout);
   sink.flush(true);
   return 0;
 }

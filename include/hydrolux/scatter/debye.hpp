@@ -29,8 +29,8 @@
 // wave then grow; terms saturate at ~1e304 instead of overflowing), and the orders have poles
 // where D1(x) = kappa D2(m x) (exact zeros are replaced by their rounding level).
 // Valid domain (DomainError otherwise): x in [1e-3, 1e5] ("x"), Re m in [1e-3, 10] ("m_real"),
-// Im m in [0, 1] ("m_imag"), p in [0, 1000] ("p"), n_terms in [0, 1e6] ("n_terms", as
-// mie_coefficients).
+// Im m in [0, 1] ("m_imag"), p in [0, 1000] ("p"), n_terms in [0, 1e6] ("n_terms"; 0 means
+// mie_terms(x), as for mie_coefficients).
 #include <vector>
 
 #include "hydrolux/scatter/mie.hpp"
