@@ -20,6 +20,17 @@ target_link_libraries(hydrolux_highway_headers INTERFACE hwy::hwy)
 # (see ../shared/TOOLCHAIN.md); its pkg-config file is clean, so use that.
 pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET GLOBAL OpenImageIO)
 
+# The Python package: Debian's interpreter (/usr/bin/python3 sees Debian's numpy; a pyenv or other
+# python3 first on PATH may not: ../shared/TOOLCHAIN.md), pybind11 from Debian.
+if(HYDROLUX_BUILD_PYTHON)
+  if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python3_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "The Python the package is built for")
+  endif()
+  find_package(Python3 REQUIRED COMPONENTS Interpreter Development.Module)
+  set(PYBIND11_FINDPYTHON ON)
+  find_package(pybind11 CONFIG REQUIRED)
+endif()
+
 if(HYDROLUX_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()

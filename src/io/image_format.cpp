@@ -7,6 +7,7 @@
 #include <cstring>
 #include <iterator>
 
+#include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/image_io.hpp"
 
@@ -589,6 +590,16 @@ std::string image_structure_problem(ImageFormat format, std::string_view bytes, 
     case ImageFormat::pnm: return {};
   }
   return {};
+}
+
+Image coverage_for_encoding(const Image& alpha, ImageFormat format) {
+  Image a = alpha;
+  if (format == ImageFormat::exr) {
+    a.channel_names = {"Y"};
+    return a;
+  }
+  for (float& v : a.pixels) v = float(color::srgb_decode(double(std::clamp(v, 0.f, 1.f))));
+  return a;
 }
 
 }  // namespace hydrolux::io

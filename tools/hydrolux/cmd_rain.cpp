@@ -93,19 +93,6 @@ Image read_depth(const std::string& flag, const std::string& path, double scale_
   return depth;
 }
 
-// The mask as written: EXR linear; PNG 16-bit with codes alpha x 65535 (the encoder applies the sRGB
-// curve to a grey channel, so the value is handed over through its inverse).
-Image mask_image(const Image& alpha, io::ImageFormat format) {
-  if (format == io::ImageFormat::exr) {
-    Image a = alpha;
-    a.channel_names = {"Y"};
-    return a;
-  }
-  Image a = alpha;
-  for (float& v : a.pixels) v = float(color::srgb_decode(double(std::clamp(v, 0.f, 1.f))));
-  return a;
-}
-
 nlohmann::json stats_json(const rain::RainStats& s) {
   return {{"drops_total", s.drops_total},
           {"drops_in_view", s.drops_in_view},
@@ -244,7 +231,7 @@ int run_image(const RainArgs& a) {
   rain::RainFrame result = renderer.render(frame, depth ? &*depth : nullptr, a.frame_index, layer.has_value());
   // The optional outputs first: a failure (a full disk) is then reported under their own flag.
   if (layer) write_output_image(*layer, result.layer);
-  if (mask) mask->file->write(image_api().encode_image(mask_image(result.alpha, mask->format), mask->format, io::PngOptions{16}));
+  if (mask) mask->file->write(image_api().encode_image(io::coverage_for_encoding(result.alpha, mask->format), mask->format, io::PngOptions{16}));
   write_output_image(out, result.image);
   if (stats) {
     auto j = run_json(a, renderer.field());
@@ -357,7 +344,7 @@ int run_folder(const RainArgs& a) {
     const auto format = out_name.extension() == ".exr" ? io::ImageFormat::exr : io::ImageFormat::png;
     io::write_file(out_dir / out_name, images.encode_image(result.image, format, io::PngOptions{}), "--output-dir");
     if (a.mask_dir) {
-      io::write_file(fs::path(*a.mask_dir) / out_name, images.encode_image(mask_image(result.alpha, format), format,
+      io::write_file(fs::path(*a.mask_dir) / out_name, images.encode_image(io::coverage_for_encoding(result.alpha, format), format,
                                                                     io::PngOptions{16}),
                      "--mask-dir");
     }

@@ -105,6 +105,11 @@ std::string tiff_structure_problem(std::string_view bytes, const ImageLimits& li
 // change how the pixels decode, are kept.
 std::string jpeg_without_metadata(std::string_view bytes);
 
+// A coverage mask (1 channel, alpha in [0, 1]) as hydrolux writes it: EXR linear, channel "Y"; PNG
+// 16-bit with codes alpha x 65535 (the PNG encoder applies the sRGB curve to a grey channel, so the
+// value is handed over through its inverse). Encode the result with PngOptions{16} for PNG.
+Image coverage_for_encoding(const Image& alpha, ImageFormat format);
+
 // Encodes to PNG or EXR bytes (IoError for other formats or an inconsistent image).
 std::string encode_image(const Image& image, ImageFormat format, PngOptions png = {});
 

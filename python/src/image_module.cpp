@@ -1,0 +1,88 @@
+// hydrolux._image: image files through the library's codecs (OpenImageIO behind hydrolux's own
+// checks) and its safe output path. A module of its own so that `import hydrolux` does not load
+// OpenImageIO's ~260 libraries; hydrolux imports it on first use.
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+#include <string>
+
+#include "common.hpp"
+#include "hydrolux/io/files.hpp"
+#include "hydrolux/io/image_io.hpp"
+
+namespace hydrolux::py_bind {
+namespace {
+
+io::ImageFormat format_arg(const std::string& name) {
+  if (name == "png") return io::ImageFormat::png;
+  if (name == "exr") return io::ImageFormat::exr;
+  throw UnknownNameError(fmt::format("format '{}': images are written as png or exr", name));
+}
+
+std::string short_name(io::ImageFormat f) {
+  switch (f) {
+    case io::ImageFormat::png: return "png";
+    case io::ImageFormat::exr: return "exr";
+    case io::ImageFormat::hdr: return "hdr";
+    case io::ImageFormat::pnm: return "pnm";
+    case io::ImageFormat::jpeg: return "jpeg";
+    case io::ImageFormat::tiff: return "tiff";
+  }
+  return "?";
+}
+
+py::tuple decode(const py::bytes& data, const std::string& origin) {
+  const std::string bytes = data;
+  io::DecodedImage d;
+  {
+    py::gil_scoped_release release;
+    d = io::decode_image(bytes, origin);
+  }
+  return py::make_tuple(to_array(d.image), short_name(d.format), d.warnings);
+}
+
+py::tuple read_image(const std::string& path) {
+  std::string bytes;
+  io::DecodedImage d;
+  {
+    py::gil_scoped_release release;
+    bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, "path");
+    d = io::decode_image(bytes, path);
+  }
+  return py::make_tuple(to_array(d.image), short_name(d.format), d.warnings);
+}
+
+py::bytes encode(const py::array& image, const std::string& format, int bits, bool coverage) {
+  if (bits != 8 && bits != 16) throw Error(fmt::format("bits = {}: PNG takes 8 or 16", bits));
+  const io::ImageFormat f = format_arg(format);
+  Image img = to_image(image, "image");
+  if (coverage && img.channels != 1) throw Error("coverage: a coverage mask has one channel");
+  std::string out;
+  {
+    py::gil_scoped_release release;
+    if (coverage) img = io::coverage_for_encoding(img, f);
+    out = io::encode_image(img, f, io::PngOptions{bits});
+  }
+  return py::bytes(out);
+}
+
+void write_image(const std::string& path, const py::array& image, int bits) {
+  const io::ImageFormat f = io::output_image_format(path, "path");
+  const py::bytes data = encode(image, short_name(f), bits, false);
+  const std::string bytes = data;
+  py::gil_scoped_release release;
+  io::write_file(path, bytes, "path");
+}
+
+}  // namespace
+}  // namespace hydrolux::py_bind
+
+PYBIND11_MODULE(_image, m) {
+  using namespace hydrolux::py_bind;
+  register_errors();
+  m.doc() = "hydrolux's image files (use hydrolux.read_image / write_image)";
+  m.def("decode", &decode, py::arg("data"), py::arg("origin"));
+  m.def("read", &read_image, py::arg("path"));
+  m.def("encode", &encode, py::arg("image"), py::arg("format"), py::arg("bits"), py::arg("coverage"));
+  m.def("write", &write_image, py::arg("path"), py::arg("image"), py::arg("bits"));
+}

@@ -1,0 +1,280 @@
+"""Every binding of the hydrolux package: dtypes and shapes, the same numbers as the CLI for the same
+inputs (bit for bit: both call the same library code, and the CLI's JSON prints doubles in their
+shortest round-trip form), invariants, and bad inputs raising ValueError that names the argument."""
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+
+import numpy as np
+import pytest
+
+import hydrolux as h
+
+
+# ---- interface optics -----------------------------------------------------------------------------
+
+def test_fresnel_matches_cli_and_shapes(cli):
+    theta = np.array([[0.0, 30.0], [60.0, 89.0]])
+    r = h.fresnel(theta, n1=1.0, n2=1.333)
+    for k in ("rs", "rp", "r", "t", "theta_t_deg"):
+        assert r[k].shape == (2, 2) and r[k].dtype == np.float64
+    assert r["tir"].dtype == np.bool_
+    for i, th in enumerate(theta.ravel()):
+        j = cli("fresnel", "--theta-deg", th, "--n2", 1.333, "--json", json_out=True)
+        for k in ("rs", "rp", "r", "t", "theta_t_deg"):
+            assert r[k].ravel()[i] == j[k]
+    # Energy: R + T = 1 for a dielectric (exactly as computed, T = 1 - R).
+    np.testing.assert_allclose(r["r"] + r["t"], 1.0, rtol=0, atol=1e-15)
+
+
+def test_fresnel_conductor_and_tir(cli):
+    r = h.fresnel([10.0, 70.0], n1=1.333, n2=1.0)
+    assert not r["tir"][0] and r["tir"][1] and np.isnan(r["theta_t_deg"][1]) and r["r"][1] == 1.0
+    c = h.fresnel(45.0, n2=0.2, k2=3.4)
+    j = cli("fresnel", "--theta-deg", 45, "--n2", 0.2, "--k2", 3.4, "--json", json_out=True)
+    assert c["r"] == j["r"] and np.isnan(c["t"]) and j["t"] is None
+
+
+def test_media_and_index_match_cli(cli):
+    names = [m["medium"] for m in h.media()]
+    assert "water" in names and "air" in names
+    w = np.array([400.0, 589.3, 700.0])
+    n = h.refractive_index("water", w, temperature_c=10)
+    assert n.dtype == np.complex128 and n.shape == (3,)
+    for i, nm in enumerate(w):
+        j = cli("ior", "--medium", "water", "--wavelength-nm", nm, "--temperature-c", 10, "--json", json_out=True)
+        assert (n[i].real, n[i].imag) == (j["n"], j["k"])
+
+
+# ---- Mie ------------------------------------------------------------------------------------------
+
+def test_mie_matches_cli_bit_for_bit(cli):
+    m = 1.333 + 1e-8j
+    xs = np.array([0.5, 10.0, 1234.5])
+    r = h.mie(m, xs, angles_deg="0:180:7")
+    assert r.qext.shape == (3,) and r.qext.dtype == np.float64 and r.n_terms.dtype == np.int32
+    assert r.s1.shape == (3, 7) and r.s1.dtype == np.complex128
+    for i, x in enumerate(xs):
+        j = cli("mie", "--m", "1.333+1e-8i", "--x", x, "--angles-deg", "0:180:7", "--json", json_out=True)
+        for k in ("qext", "qsca", "qabs", "qback", "g"):
+            assert getattr(r, k)[i] == j[k], k
+        assert r.n_terms[i] == j["n_terms"]
+        np.testing.assert_array_equal(r.s1[i], [complex(*v) for v in j["s1"]])
+        np.testing.assert_array_equal(r.s2[i], [complex(*v) for v in j["s2"]])
+
+
+def test_mie_efficiencies_only_matches_cli_no_angles(cli):
+    xs = np.geomspace(1e-3, 1e4, 9).reshape(3, 3)
+    r = h.mie(1.5 + 0.01j, xs, angles_deg=None)
+    assert r.s1 is None and r.qext.shape == (3, 3)
+    j = cli("mie", "--m", "1.5+0.01i", "--x", xs[1, 2], "--no-angles", "--json", json_out=True)
+    assert r.qext[1, 2] == j["qext"] and r.qback[1, 2] == j["qback"] and r.g[1, 2] == j["g"]
+    # The optical theorem: Qext = (4 / x^2) Re S(0), on the amplitudes' path.
+    a = h.mie(1.5 + 0.01j, [3.0, 30.0], angles_deg=[0.0])
+    np.testing.assert_allclose(a.qext, 4 / np.array([3.0, 30.0]) ** 2 * a.s1[:, 0].real, rtol=1e-12)
+
+
+def test_sphere_matches_cli_physical_form(cli):
+    m, x = h.sphere([10.0, 250.0], 589.3, temperature_c=20)
+    assert isinstance(m, complex) and x.shape == (2,)
+    j = cli("mie", "--radius-um", 250, "--wavelength-nm", 589.3, "--temperature-c", 20, "--no-angles", "--json",
+            json_out=True)
+    assert x[1] == j["x"] and (m.real, m.imag) == tuple(j["m"])
+
+
+def test_size_distributions_and_bulk_optics():
+    d = h.SizeDistribution.gamma(10e-6, 0.2, 1e8)
+    r, w = d.quadrature(32)
+    assert r.dtype == np.float64 and r.shape == w.shape == (32,)
+    # The quadrature integrates the distribution's moments (Gauss: exact for the gamma weight).
+    for k in (0, 1, 2, 3):
+        np.testing.assert_allclose(np.sum(w * r ** k), d.moment(k), rtol=1e-10)
+    assert d.number_concentration == pytest.approx(1e8) and d.mean_radius == pytest.approx(10e-6)
+    assert d.number_density(np.array([[5e-6, 1e-5]])).shape == (1, 2)
+    mp = h.SizeDistribution.marshall_palmer(10.0)
+    assert mp.kind == "marshall_palmer" and mp.effective_radius > 0
+    assert h.SizeDistribution.log_normal(1e-6, 0.3).kind == "log_normal"
+    assert h.SizeDistribution.monodisperse(1e-6).moment(2) == pytest.approx(1e-12)
+    # Bulk optics against the written-out sum over the same quadrature.
+    b = h.bulk_optics(1.333, 550.0, d, nodes=32)
+    x = 2 * np.pi * r / 550e-9
+    q = h.mie(1.333, x, angles_deg=None)
+    np.testing.assert_allclose(b["extinction_per_m"], np.sum(w * np.pi * r ** 2 * q.qext), rtol=1e-12)
+    np.testing.assert_allclose(b["g"], np.sum(w * np.pi * r ** 2 * q.qsca * q.g) /
+                               np.sum(w * np.pi * r ** 2 * q.qsca), rtol=1e-12)
+
+
+# ---- Lee ------------------------------------------------------------------------------------------
+
+def test_lee_profile_matches_cli(cli):
+    t = h.lee(radius_um=200, size=(1, 48), angle_deg=(130, 145), sampling=0.5)
+    assert t.rgb.shape == (48, 1, 3) and t.xyz.dtype == np.float64 and t.display.dtype == np.float32
+    assert t.radius_um.shape == (1,) and t.angle_deg.shape == (48,) and t.cos_angle.shape == (48,)
+    j = cli("lee", "--radius-um", 200, "--size", "1x48", "--angle-deg", "130:145", "--sampling", 0.5, "--json",
+            json_out=True)
+    np.testing.assert_array_equal(t.angle_deg, j["angle_deg"])
+    np.testing.assert_array_equal(t.xyz[:, 0, :], np.array(j["xyz"]))
+    np.testing.assert_array_equal(t.rgb[:, 0, :], np.array(j["rgb"]))
+    # The primary bow: the luminance peaks near 138 degrees for 200 um drops.
+    assert 136 < t.angle_deg[np.argmax(t.xyz[:, 0, 1])] < 141
+
+
+def test_lee_table_axes():
+    t = h.lee(table="corona", size=(8, 16), wavelengths=8)
+    assert t.rgb.shape == (16, 8, 3) and np.all(np.diff(t.radius_um) > 0) and t.angle_deg[0] == 0
+    assert t.wavelengths_nm.shape == (8,) and t.info["theory"] == "mie"
+
+
+# ---- the drop -------------------------------------------------------------------------------------
+
+def test_drop_render_and_undistort_match_cli(cli, tmp_path):
+    img = h.drop_render(size=48, samples=2)
+    assert img.shape == (48, 48, 4) and img.dtype == np.float32
+    exr = tmp_path / "drop.exr"
+    cli("drop", "render", "--size", 48, "--samples", 2, "-o", exr, "-q")
+    np.testing.assert_array_equal(img, h.read_image(str(exr)))
+    u = h.drop_undistort(img, (24, 24), 9.6, fov_deg=50, size=(32, 24))
+    assert u.shape == (24, 32, 4) and u.dtype == np.float32
+    out = tmp_path / "view.exr"
+    cli("drop", "undistort", "--image", exr, "--drop-center", "24,24", "--drop-radius-px", 9.6, "--fov-deg", 50,
+        "--size", "32x24", "-o", out, "-q")
+    np.testing.assert_array_equal(u, h.read_image(str(out)))
+
+
+# ---- rain -----------------------------------------------------------------------------------------
+
+def test_rain_matches_cli(cli, tmp_path):
+    frame = h.builtin_scene(240, 136)
+    assert frame.shape == (136, 240, 3) and frame.dtype == np.float32
+    src = tmp_path / "frame.exr"
+    h.write_image(str(src), frame)
+    r = h.rain(h.read_image(str(src)), seed=7, rate_mmh=40, wind_mps=3, frame_index=5, with_layer=True)
+    assert r.image.shape == (136, 240, 3) and r.mask.shape == (136, 240, 1) and r.layer.shape == (136, 240, 4)
+    cli("rain", "--image", src, "-o", tmp_path / "out.exr", "--mask-out", tmp_path / "mask.exr",
+        "--layer-out", tmp_path / "layer.exr", "--stats-json", tmp_path / "s.json", "--seed", 7, "--rate-mmh", 40,
+        "--wind-mps", 3, "--frame-index", 5, "-q")
+    np.testing.assert_array_equal(r.image, h.read_image(str(tmp_path / "out.exr")))
+    np.testing.assert_array_equal(r.mask, h.read_image(str(tmp_path / "mask.exr")))
+    np.testing.assert_array_equal(r.layer, h.read_image(str(tmp_path / "layer.exr")))
+    stats = json.loads((tmp_path / "s.json").read_text())["frames"][0]
+    for k, v in r.stats.items():
+        assert stats[k] == v, k
+    assert r.stats["drops_in_view"] > 0
+    # image = clear (1 - alpha) + layer, up to float rounding.
+    assert np.all((r.mask >= 0) & (r.mask <= 1))
+
+
+def test_rain_renderer_sequence_is_frame_independent():
+    frame = h.builtin_scene(160, 96)
+    a = h.RainRenderer(160, 96, seed=3)
+    seq = [a.render(frame, frame_index=k).image for k in range(3)]
+    b = h.RainRenderer(160, 96, seed=3)
+    np.testing.assert_array_equal(b.render(frame, frame_index=2).image, seq[2])
+    assert not np.array_equal(seq[0], seq[1])  # the drops moved
+    assert a.field_info()["drops"] > 0
+
+
+# ---- images ---------------------------------------------------------------------------------------
+
+def test_image_files_round_trip(tmp_path):
+    img = np.random.default_rng(1).random((20, 30, 3), dtype=np.float32)
+    h.write_image(str(tmp_path / "a.exr"), img)
+    np.testing.assert_array_equal(h.read_image(str(tmp_path / "a.exr")), img)
+    h.write_image(str(tmp_path / "a.png"), img, bits=16)
+    np.testing.assert_allclose(h.read_image(str(tmp_path / "a.png")), img, atol=2e-4)
+    with pytest.raises(OSError):
+        h.write_image(str(tmp_path / "missing" / "a.png"), img)
+    assert not (tmp_path / "missing").exists()
+    with pytest.raises(FileNotFoundError):
+        h.read_image(str(tmp_path / "nothing.png"))
+    with pytest.raises(OSError, match="must be a .png or .exr"):
+        h.write_image(str(tmp_path / "a.bmp"), img)
+    assert sorted(os.listdir(tmp_path)) == ["a.exr", "a.png"]  # nothing half-written beside them
+
+
+# ---- validation -----------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("call, names", [
+    (lambda: h.fresnel(95.0), "theta_deg = 95"),
+    (lambda: h.fresnel(10.0, n2=0), "n2 = 0"),
+    (lambda: h.refractive_index("water", 100.0), "wavelength_nm"),
+    (lambda: h.refractive_index("unobtainium", 500.0), "medium"),
+    (lambda: h.mie(1.333, 2e6), "x = 2e+06"),
+    (lambda: h.mie(1.333 - 0.1j, 1.0), "m_imag"),
+    (lambda: h.mie(1.333, 1.0, angles_deg=[190.0]), "angles_deg = 190"),
+    (lambda: h.mie(1.333, 1.0, angles_deg="0:180"), "angles_deg"),
+    (lambda: h.SizeDistribution.gamma(-1.0, 0.1), "mean_radius_m"),
+    (lambda: h.SizeDistribution.gamma(1e-5, 0.1).quadrature(0), "nodes = 0"),
+    (lambda: h.lee(size=(0, 10)), "size[0] (columns)"),
+    (lambda: h.lee(table="halo"), "table 'halo'"),
+    (lambda: h.lee(theory="magic"), "theory 'magic'"),
+    (lambda: h.lee(temperature_c=200), "temperature_c = 200"),
+    (lambda: h.drop_render(radius_mm=500), "radius_mm = 500"),
+    (lambda: h.drop_render(size=4), "size = 4"),
+    (lambda: h.drop_undistort(np.zeros((8, 8, 3)), (4, 4), 3, fov_deg=200), "fov_deg"),
+    (lambda: h.drop_undistort(np.zeros((8, 8, 3)), (4, 4), -3), "drop_radius_px"),
+    (lambda: h.rain(np.zeros((64, 64, 3), np.float32), rate_mmh=600), "rate_mmh = 600"),
+    (lambda: h.rain(np.zeros((64, 64, 3), np.float32), camera_height_m=-1), "camera_height_m"),
+    (lambda: h.rain(np.zeros((64, 64, 3), np.float32), fov_deg=179), "fov_deg = 179"),
+    (lambda: h.rain(np.zeros((64, 64), np.float32)), "image"),
+    (lambda: h.rain(np.zeros((8, 8, 3), np.float32)), "width = 8"),
+    (lambda: h.RainRenderer(64, 64).render(np.zeros((32, 32, 3)), frame_index=0), "image"),
+    (lambda: h.RainRenderer(64, 64).render(np.zeros((64, 64, 3)), frame_index=-1), "frame_index"),
+])
+def test_bad_inputs_raise_value_error_naming_the_argument(call, names):
+    with pytest.raises(ValueError) as e:
+        call()
+    assert names in str(e.value)
+
+
+def test_unknown_rain_option_is_a_type_error():
+    with pytest.raises(TypeError, match="rate_mm"):
+        h.RainRenderer(64, 64, rate_mm=3)
+
+
+# ---- the GIL and Ctrl-C ---------------------------------------------------------------------------
+
+def test_long_calls_release_the_gil():
+    # While a Lee table is computed on another thread, this thread keeps running Python.
+    ticks = 0
+    done = threading.Event()
+
+    def work():
+        h.lee(size=(16, 64), sampling=0.5, threads=1)
+        done.set()
+
+    t = threading.Thread(target=work)
+    t.start()
+    while not done.is_set():
+        ticks += 1
+        done.wait(0.001)
+    t.join()
+    assert ticks > 10
+
+
+def test_ctrl_c_cancels_a_long_call():
+    # A table that would take minutes; SIGINT once it has started must end it with KeyboardInterrupt.
+    code = ("import sys, hydrolux as h\n"
+            "print('started', flush=True)\n"
+            "try:\n"
+            "    h.lee(size=(512, 1024), sampling=4, threads=1)\n"
+            "    print('finished', flush=True)\n"
+            "except KeyboardInterrupt:\n"
+            "    print('interrupted', flush=True)\n")
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, env=os.environ.copy())
+    assert p.stdout.readline().strip() == "started"
+    import time
+    time.sleep(0.5)  # inside the call
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=600)  # a guard against a hang, not a time limit on the work
+    assert out.strip() == "interrupted"
+    assert p.returncode == 0
+
+
+def test_package_metadata():
+    assert h.__version__ and h.simd_target()
+    assert h.mie_terms(100.0) == h.mie(1.333, 100.0, angles_deg=None).n_terms
+    assert "theta_deg" in (h.fresnel.__doc__ or "")
