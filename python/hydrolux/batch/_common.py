@@ -1,0 +1,232 @@
+"""What every batch job shares: the Dask client, the manifest, progress, and clean-up.
+
+The manifest is a journal of JSON lines in the output folder (``hydrolux-manifest.jsonl``): a
+header naming the job and its parameters, then one record per finished output, appended and
+fsync'd as each task's result reaches the client. A torn last line (a crash mid-write) is ignored;
+a re-run with the same parameters skips every output whose record matches what is on disk, and a
+run with other parameters starts a new journal (everything is redone). A lock on
+``hydrolux-manifest.lock`` keeps two runs out of one output folder at a time.
+"""
+from __future__ import annotations
+
+import fcntl
+import json
+import logging
+import os
+import re
+import sys
+import time
+import uuid
+from typing import Any, Callable, Dict, Iterable, List, Optional
+
+MANIFEST = "hydrolux-manifest.jsonl"
+LOCK = "hydrolux-manifest.lock"
+
+
+class UsageError(Exception):
+    """A bad argument: printed as one line, exit code 2."""
+
+
+# ---- the cluster ----------------------------------------------------------------------------------
+
+def open_client(scheduler: Optional[str], workers: int, threads_per_worker: int, quiet: bool):
+    """A Dask client: on the cluster at ``scheduler`` (tcp://host:8786), or on a LocalCluster of
+    ``workers`` processes on 127.0.0.1 (no set-up). Returns (client, cluster or None)."""
+    # Dask's own chatter (worker restarts, etc.) only as warnings; the job reports what matters.
+    for name in ("distributed", "distributed.nanny", "distributed.scheduler", "distributed.worker"):
+        logging.getLogger(name).setLevel(logging.ERROR if quiet else logging.WARNING)
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout="20s")
+        except OSError as e:
+            raise UsageError(f"--scheduler {scheduler}: cannot connect: {e}") from None
+        return client, None
+    dashboard = None
+    try:  # the dashboard needs bokeh; without it the cluster runs without one
+        import bokeh  # noqa: F401
+        dashboard = "127.0.0.1:0"
+    except ImportError:
+        pass
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=threads_per_worker, processes=True,
+                           host="127.0.0.1", dashboard_address=dashboard)
+    return Client(cluster), cluster
+
+
+def dashboard_link(client) -> Optional[str]:
+    try:
+        info = client.scheduler_info()
+        if "bokeh" in info.get("services", {}) or "dashboard" in info.get("services", {}):
+            return client.dashboard_link
+    except Exception:
+        pass
+    return None
+
+
+# ---- progress -------------------------------------------------------------------------------------
+
+class Progress:
+    """Tasks done / total with an ETA on stderr: redrawn in place on a terminal (every 0.1 s),
+    a line every 5 s in a log."""
+
+    def __init__(self, job: str, total: int, unit: str, quiet: bool):
+        self.job, self.total, self.unit, self.quiet = job, total, unit, quiet
+        self.tty = sys.stderr.isatty()
+        self.start = time.monotonic()
+        self.last = 0.0
+        self.done = 0
+        self.items = 0
+        self.printed = False
+
+    def update(self, tasks_done: int, items_done: int, force: bool = False) -> None:
+        self.done, self.items = tasks_done, items_done
+        if self.quiet:
+            return
+        now = time.monotonic()
+        if not force and now - self.last < (0.1 if self.tty else 5.0):
+            return
+        self.last = now
+        elapsed = now - self.start
+        frac = tasks_done / self.total if self.total else 1.0
+        eta = f"{elapsed * (1 - frac) / frac:.0f} s" if frac > 0.02 else "--"
+        rate = f", {items_done / elapsed:.2f} {self.unit}/s" if elapsed > 0 and items_done else ""
+        line = (f"[{self.job}] {tasks_done}/{self.total} tasks ({100 * frac:3.0f}%){rate}  elapsed {elapsed:.1f} s  "
+                f"ETA {eta}")
+        sys.stderr.write(("\r\033[K" if self.tty else "") + line + ("" if self.tty else "\n"))
+        sys.stderr.flush()
+        self.printed = True
+
+    def finish(self) -> None:
+        if not self.quiet:
+            self.update(self.done, self.items, force=True)
+            if self.tty and self.printed:
+                sys.stderr.write("\n")
+                sys.stderr.flush()
+
+    def message(self, text: str) -> None:
+        """A line of its own (an error), not overwritten by the next update."""
+        if self.tty and self.printed:
+            sys.stderr.write("\r\033[K")
+        sys.stderr.write(text + "\n")
+        sys.stderr.flush()
+        self.last = 0.0
+
+
+# ---- the manifest ---------------------------------------------------------------------------------
+
+class Manifest:
+    """The journal of finished outputs in ``folder`` (see the module's docstring)."""
+
+    def __init__(self, folder: str, job: str, params: Dict[str, Any]):
+        self.folder, self.job, self.params = folder, job, params
+        self.path = os.path.join(folder, MANIFEST)
+        self.records: Dict[str, dict] = {}
+        self.restarted = False
+        self._lock_fd = os.open(os.path.join(folder, LOCK), os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(self._lock_fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(self._lock_fd)
+            raise UsageError(f"--output-dir {folder}: another hydrolux.batch run is writing into it") from None
+        header = {"manifest": "hydrolux.batch", "job": job, "params": params}
+        old = self._read()
+        if old is not None and old[0] == header:
+            self.records = old[1]
+        else:
+            self.restarted = old is not None
+            self._rewrite([header])
+        self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+
+    def _read(self):
+        try:
+            with open(self.path, "rb") as f:
+                lines = f.read().split(b"\n")
+        except FileNotFoundError:
+            return None
+        try:
+            header = json.loads(lines[0])
+        except (ValueError, IndexError):
+            return ({}, {})
+        records = {}
+        for line in lines[1:]:
+            try:
+                r = json.loads(line)
+            except ValueError:
+                continue  # a torn last line
+            if isinstance(r, dict) and "output" in r:
+                records[r["output"]] = r
+        return header, records
+
+    def _rewrite(self, lines: List[dict]) -> None:
+        tmp = os.path.join(self.folder, f".{MANIFEST}.tmp-{os.getpid()}")
+        with open(tmp, "w") as f:
+            for line in lines:
+                f.write(json.dumps(line, sort_keys=True) + "\n")
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, self.path)
+
+    def add(self, record: dict) -> None:
+        line = (json.dumps(record, sort_keys=True) + "\n").encode()
+        os.write(self._fd, line)
+        os.fsync(self._fd)
+        self.records[record["output"]] = record
+
+    def close(self) -> None:
+        os.close(self._fd)
+        os.close(self._lock_fd)
+
+
+def file_stamp(path: str) -> Optional[dict]:
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return {"size": st.st_size, "mtime_ns": st.st_mtime_ns}
+
+
+def remove_stale_temporaries(folder: str, names: Iterable[str]) -> int:
+    """Removes the temporary files hydrolux's safe output path leaves when a writer is killed
+    outright (``.<name>.tmp-<pid>-<n>`` beside ``<name>``): called once no task of the run is left,
+    under the manifest's lock, so no live writer of this job owns one. Returns how many."""
+    wanted = set(names)
+    pattern = re.compile(r"^\.(.+)\.tmp-\d+-\d+$")
+    removed = 0
+    try:
+        entries = os.listdir(folder)
+    except OSError:
+        return 0
+    for e in entries:
+        m = pattern.match(e)
+        if m and m.group(1) in wanted:
+            try:
+                os.unlink(os.path.join(folder, e))
+                removed += 1
+            except OSError:
+                pass
+    return removed
+
+
+def run_tasks(client, tasks: List[tuple], fn: Callable, on_result: Callable[[Any], None], progress: Progress,
+              count: Callable[[Any], int], after_result: Optional[Callable[[int, Any], None]] = None) -> None:
+    """Submits fn(*task) for each task and hands each result to ``on_result`` as it arrives. A task
+    whose worker dies is rerun elsewhere by Dask (up to its allowed failures); one that raises is
+    reported through on_result as the exception."""
+    from distributed import as_completed
+
+    token = uuid.uuid4().hex[:8]
+    futures = [client.submit(fn, *t, pure=False, key=f"{fn.__name__}-{token}-{i}") for i, t in enumerate(tasks)]
+    done = items = 0
+    for fut in as_completed(futures):
+        try:
+            result = fut.result()
+        except Exception as e:  # a task that failed (its own error, or too many lost workers)
+            result = e
+        on_result(result)
+        done += 1
+        items += count(result)
+        progress.update(done, items)
+        if after_result:
+            after_result(done, client)
+        fut.release()

@@ -1,0 +1,191 @@
+"""python3 -m hydrolux.batch lee-atlas: an atlas of Lee tables on a Dask cluster.
+
+The spec is a JSON file naming the tables, each with ``hydrolux lee``'s options (flag names without
+the dashes; ``size_spread`` and ``size-spread`` alike), defaults shared by all, and sweeps that make
+one table per combination::
+
+    {"defaults": {"size": "128x256"},
+     "tables": [
+       {"name": "rainbow-s{size-spread}-t{temperature-c}", "table": "rainbow",
+        "sweep": {"size-spread": [0.05, 0.1, 0.2], "temperature-c": [0, 20]}},
+       {"name": "corona-10um", "table": "corona", "radius-um": "5:20", "limb-darkening": true}]}
+
+Each table is one task: ``hydrolux lee`` itself, writing <name>.exr, .png and .json atomically into
+the output folder (the same files and bytes as the CLI run by hand). Tables are recorded in the
+manifest as they complete; a re-run skips those whose options and files are unchanged.
+"""
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import os
+import re
+import subprocess
+import sys
+from typing import Any, Dict, List
+
+from . import _common
+from ._common import UsageError
+
+# Options the batch sets itself.
+RESERVED = {"o", "output", "json", "q", "quiet", "threads", "h", "help"}
+NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]{0,99}$")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--spec", required=True, help="The atlas: a JSON file of tables (see the module's help)")
+    p.add_argument("--output-dir", required=True, help="Folder for the tables (created)")
+    p.add_argument("--threads-per-table", type=int, default=0,
+                   help="Threads of each table's computation (0: the cores / the local workers)")
+
+
+def cli_path() -> str:
+    """The hydrolux executable beside this package: $HYDROLUX_CLI, the package's bin/ (an installed
+    copy), or the build tree's bin/."""
+    env = os.environ.get("HYDROLUX_CLI")
+    if env:
+        return env
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    for c in (os.path.join(here, "bin", "hydrolux"), os.path.join(here, "..", "..", "bin", "hydrolux")):
+        if os.access(c, os.X_OK):
+            return os.path.normpath(c)
+    raise FileNotFoundError("the hydrolux executable was not found beside the package (set HYDROLUX_CLI)")
+
+
+def _flag_args(options: Dict[str, Any], where: str) -> List[str]:
+    args: List[str] = []
+    for key in sorted(options):
+        flag = key.replace("_", "-")
+        if flag in RESERVED:
+            raise UsageError(f"--spec {where}: '{key}' is set by the batch itself")
+        value = options[key]
+        if value is True:
+            args.append("--" + flag)
+        elif value is False or value is None:
+            continue
+        elif isinstance(value, (int, float, str)):
+            args += ["--" + flag, str(value)]
+        else:
+            raise UsageError(f"--spec {where}: '{key}' must be a number, a string or true/false")
+    return args
+
+
+def expand(spec_path: str) -> List[Dict[str, Any]]:
+    """The tables of a spec, sweeps expanded: [{"name": ..., "args": [flags...]}, ...]."""
+    try:
+        with open(spec_path, "rb") as f:
+            spec = json.loads(f.read())
+    except FileNotFoundError:
+        raise UsageError(f"--spec {spec_path}: does not exist") from None
+    except (ValueError, OSError) as e:
+        raise UsageError(f"--spec {spec_path}: not a JSON file: {e}") from None
+    if not isinstance(spec, dict) or not isinstance(spec.get("tables"), list) or not spec["tables"]:
+        raise UsageError(f"--spec {spec_path}: expected an object with a non-empty list \"tables\"")
+    defaults = spec.get("defaults", {})
+    if not isinstance(defaults, dict):
+        raise UsageError(f"--spec {spec_path}: \"defaults\" must be an object of options")
+    out: List[Dict[str, Any]] = []
+    names = set()
+    for i, entry in enumerate(spec["tables"]):
+        where = f"{spec_path} tables[{i}]"
+        if not isinstance(entry, dict) or not isinstance(entry.get("name"), str):
+            raise UsageError(f"--spec {where}: each table is an object with a \"name\"")
+        sweep = entry.get("sweep", {})
+        if not isinstance(sweep, dict) or any(not isinstance(v, list) or not v for v in sweep.values()):
+            raise UsageError(f"--spec {where}: \"sweep\" maps options to non-empty lists of values")
+        base = {**defaults, **{k: v for k, v in entry.items() if k not in ("name", "sweep")}}
+        keys = list(sweep)
+        for combo in itertools.product(*(sweep[k] for k in keys)):
+            opts = {**base, **dict(zip(keys, combo))}
+            fields = {k.replace("_", "-"): v for k, v in opts.items()}
+            fields.update({k.replace("-", "_"): v for k, v in opts.items()})
+            try:
+                name = entry["name"].format(**fields)
+            except (KeyError, IndexError, ValueError) as e:
+                raise UsageError(f"--spec {where}: name '{entry['name']}': no option {e} to fill it") from None
+            if not NAME.match(name) or name.startswith("hydrolux-manifest"):
+                raise UsageError(f"--spec {where}: name '{name}': use letters, digits, '.', '_', '+', '-' "
+                                 "(at most 100)")
+            if name in names:
+                raise UsageError(f"--spec {where}: two tables are named '{name}'")
+            names.add(name)
+            out.append({"name": name, "args": _flag_args(opts, where)})
+    return out
+
+
+# ---- on the workers -------------------------------------------------------------------------------
+
+def make_table(out_dir: str, name: str, args: List[str], threads: int) -> Dict[str, Any]:
+    """A task: one table by the hydrolux CLI; its error line if it fails."""
+    exr = os.path.join(out_dir, name + ".exr")
+    cmd = [cli_path(), "lee", "-o", exr, "-q", "--threads", str(threads)] + args
+    p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    rec: Dict[str, Any] = {"output": name, "args": args}
+    if p.returncode != 0:
+        lines = [line for line in p.stderr.strip().splitlines() if line.strip()]
+        rec["error"] = lines[-1] if lines else f"hydrolux lee exited with {p.returncode}"
+        return rec
+    rec["files"] = {ext: os.path.getsize(os.path.join(out_dir, name + ext)) for ext in (".exr", ".png", ".json")}
+    return rec
+
+
+# ---- on the client --------------------------------------------------------------------------------
+
+def _is_done(rec, out_dir: str, name: str, args: List[str]) -> bool:
+    if not rec or "error" in rec or rec.get("args") != args:
+        return False
+    for ext, size in rec.get("files", {}).items():
+        st = _common.file_stamp(os.path.join(out_dir, name + ext))
+        if st is None or st["size"] != size:
+            return False
+    return len(rec.get("files", {})) == 3
+
+
+def run(a: argparse.Namespace, after_result=None) -> int:
+    tables = expand(a.spec)
+    if a.threads_per_table < 0 or a.threads_per_table > 1024:
+        raise UsageError(f"--threads-per-table {a.threads_per_table}: outside [0, 1024]")
+    out_dir = os.path.abspath(a.output_dir)
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise UsageError(f"--output-dir {out_dir}: exists and is not a folder")
+    os.makedirs(out_dir, exist_ok=True)
+    manifest = _common.Manifest(out_dir, "lee-atlas", {})
+    client = cluster = None
+    failed: List[str] = []
+    try:
+        todo = [t for t in tables if not _is_done(manifest.records.get(t["name"]), out_dir, t["name"], t["args"])]
+        client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
+        cores = os.cpu_count() or 1
+        threads = a.threads_per_table or (0 if a.scheduler else max(1, cores // max(1, a.workers)))
+        progress = _common.Progress("batch lee-atlas", len(todo), "tables", a.quiet)
+        if not a.quiet:
+            link = _common.dashboard_link(client)
+            where = a.scheduler or f"a local cluster of {a.workers} worker(s)"
+            print(f"batch lee-atlas: {len(tables)} tables ({len(tables) - len(todo)} done before) on {where}"
+                  + (f"; dashboard {link}" if link else ""), file=sys.stderr)
+
+        def on_result(rec):
+            if isinstance(rec, Exception):
+                failed.append(f"a task failed: {rec}")
+                progress.message(f"batch lee-atlas: {failed[-1]}")
+            elif "error" in rec:
+                failed.append(rec["output"])
+                progress.message(f"batch lee-atlas: {rec['output']}: {rec['error']}")
+            else:
+                manifest.add(rec)
+
+        _common.run_tasks(client, [(out_dir, t["name"], t["args"], threads) for t in todo], make_table, on_result,
+                          progress, lambda r: 0 if isinstance(r, Exception) or "error" in r else 1, after_result)
+        progress.finish()
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+        _common.remove_stale_temporaries(out_dir, [t["name"] + e for t in tables for e in (".exr", ".png", ".json")])
+        manifest.close()
+    if not a.quiet:
+        print(f"batch lee-atlas: {len(tables) - len(failed)} of {len(tables)} tables in {out_dir}"
+              + (f"; {len(failed)} failed: {', '.join(failed[:5])}" if failed else ""), file=sys.stderr)
+    return 1 if failed else 0

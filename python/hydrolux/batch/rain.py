@@ -1,0 +1,270 @@
+"""python3 -m hydrolux.batch rain: rain over a folder of frames on a Dask cluster.
+
+The frames (a video as numbered images, or any set of photographs) are one sequence in name order,
+as ``hydrolux rain --input-dir``: frame k is frame index ``--frame-index + k`` of one rain field, so
+the drops move on from frame to frame. The sequence is cut into chunks of consecutive frames, one
+task each; every worker builds the field once (the same for the same options and seed) and renders
+any frame alone from its index, so chunk boundaries leave no trace: the output is byte for byte
+that of the single-process CLI. Each frame is written atomically (hydrolux's safe output path) and
+recorded in the manifest as it completes; a re-run skips recorded frames whose input is unchanged.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+from typing import Any, Dict, List, Optional
+
+from . import _common
+from ._common import UsageError
+
+FRAME_EXTENSIONS = {".png", ".jpg", ".jpeg", ".exr", ".tif", ".tiff", ".hdr", ".ppm", ".pfm"}
+
+# The rain command's options: (flag, Python name, type, default or None, help).
+OPTIONS = [
+    ("--rate-mmh", "rate_mmh", float, 25.0, "Rain rate, mm/h [0, 500]"),
+    ("--wind-mps", "wind_mps", float, 0.0, "Horizontal wind speed, m/s [0, 50]"),
+    ("--wind-dir-deg", "wind_dir_deg", float, 90.0, "Where the wind blows to: 0 away from the camera, 90 to its right"),
+    ("--exposure-s", "exposure_s", float, 0.008, "Exposure time, s (at most 1 / fps)"),
+    ("--focal-mm", "focal_mm", float, None, "Focal length, mm [1, 2000] (default 35)"),
+    ("--fov-deg", "fov_deg", float, None, "Horizontal field of view, degrees [1, 170] (instead of --focal-mm)"),
+    ("--sensor-width-mm", "sensor_width_mm", float, None, "Sensor width, mm [1, 100] (default 36)"),
+    ("--pixel-pitch-um", "pixel_pitch_um", float, None, "Pixel pitch, um (instead of --sensor-width-mm)"),
+    ("--f-number", "f_number", float, 0.0, "Aperture f-number for defocus of near drops; 0 = pinhole"),
+    ("--focus-m", "focus_m", float, 10.0, "Focus distance, m (with --f-number)"),
+    ("--fps", "fps", float, 25.0, "Frame rate: frame k is exposed from k / fps"),
+    ("--camera-height-m", "camera_height_m", float, 1.7, "Camera height above the ground plane, m"),
+    ("--pitch-deg", "pitch_deg", float, 0.0, "Camera pitch above the horizon, degrees [-80, 80]"),
+    ("--near-m", "near_m", float, 0.5, "No drop nearer than this, m"),
+    ("--far-m", "far_m", float, 100.0, "No drop drawn beyond this, m (farther rain is unresolved)"),
+    ("--min-radius-mm", "min_radius_mm", float, 0.1, "Smaller drops count only as unresolved rain, mm"),
+    ("--max-radius-mm", "max_radius_mm", float, 2.9, "Largest drop radius, mm"),
+    ("--min-alpha", "min_alpha", float, 0.01, "A drop is drawn while its streak's peak coverage reaches this"),
+    ("--extent-m", "extent_m", float, 1000.0, "Depth of the rain where the scene has none (sky), m"),
+    ("--backdrop-m", "backdrop_m", float, 100.0, "The ground plane's backdrop distance, m"),
+    ("--oscillation", "oscillation", float, 0.0, "Relative amplitude of the drops' shape oscillation [0, 0.5]"),
+    ("--seed", "seed", int, 1, "Random seed: the same seed gives the same rain, bytes for bytes"),
+]
+FLAG_OF = {name: flag for flag, name, *_ in OPTIONS}
+FLAG_OF.update({"camera_height_m": "--camera-height-m", "width": "the frames' width", "height": "the frames' height"})
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--input-dir", required=True, help="A folder of frames in name order: one rain field across them")
+    p.add_argument("--output-dir", required=True, help="Folder for the rainy frames (created; never the input folder)")
+    p.add_argument("--mask-dir", help="Folder for the rain's coverage masks (same names as the frames)")
+    for flag, name, typ, default, text in OPTIONS:
+        p.add_argument(flag, dest=name, type=typ, default=default,
+                       help=text + (f" [{default:g}]" if isinstance(default, (int, float)) else ""))
+    p.add_argument("--frame-index", type=int, default=0, help="Index of the first frame in the rain field's time [0]")
+    p.add_argument("--no-unresolved", action="store_true",
+                   help="Leave out the unresolved rain's extinction and airlight (streaks only)")
+    p.add_argument("--chunk-frames", type=int, default=0,
+                   help="Frames per task (0: about 4 tasks per worker, at most 32 frames each)")
+
+
+def _options(a: argparse.Namespace) -> Dict[str, Any]:
+    opts = {name: getattr(a, name) for _, name, *_ in OPTIONS if getattr(a, name) is not None}
+    if a.fov_deg is not None and a.focal_mm is not None:
+        raise UsageError("--fov-deg: give --focal-mm or --fov-deg, not both")
+    if a.pixel_pitch_um is not None and a.sensor_width_mm is not None:
+        raise UsageError("--pixel-pitch-um: give --sensor-width-mm or --pixel-pitch-um, not both")
+    opts["unresolved"] = not a.no_unresolved
+    return opts
+
+
+def _flag_error(e: ValueError) -> UsageError:
+    """The library's message, with the Python argument named as the batch flag."""
+    text = str(e)
+    for name in sorted(FLAG_OF, key=len, reverse=True):
+        if text.startswith(name + " ") or text.startswith(name + ":"):
+            return UsageError(FLAG_OF[name] + text[len(name):])
+    return UsageError(text)
+
+
+def list_frames(input_dir: str) -> List[str]:
+    if not os.path.isdir(input_dir):
+        raise UsageError(f"--input-dir {input_dir}: not a folder")
+    names = sorted(n for n in os.listdir(input_dir)
+                   if not n.startswith(".") and os.path.splitext(n)[1].lower() in FRAME_EXTENSIONS
+                   and os.path.isfile(os.path.join(input_dir, n)))
+    if not names:
+        raise UsageError(f"--input-dir {input_dir}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)")
+    return names
+
+
+def output_names(input_dir: str, frames: List[str]) -> List[str]:
+    """Each frame's output name, as the CLI names it: its stem as .exr (EXR input) or .png."""
+    seen: Dict[str, str] = {}
+    out = []
+    for f in frames:
+        stem, ext = os.path.splitext(f)
+        name = stem + (".exr" if ext.lower() == ".exr" else ".png")
+        if name in seen:
+            raise UsageError(f"--input-dir {input_dir}: {seen[name]} and {f} would both be written as {name}")
+        seen[name] = f
+        out.append(name)
+    return out
+
+
+# ---- on the workers -------------------------------------------------------------------------------
+
+_RENDERERS: Dict[str, Any] = {}
+
+
+def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
+    """A task: renders consecutive frames [(input name, output name, frame index), ...] and writes
+    them. Returns one record per frame; a frame that fails carries "error" and the others go on."""
+    import json
+
+    import hydrolux
+    from hydrolux import _core, _image
+
+    if job["threads"]:
+        hydrolux.set_threads(job["threads"])
+    key = json.dumps([job["options"], job["width"], job["height"]], sort_keys=True)
+    renderer = _RENDERERS.get(key)
+    if renderer is None:  # one field per worker process for the whole job
+        _RENDERERS.clear()
+        renderer = _RENDERERS[key] = hydrolux.RainRenderer(job["width"], job["height"], True, **job["options"])
+    records = []
+    for src, name, index in frames:
+        rec: Dict[str, Any] = {"output": name, "input": src, "frame_index": index}
+        try:
+            path = os.path.join(job["input_dir"], src)
+            stamp = _common.file_stamp(path)
+            image = _image.read(path)[0]
+            h, w = image.shape[:2]
+            if (w, h) != (job["width"], job["height"]):
+                raise ValueError(f"is {w}x{h}, unlike the first frame ({job['width']}x{job['height']}); "
+                                 "one sequence has one size")
+            result = renderer.render(image, None, index)
+            fmt = "exr" if name.endswith(".exr") else "png"
+            if job["mask_dir"]:
+                _core.write_file(os.path.join(job["mask_dir"], name), _image.encode(result.mask, fmt, 16, True),
+                                 "--mask-dir")
+            data = _image.encode(result.image, fmt, 8, False)
+            _core.write_file(os.path.join(job["output_dir"], name), data, "--output-dir")
+            rec.update(input_size=stamp["size"], input_mtime_ns=stamp["mtime_ns"], output_size=len(data),
+                       stats=result.stats)
+        except Exception as e:  # reported by name; the chunk's other frames go on
+            rec["error"] = str(e)
+        records.append(rec)
+    return records
+
+
+# ---- on the client --------------------------------------------------------------------------------
+
+def _is_done(rec: Optional[dict], input_path: str, output_path: str, mask_path: Optional[str]) -> bool:
+    if not rec or "error" in rec:
+        return False
+    stamp = _common.file_stamp(input_path)
+    out = _common.file_stamp(output_path)
+    if stamp is None or out is None or (mask_path and _common.file_stamp(mask_path) is None):
+        return False
+    return (stamp["size"], stamp["mtime_ns"]) == (rec.get("input_size"), rec.get("input_mtime_ns")) and \
+        out["size"] == rec.get("output_size")
+
+
+def run(a: argparse.Namespace, after_result=None) -> int:
+    import hydrolux
+    from hydrolux import _image
+
+    opts = _options(a)
+    if a.frame_index < 0 or a.frame_index > 1_000_000_000:
+        raise UsageError(f"--frame-index {a.frame_index}: outside [0, 1000000000]")
+    if a.chunk_frames < 0 or a.chunk_frames > 100000:
+        raise UsageError(f"--chunk-frames {a.chunk_frames}: outside [0, 100000] (0: automatic)")
+    in_dir, out_dir = os.path.abspath(a.input_dir), os.path.abspath(a.output_dir)
+    mask_dir = os.path.abspath(a.mask_dir) if a.mask_dir else None
+    frames = list_frames(in_dir)
+    names = output_names(in_dir, frames)
+    for flag, d in (("--output-dir", out_dir), ("--mask-dir", mask_dir)):
+        if d and os.path.exists(d):
+            if not os.path.isdir(d):
+                raise UsageError(f"{flag} {d}: exists and is not a folder")
+            if os.path.samefile(d, in_dir):
+                raise UsageError(f"{flag} {d}: is the input folder; the frames would replace their inputs")
+    if mask_dir and os.path.exists(mask_dir) and os.path.exists(out_dir) and os.path.samefile(mask_dir, out_dir):
+        raise UsageError(f"--mask-dir {mask_dir}: is --output-dir; masks and frames share names")
+    # The sequence's size from its first readable frame (an unreadable one is reported with the rest).
+    size = None
+    for f in frames:
+        try:
+            img = _image.read(os.path.join(in_dir, f))[0]
+            size = (img.shape[1], img.shape[0])
+            break
+        except (ValueError, OSError):
+            continue
+    if size is None:
+        raise UsageError(f"--input-dir {in_dir}: no frame could be read")
+    # Every option checked, and the field's size, before any task starts.
+    try:
+        field = hydrolux.RainRenderer(size[0], size[1], True, **opts).field_info()
+    except ValueError as e:
+        raise _flag_error(e) from None
+    for d in (out_dir, mask_dir):
+        if d:
+            os.makedirs(d, exist_ok=True)
+
+    params = {"input_dir": in_dir, "mask_dir": mask_dir, "frame_index": a.frame_index, "options": opts,
+              "size": list(size)}
+    manifest = _common.Manifest(out_dir, "rain", params)
+    client = cluster = None
+    failed: List[str] = []
+    try:
+        if manifest.restarted and not a.quiet:
+            print(f"batch rain: {out_dir} holds a run with other parameters; every frame is redone",
+                  file=sys.stderr)
+        todo = []
+        for k, (src, name) in enumerate(zip(frames, names)):
+            if not _is_done(manifest.records.get(name), os.path.join(in_dir, src), os.path.join(out_dir, name),
+                            os.path.join(mask_dir, name) if mask_dir else None):
+                todo.append((src, name, a.frame_index + k))
+        skipped = len(frames) - len(todo)
+        client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
+        workers = max(1, len(client.scheduler_info().get("workers", {})) or a.workers)
+        chunk = a.chunk_frames or max(1, min(32, math.ceil(len(todo) / (4 * workers))))
+        tasks = [todo[i:i + chunk] for i in range(0, len(todo), chunk)]
+        cores = os.cpu_count() or 1
+        job = {"input_dir": in_dir, "output_dir": out_dir, "mask_dir": mask_dir, "width": size[0],
+               "height": size[1], "options": opts,
+               "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker))}
+        progress = _common.Progress("batch rain", len(tasks), "frames", a.quiet)
+        if not a.quiet:
+            link = _common.dashboard_link(client)
+            where = a.scheduler or f"a local cluster of {a.workers} worker(s)"
+            print(f"batch rain: {len(frames)} frames ({skipped} done before), {len(tasks)} tasks of up to {chunk} "
+                  f"on {where}; {field['drops']} drops in the field" + (f"; dashboard {link}" if link else ""),
+                  file=sys.stderr)
+
+        def on_result(result):
+            if isinstance(result, Exception):
+                failed.append(f"a task failed: {result}")
+                progress.message(f"batch rain: {failed[-1]}")
+                return
+            for rec in result:
+                if "error" in rec:
+                    failed.append(rec["input"])
+                    progress.message(f"batch rain: {rec['input']}: {rec['error']}")
+                else:
+                    manifest.add(rec)
+
+        _common.run_tasks(client, [(job, t) for t in tasks], render_frames, on_result, progress,
+                          lambda r: 0 if isinstance(r, Exception) else len(r), after_result)
+        progress.finish()
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+        for d in (out_dir, mask_dir):
+            if d:
+                _common.remove_stale_temporaries(d, names)
+        manifest.close()
+    if not a.quiet:
+        print(f"batch rain: {len(frames) - len(failed)} of {len(frames)} frames in {out_dir}"
+              + (f"; {len(failed)} failed: {', '.join(failed[:5])}{' ...' if len(failed) > 5 else ''}"
+                 if failed else ""), file=sys.stderr)
+    return 1 if failed else 0

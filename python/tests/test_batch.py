@@ -1,0 +1,195 @@
+"""hydrolux.batch on a LocalCluster on 127.0.0.1: the same bytes as the single-process CLI, resume
+from the manifest, a worker killed mid-run, a corrupt frame, the Lee atlas, and usage errors."""
+import argparse
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import hydrolux as h
+from hydrolux.batch import _common, lee_atlas
+from hydrolux.batch import rain as batch_rain
+from hydrolux.batch.__main__ import main
+
+FRAMES = 16
+SIZE = (192, 108)
+
+
+@pytest.fixture(scope="module")
+def frames(tmp_path_factory):
+    """A short sequence: the built-in scene with the camera panning down a little each frame."""
+    d = tmp_path_factory.mktemp("frames")
+    for k in range(FRAMES):
+        h.write_image(str(d / f"f_{k:03d}.png"), h.builtin_scene(*SIZE, pitch_deg=2 - 0.25 * k))
+    return d
+
+
+@pytest.fixture(scope="module")
+def cli_out(frames, tmp_path_factory, cli):
+    """The single-process reference: hydrolux rain --input-dir over the whole sequence."""
+    d = tmp_path_factory.mktemp("cli")
+    cli("rain", "--input-dir", frames, "--output-dir", d / "rainy", "--mask-dir", d / "masks", "--seed", 4,
+        "--rate-mmh", 25, "--wind-mps", 2, "--frame-index", 10, "-q")
+    return d
+
+
+def batch_args(frames, out, **kw):
+    a = argparse.Namespace(input_dir=str(frames), output_dir=str(out), mask_dir=None, frame_index=10,
+                           no_unresolved=False, chunk_frames=3, workers=2, threads_per_worker=1, scheduler=None,
+                           quiet=True)
+    for _, name, _, default, _ in batch_rain.OPTIONS:
+        setattr(a, name, default)
+    a.seed, a.rate_mmh, a.wind_mps = 4, 25.0, 2.0
+    for k, v in kw.items():
+        setattr(a, k, v)
+    return a
+
+
+def manifest_records(folder):
+    lines = (folder / _common.MANIFEST).read_text().splitlines()
+    return json.loads(lines[0]), [json.loads(line) for line in lines[1:]]
+
+
+def assert_same_bytes(a, b, names):
+    for n in names:
+        assert (a / n).read_bytes() == (b / n).read_bytes(), n
+
+
+def temporaries(folder):
+    return [n for n in os.listdir(folder) if ".tmp-" in n]
+
+
+def test_two_workers_give_the_single_process_bytes_and_resume(frames, cli_out, tmp_path):
+    out, masks = tmp_path / "rainy", tmp_path / "masks"
+    assert batch_rain.run(batch_args(frames, out, mask_dir=str(masks))) == 0
+    names = sorted(os.listdir(cli_out / "rainy"))
+    assert len(names) == FRAMES
+    assert_same_bytes(cli_out / "rainy", out, names)
+    assert_same_bytes(cli_out / "masks", masks, names)
+    header, records = manifest_records(out)
+    assert header["job"] == "rain" and sorted(r["output"] for r in records) == names
+    assert [r["frame_index"] for r in sorted(records, key=lambda r: r["output"])] == list(range(10, 10 + FRAMES))
+    assert not temporaries(out)
+    # A re-run does nothing: every frame is in the manifest and unchanged.
+    stamps = {n: os.stat(out / n).st_mtime_ns for n in names}
+    done = []
+    assert batch_rain.run(batch_args(frames, out, mask_dir=str(masks)),
+                          after_result=lambda n, c: done.append(n)) == 0
+    assert done == [] and {n: os.stat(out / n).st_mtime_ns for n in names} == stamps
+    # Other parameters: a new manifest, everything redone, other bytes.
+    assert batch_rain.run(batch_args(frames, out, seed=5)) == 0
+    header, records = manifest_records(out)
+    assert header["params"]["options"]["seed"] == 5 and len(records) == FRAMES
+    assert (out / names[0]).read_bytes() != (cli_out / "rainy" / names[0]).read_bytes()
+
+
+def test_a_worker_killed_mid_run_loses_nothing(frames, cli_out, tmp_path):
+    out = tmp_path / "rainy"
+    killed = []
+
+    def kill_one(done, client):
+        if killed:
+            return
+        # The worker with the most tasks still to do dies outright (no clean-up of its own).
+        processing = client.processing()
+        addr = max(processing, key=lambda w: len(processing[w]))
+        pid = client.run(os.getpid, workers=[addr])[addr]
+        os.kill(pid, signal.SIGKILL)
+        killed.append((addr, len(processing[addr])))
+
+    assert batch_rain.run(batch_args(frames, out, chunk_frames=1), after_result=kill_one) == 0
+    assert killed and killed[0][1] > 0  # it had tasks when it died
+    names = sorted(os.listdir(cli_out / "rainy"))
+    assert sorted(n for n in os.listdir(out) if not n.startswith("hydrolux-manifest")) == names
+    assert_same_bytes(cli_out / "rainy", out, names)
+    _, records = manifest_records(out)
+    assert sorted(r["output"] for r in records) == names  # each once
+    assert not temporaries(out)
+
+
+def test_a_corrupt_frame_is_reported_and_the_others_go_on(frames, cli_out, tmp_path, capfd):
+    src = tmp_path / "frames"
+    shutil.copytree(frames, src)
+    good = (src / "f_005.png").read_bytes()
+    (src / "f_005.png").write_bytes(good[:200])  # truncated
+    out = tmp_path / "rainy"
+    a = batch_args(src, out)
+    a.quiet = False
+    assert batch_rain.run(a) == 1
+    err = capfd.readouterr().err
+    assert "f_005.png:" in err and "1 failed: f_005.png" in err
+    names = sorted(os.listdir(cli_out / "rainy"))
+    written = sorted(n for n in os.listdir(out) if not n.startswith("hydrolux-manifest"))
+    assert written == [n for n in names if n != "f_005.png"]
+    assert_same_bytes(cli_out / "rainy", out, written)
+    assert "f_005.png" not in {r["output"] for r in manifest_records(out)[1]}
+    # Repaired, a re-run renders that frame alone, with its place in the sequence.
+    (src / "f_005.png").write_bytes(good)
+    done = []
+    assert batch_rain.run(batch_args(src, out), after_result=lambda n, c: done.append(n)) == 0
+    assert len(done) == 1
+    assert_same_bytes(cli_out / "rainy", out, names)
+
+
+def test_usage_errors_are_one_line_exit_2(frames, tmp_path, capfd):
+    cases = [
+        (["rain", "--input-dir", str(frames), "--output-dir", str(tmp_path / "o"), "--rate-mmh", "600"],
+         "--rate-mmh = 600 is outside [0, 500]"),
+        (["rain", "--input-dir", str(frames), "--output-dir", str(frames)], "is the input folder"),
+        (["rain", "--input-dir", str(tmp_path / "none"), "--output-dir", str(tmp_path / "o")], "not a folder"),
+        (["rain", "--input-dir", str(frames), "--output-dir", str(tmp_path / "o"), "--workers", "0"],
+         "--workers 0: outside [1, 1024]"),
+        (["lee-atlas", "--spec", str(tmp_path / "none.json"), "--output-dir", str(tmp_path / "o")], "does not exist"),
+    ]
+    for argv, text in cases:
+        assert main(argv + ["-q"]) == 2, argv
+        err = capfd.readouterr().err.strip()
+        assert text in err and "\n" not in err, err
+    assert not (tmp_path / "o").exists() or not os.listdir(tmp_path / "o")
+
+
+def test_lee_atlas_sweeps_reports_a_bad_table_and_resumes(cli, tmp_path, capfd):
+    spec = {"defaults": {"size": "6x12", "sampling": 0.25},
+            "tables": [{"name": "bow-s{size-spread}", "table": "rainbow", "radius-um": "100:400",
+                        "sweep": {"size-spread": [0.05, 0.2]}},
+                       {"name": "corona", "table": "corona", "limb_darkening": True},
+                       {"name": "bad", "table": "rainbow", "radius-um": "0.01:1"}]}
+    path = tmp_path / "atlas.json"
+    path.write_text(json.dumps(spec))
+    out = tmp_path / "atlas"
+    a = argparse.Namespace(spec=str(path), output_dir=str(out), threads_per_table=1, workers=2, threads_per_worker=1,
+                           scheduler=None, quiet=False)
+    assert lee_atlas.run(a) == 1
+    err = capfd.readouterr().err
+    assert "bad: " in err and "--radius-um" in err
+    names = ["bow-s0.05", "bow-s0.2", "corona"]
+    for n in names:
+        for ext in (".exr", ".png", ".json"):
+            assert (out / (n + ext)).is_file()
+    assert not (out / "bad.exr").exists() and not temporaries(out)
+    # The same table by hand: the same bytes.
+    cli("lee", "-o", tmp_path / "by_hand.exr", "-q", "--threads", 1, "--size", "6x12", "--sampling", 0.25,
+        "--table", "rainbow", "--radius-um", "100:400", "--size-spread", 0.2)
+    assert (tmp_path / "by_hand.exr").read_bytes() == (out / "bow-s0.2.exr").read_bytes()
+    assert (tmp_path / "by_hand.png").read_bytes() == (out / "bow-s0.2.png").read_bytes()
+    assert sorted(r["output"] for r in manifest_records(out)[1]) == names
+    # Re-run: only the bad table is tried again.
+    done = []
+    a.quiet = True
+    assert lee_atlas.run(a, after_result=lambda n, c: done.append(n)) == 1
+    assert len(done) == 1
+
+
+def test_command_line_entry_point(frames, tmp_path):
+    out = tmp_path / "o"
+    env = dict(os.environ)
+    p = subprocess.run([sys.executable, "-m", "hydrolux.batch", "rain", "--input-dir", str(frames), "--output-dir",
+                        str(out), "--workers", "1", "--seed", "4"], capture_output=True, text=True, env=env)
+    assert p.returncode == 0, p.stderr
+    assert "tasks" in p.stderr and "ETA" in p.stderr and f"{FRAMES} of {FRAMES} frames" in p.stderr
+    assert len([n for n in os.listdir(out) if n.endswith(".png")]) == FRAMES
