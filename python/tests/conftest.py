@@ -28,3 +28,8 @@ def cli():
 
     run.path = path
     return run
+
+
+def pytest_configure(config):
+    # Debian's tornado 6.2 under distributed 2022.12: a deprecation inside Dask, not ours.
+    config.addinivalue_line("filterwarnings", "ignore:make_current is deprecated:DeprecationWarning")

@@ -8,7 +8,6 @@ import signal
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
 import hydrolux as h
@@ -193,3 +192,37 @@ def test_command_line_entry_point(frames, tmp_path):
     assert p.returncode == 0, p.stderr
     assert "tasks" in p.stderr and "ETA" in p.stderr and f"{FRAMES} of {FRAMES} frames" in p.stderr
     assert len([n for n in os.listdir(out) if n.endswith(".png")]) == FRAMES
+
+
+def test_video_in_chunks_is_the_cli_video_and_resumes(cli, tmp_path):
+    src = tmp_path / "in.mp4"
+    subprocess.run(["ffmpeg", "-loglevel", "error", "-y", "-f", "lavfi", "-i", "testsrc=size=160x96:rate=25",
+                    "-frames:v", "23", "-pix_fmt", "yuv420p", str(src)], check=True)
+    cli("rain", "--video", src, "-o", tmp_path / "cli.mp4", "--seed", 4, "--wind-mps", 3, "--frame-index", 7, "-q")
+    out = tmp_path / "out" / "rainy.mp4"
+    out.parent.mkdir()
+
+    def args():
+        a = batch_args(None, None, chunk_frames=5, frame_index=7, wind_mps=3.0)
+        a.input_dir = a.output_dir = None
+        a.video, a.output, a.crf = str(src), str(out), 18
+        return a
+
+    # Interrupted after two chunks (a crash of the client): nothing is in place yet.
+    def stop(done, client):
+        if done == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        batch_rain.run(args(), after_result=stop)
+    assert not out.exists()
+    # The re-run does the other three chunks and encodes: the CLI's bytes.
+    done = []
+    assert batch_rain.run(args(), after_result=lambda n, c: done.append(n)) == 0
+    assert len(done) == 3
+    assert out.read_bytes() == (tmp_path / "cli.mp4").read_bytes()
+    staging = out.parent / ".rainy.mp4.chunks"
+    assert not [n for n in os.listdir(staging) if n.endswith(".rgb") or ".tmp-" in n]
+    # And once more: nothing to do.
+    done.clear()
+    assert batch_rain.run(args(), after_result=lambda n, c: done.append(n)) == 0 and done == []

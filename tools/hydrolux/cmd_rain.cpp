@@ -137,29 +137,18 @@ nlohmann::json run_json(const RainArgs& a, const rain::RainField& field) {
                      {"classes", classes}}}};
 }
 
-// 8-bit sRGB <-> linear float for video frames: a table each way (the encoder's table is indexed by
-// the linear value in steps of 1/65535, finer than any 8-bit code's width).
+// 8-bit video frames <-> linear float images through the library's tables.
 struct SrgbTables {
-  std::array<float, 256> decode{};
-  std::vector<std::uint8_t> encode;
-  SrgbTables() : encode(65536) {
-    for (int i = 0; i < 256; ++i) decode[std::size_t(i)] = float(color::srgb_decode(i / 255.0));
-    for (int i = 0; i < 65536; ++i)
-      encode[std::size_t(i)] = std::uint8_t(std::lround(std::clamp(color::srgb_encode(i / 65535.0), 0.0, 1.0) * 255));
-  }
+  color::Srgb8Tables tables;
   void to_linear(const VideoFrame& f, Image& img) const {
     if (img.width != f.width || img.height != f.height || img.channels != 3) img = Image(f.width, f.height, 3);
-    for (std::size_t i = 0; i < f.rgb.size(); ++i) img.pixels[i] = decode[f.rgb[i]];
+    tables.to_linear(f.rgb.data(), std::size_t(f.width) * f.height, img.pixels.data());
   }
   void to_srgb(const Image& img, VideoFrame& f) const {
     f.width = img.width;
     f.height = img.height;
     f.rgb.resize(std::size_t(img.width) * img.height * 3);
-    for (std::size_t p = 0, n = std::size_t(img.width) * img.height; p < n; ++p)
-      for (std::size_t k = 0; k < 3; ++k) {
-        const float v = std::clamp(img.pixels[p * std::size_t(img.channels) + k], 0.f, 1.f);
-        f.rgb[p * 3 + k] = encode[std::size_t(v * 65535.f + 0.5f)];
-      }
+    tables.to_srgb8(img.pixels.data(), std::size_t(img.width) * img.height, img.channels, f.rgb.data());
   }
 };
 

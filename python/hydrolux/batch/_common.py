@@ -43,25 +43,26 @@ def open_client(scheduler: Optional[str], workers: int, threads_per_worker: int,
         except OSError as e:
             raise UsageError(f"--scheduler {scheduler}: cannot connect: {e}") from None
         return client, None
-    dashboard = None
-    try:  # the dashboard needs bokeh; without it the cluster runs without one
-        import bokeh  # noqa: F401
-        dashboard = "127.0.0.1:0"
-    except ImportError:
-        pass
+    # The scheduler's HTTP server (metrics; the dashboard too where bokeh is installed, which Debian 12
+    # does not package) on a free port of 127.0.0.1, never a fixed one two runs would compete for.
     cluster = LocalCluster(n_workers=workers, threads_per_worker=threads_per_worker, processes=True,
-                           host="127.0.0.1", dashboard_address=dashboard)
+                           host="127.0.0.1", dashboard_address="127.0.0.1:0")
     return Client(cluster), cluster
 
 
 def dashboard_link(client) -> Optional[str]:
+    """The dashboard's address, if the scheduler serves one: without bokeh (Debian 12 has none) its
+    /status page only says that bokeh is missing."""
+    import urllib.request
+
     try:
-        info = client.scheduler_info()
-        if "bokeh" in info.get("services", {}) or "dashboard" in info.get("services", {}):
-            return client.dashboard_link
+        if "dashboard" not in client.scheduler_info().get("services", {}):
+            return None
+        link = client.dashboard_link
+        with urllib.request.urlopen(link, timeout=2) as r:
+            return link if r.status == 200 and b"needs bokeh" not in r.read(4096) else None
     except Exception:
-        pass
-    return None
+        return None
 
 
 # ---- progress -------------------------------------------------------------------------------------

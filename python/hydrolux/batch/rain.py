@@ -1,4 +1,4 @@
-"""python3 -m hydrolux.batch rain: rain over a folder of frames on a Dask cluster.
+"""python3 -m hydrolux.batch rain: rain over a folder of frames or a video on a Dask cluster.
 
 The frames (a video as numbered images, or any set of photographs) are one sequence in name order,
 as ``hydrolux rain --input-dir``: frame k is frame index ``--frame-index + k`` of one rain field, so
@@ -7,6 +7,13 @@ task each; every worker builds the field once (the same for the same options and
 any frame alone from its index, so chunk boundaries leave no trace: the output is byte for byte
 that of the single-process CLI. Each frame is written atomically (hydrolux's safe output path) and
 recorded in the manifest as it completes; a re-run skips recorded frames whose input is unchanged.
+
+A video (``--video in.mp4 -o out.mp4``, as ``hydrolux rain --video``) is cut the same way: each task
+decodes its chunk of frames (decoding from the start and dropping the frames before it), renders
+them and writes them as raw 8-bit RGB into a staging folder beside the output
+(``.<output>.chunks/``, which holds this job's manifest); once every chunk is there, the client
+encodes them in order with the CLI's encoder, so the video is byte for byte the CLI's. Staging
+takes width x height x 3 bytes per frame; the chunks are removed once the video is in place.
 """
 from __future__ import annotations
 
@@ -33,7 +40,7 @@ OPTIONS = [
     ("--pixel-pitch-um", "pixel_pitch_um", float, None, "Pixel pitch, um (instead of --sensor-width-mm)"),
     ("--f-number", "f_number", float, 0.0, "Aperture f-number for defocus of near drops; 0 = pinhole"),
     ("--focus-m", "focus_m", float, 10.0, "Focus distance, m (with --f-number)"),
-    ("--fps", "fps", float, 25.0, "Frame rate: frame k is exposed from k / fps"),
+    ("--fps", "fps", float, None, "Frame rate of --input-dir frames: frame k is exposed from k / fps (default 25)"),
     ("--camera-height-m", "camera_height_m", float, 1.7, "Camera height above the ground plane, m"),
     ("--pitch-deg", "pitch_deg", float, 0.0, "Camera pitch above the horizon, degrees [-80, 80]"),
     ("--near-m", "near_m", float, 0.5, "No drop nearer than this, m"),
@@ -51,8 +58,11 @@ FLAG_OF.update({"camera_height_m": "--camera-height-m", "width": "the frames' wi
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--input-dir", required=True, help="A folder of frames in name order: one rain field across them")
-    p.add_argument("--output-dir", required=True, help="Folder for the rainy frames (created; never the input folder)")
+    p.add_argument("--input-dir", help="A folder of frames in name order: one rain field across them")
+    p.add_argument("--output-dir", help="Folder for the rainy frames (created; never the input folder)")
+    p.add_argument("--video", help="Input video (MP4, MOV, MKV, ...) instead of --input-dir; frame rate and count kept")
+    p.add_argument("-o", "--output", help="Output video with --video (.mp4, .mov or .mkv), H.264")
+    p.add_argument("--crf", type=int, default=18, help="H.264 quality of the output video (0 lossless .. 51) [18]")
     p.add_argument("--mask-dir", help="Folder for the rain's coverage masks (same names as the frames)")
     for flag, name, typ, default, text in OPTIONS:
         p.add_argument(flag, dest=name, type=typ, default=default,
@@ -61,7 +71,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-unresolved", action="store_true",
                    help="Leave out the unresolved rain's extinction and airlight (streaks only)")
     p.add_argument("--chunk-frames", type=int, default=0,
-                   help="Frames per task (0: about 4 tasks per worker, at most 32 frames each)")
+                   help="Frames per task (0: about 4 tasks per worker, at most 32 frames each; 8 for video)")
 
 
 def _options(a: argparse.Namespace) -> Dict[str, Any]:
@@ -168,14 +178,26 @@ def _is_done(rec: Optional[dict], input_path: str, output_path: str, mask_path: 
 
 
 def run(a: argparse.Namespace, after_result=None) -> int:
-    import hydrolux
-    from hydrolux import _image
-
-    opts = _options(a)
+    if (a.input_dir is None) == (getattr(a, "video", None) is None):
+        raise UsageError("give exactly one of --input-dir and --video")
     if a.frame_index < 0 or a.frame_index > 1_000_000_000:
         raise UsageError(f"--frame-index {a.frame_index}: outside [0, 1000000000]")
     if a.chunk_frames < 0 or a.chunk_frames > 100000:
         raise UsageError(f"--chunk-frames {a.chunk_frames}: outside [0, 100000] (0: automatic)")
+    if getattr(a, "video", None) is not None:
+        return run_video(a, after_result)
+    if getattr(a, "output", None):
+        raise UsageError("-o: with --input-dir the frames go to --output-dir")
+    if not a.output_dir:
+        raise UsageError("--output-dir: give the folder for the rainy frames (with --input-dir)")
+    return run_folder(a, after_result)
+
+
+def run_folder(a: argparse.Namespace, after_result=None) -> int:
+    import hydrolux
+    from hydrolux import _image
+
+    opts = _options(a)
     in_dir, out_dir = os.path.abspath(a.input_dir), os.path.abspath(a.output_dir)
     mask_dir = os.path.abspath(a.mask_dir) if a.mask_dir else None
     frames = list_frames(in_dir)
@@ -268,3 +290,165 @@ def run(a: argparse.Namespace, after_result=None) -> int:
               + (f"; {len(failed)} failed: {', '.join(failed[:5])}{' ...' if len(failed) > 5 else ''}"
                  if failed else ""), file=sys.stderr)
     return 1 if failed else 0
+
+
+# ---- video ----------------------------------------------------------------------------------------
+
+def render_video_chunk(job: Dict[str, Any], start: int, count: int) -> Dict[str, Any]:
+    """A task: frames [start, start + count) of the video (count -1: to its end), rendered and
+    written as raw 8-bit RGB into the staging folder."""
+    import json
+
+    import hydrolux
+    from hydrolux import _core, _video
+
+    if job["threads"]:
+        hydrolux.set_threads(job["threads"])
+    key = json.dumps([job["options"], job["width"], job["height"]], sort_keys=True)
+    renderer = _RENDERERS.get(key)
+    if renderer is None:
+        _RENDERERS.clear()
+        renderer = _RENDERERS[key] = hydrolux.RainRenderer(job["width"], job["height"], True, **job["options"])
+    name = f"chunk_{start:09d}.rgb"
+    reader = _video.VideoReader(job["video"], "--video")
+    if reader.skip(start) != start:
+        return {"output": name, "start": start, "frames": 0, "size": 0, "stats": []}
+    parts, stats = [], []
+    while count < 0 or len(parts) < count:
+        frame = reader.read(True)
+        if frame is None:
+            break
+        result = renderer.render(frame, None, job["frame_index"] + start + len(parts))
+        parts.append(_video.to_srgb8(result.image).tobytes())
+        stats.append(result.stats)
+    data = b"".join(parts)
+    _core.write_file(os.path.join(job["staging"], name), data, "staging")
+    return {"output": name, "start": start, "frames": len(parts), "size": len(data), "stats": stats}
+
+
+def run_video(a: argparse.Namespace, after_result=None) -> int:
+    import hydrolux
+    from hydrolux import _video
+
+    if a.input_dir or a.output_dir or a.mask_dir:
+        raise UsageError("--video writes one video (-o); --input-dir, --output-dir and --mask-dir are for frames")
+    if not a.output:
+        raise UsageError("-o: give the output video (.mp4, .mov or .mkv)")
+    if os.path.splitext(a.output)[1].lower() not in (".mp4", ".mov", ".mkv"):
+        raise UsageError(f"-o {a.output}: expected a .mp4, .mov or .mkv file")
+    if not 0 <= a.crf <= 51:
+        raise UsageError(f"--crf {a.crf}: outside [0, 51]")
+    if a.fps is not None:
+        raise UsageError("--fps: a video's frame rate is its own")
+    video, output = os.path.abspath(a.video), os.path.abspath(a.output)
+    if not os.path.isfile(video):
+        raise UsageError(f"--video {a.video}: not a file")
+    out_dir = os.path.dirname(output)
+    if not os.path.isdir(out_dir):
+        raise UsageError(f"-o {a.output}: the folder {out_dir} does not exist")
+    if os.path.exists(output) and os.path.samefile(output, video):
+        raise UsageError(f"-o {a.output}: is the input video")
+    try:
+        info = _video.VideoReader(video, "--video").info()
+    except (ValueError, OSError) as e:
+        raise UsageError(str(e)) from None
+    opts = _options(a)
+    opts["fps"] = info["fps"]
+    try:
+        field = hydrolux.RainRenderer(info["width"], info["height"], True, **opts).field_info()
+    except ValueError as e:
+        raise _flag_error(e) from None
+    expected = info["frame_count"] if info["frame_count"] > 0 else round(info["duration_s"] * info["fps"])
+    if expected <= 0:  # the container says nothing: count them
+        expected = _video.VideoReader(video, "--video").skip(1 << 40)
+    staging = os.path.join(out_dir, f".{os.path.basename(output)}.chunks")
+    os.makedirs(staging, exist_ok=True)
+    stamp = _common.file_stamp(video)
+    params = {"video": video, "input_size": stamp["size"], "input_mtime_ns": stamp["mtime_ns"],
+              "frame_index": a.frame_index, "options": opts}
+    manifest = _common.Manifest(staging, "rain-video", params)
+    out_name = os.path.basename(output)
+    final = manifest.records.get(out_name)
+    if final and final.get("crf") == a.crf and _common.file_stamp(output) and \
+            _common.file_stamp(output)["size"] == final.get("size"):
+        manifest.close()
+        if not a.quiet:
+            print(f"batch rain: {output} is done (hydrolux-manifest.jsonl in {staging})", file=sys.stderr)
+        return 0
+    try:
+        return _video_job(a, after_result, info, field, expected, staging, manifest, video, output, out_name, opts)
+    finally:
+        manifest.close()
+
+
+def _video_job(a, after_result, info, field, expected, staging, manifest, video, output, out_name, opts) -> int:
+    import numpy as np
+
+    from hydrolux import _video
+
+    client = cluster = None
+    failed: List[str] = []
+    chunk = a.chunk_frames or 8
+    starts = list(range(0, max(1, expected), chunk))
+    chunk_names = [f"chunk_{s:09d}.rgb" for s in starts]
+    try:
+        def done_chunk(i):
+            rec = manifest.records.get(chunk_names[i])
+            st = _common.file_stamp(os.path.join(staging, chunk_names[i]))
+            return bool(rec) and st is not None and st["size"] == rec["size"]
+
+        client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
+        cores = os.cpu_count() or 1
+        job = {"video": video, "staging": staging, "width": info["width"], "height": info["height"],
+               "options": opts, "frame_index": a.frame_index,
+               "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker))}
+        tasks = [(job, s, chunk if i + 1 < len(starts) else -1) for i, s in enumerate(starts) if not done_chunk(i)]
+        progress = _common.Progress("batch rain", len(tasks), "frames", a.quiet)
+        if not a.quiet:
+            link = _common.dashboard_link(client)
+            where = a.scheduler or f"a local cluster of {a.workers} worker(s)"
+            print(f"batch rain: {video}: {expected} frames at {info['fps']:g}/s in {len(starts)} chunks of {chunk} "
+                  f"({len(starts) - len(tasks)} done before) on {where}; {field['drops']} drops in the field"
+                  + (f"; dashboard {link}" if link else ""), file=sys.stderr)
+
+        def on_result(rec):
+            if isinstance(rec, Exception):
+                failed.append(f"a chunk failed: {rec}")
+                progress.message(f"batch rain: {failed[-1]}")
+            else:
+                manifest.add(rec)
+
+        _common.run_tasks(client, tasks, render_video_chunk, on_result, progress,
+                          lambda r: 0 if isinstance(r, Exception) else r["frames"], after_result)
+        progress.finish()
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+        _common.remove_stale_temporaries(staging, chunk_names)
+    if failed:
+        return 1
+    # Every chunk in order through the CLI's encoder: the same frames give the same bytes.
+    if not a.quiet:
+        print(f"batch rain: encoding {output}", file=sys.stderr)
+    frame_bytes = info["width"] * info["height"] * 3
+    writer = _video.VideoWriter(output, info, a.crf, "-o")
+    frames = 0
+    for name in chunk_names:
+        with open(os.path.join(staging, name), "rb") as f:
+            data = f.read()
+        for k in range(len(data) // frame_bytes):
+            writer.write(np.frombuffer(data, np.uint8, frame_bytes, k * frame_bytes).reshape(
+                info["height"], info["width"], 3))
+            frames += 1
+    writer.finish()
+    manifest.add({"output": out_name, "size": os.path.getsize(output), "crf": a.crf, "frames": frames})
+    for name in chunk_names:
+        try:
+            os.unlink(os.path.join(staging, name))
+        except FileNotFoundError:
+            pass
+    if not a.quiet:
+        print(f"batch rain: wrote {output} ({frames} frames)", file=sys.stderr)
+    return 0
