@@ -21,7 +21,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_af
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           $(if $(wildcard /usr/bin/llvm-symbolizer),ASAN_SYMBOLIZER_PATH=/usr/bin/llvm-symbolizer)
 
-.PHONY: all build deps configure web demo test bench clean sanitize-build fuzz-build fuzz-smoke test-sanitize fuzz
+.PHONY: all build deps configure web demo test bench clean install-python sanitize-build fuzz-build fuzz-smoke test-sanitize fuzz
 
 all: build
 
@@ -91,6 +91,11 @@ fuzz: deps
 	       > $(SAN_DIR)/fuzz-runs/$$n.log 2>&1; then tail -n 4 $(SAN_DIR)/fuzz-runs/$$n.log; \
 	  else tail -n 40 $(SAN_DIR)/fuzz-runs/$$n.log; echo "$$n: FINDING (see $(SAN_DIR)/fuzz-runs/$$n)"; exit 1; fi; \
 	done
+
+# The Python package into a virtual environment (made with /usr/bin/python3 -m venv --system-site-packages).
+install-python: build
+	@test -n "$(VENV)" || { echo "make install-python VENV=path/to/venv" >&2; exit 2; }
+	BUILD_DIR=$(abspath $(BUILD_DIR)) scripts/install-python $(VENV)
 
 bench: deps
 	@$(MAKE) --no-print-directory build
