@@ -342,8 +342,13 @@ void mie_amplitudes(const MieCoefficients& c, std::span<const double> mu, std::s
   };
   const int max_threads = tbb::this_task_arena::max_concurrency();
   const int use = threads <= 0 ? max_threads : std::min(threads, max_threads);
-  if (use == 1 || blocks == 1) {
+  // Below ~2e5 term x angle products (~0.1 ms on one core) waking threads costs more than it saves:
+  // the default 181 angles at x = 1 took 60 us on two threads, 13 us on one (BENCHMARKS.md).
+  const bool small = double(n_terms) * double(padded) < 2e5;
+  if (use == 1 || blocks == 1 || small) {
     run(tbb::blocked_range<std::size_t>(0, blocks));
+  } else if (use == max_threads) {  // the caller's arena as it is: no arena to set up per call
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), run);
   } else {
     tbb::task_arena arena(use);
     arena.execute([&] { tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), run); });

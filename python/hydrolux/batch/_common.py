@@ -45,8 +45,15 @@ def open_client(scheduler: Optional[str], workers: int, threads_per_worker: int,
         return client, None
     # The scheduler's HTTP server (metrics; the dashboard too where bokeh is installed, which Debian 12
     # does not package) on a free port of 127.0.0.1, never a fixed one two runs would compete for.
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=threads_per_worker, processes=True,
-                           host="127.0.0.1", dashboard_address="127.0.0.1:0")
+    # Dask starts its workers with MALLOC_TRIM_THRESHOLD_ set, which turns off glibc's dynamic mmap
+    # threshold: every buffer over 128 KiB (a frame, its PNG) is then mmap'd and page-faulted anew,
+    # which made decoding and rendering 1.3-2x slower in a worker than in the CLI (BENCHMARKS.md).
+    # Buffers up to 64 MiB (a 1080p float frame is 25 MB) come from the heap again.
+    import dask
+
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_MMAP_THRESHOLD_": 64 << 20}):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=threads_per_worker, processes=True,
+                               host="127.0.0.1", dashboard_address="127.0.0.1:0")
     return Client(cluster), cluster
 
 
