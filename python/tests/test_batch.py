@@ -226,3 +226,45 @@ def test_video_in_chunks_is_the_cli_video_and_resumes(cli, tmp_path):
     # And once more: nothing to do.
     done.clear()
     assert batch_rain.run(args(), after_result=lambda n, c: done.append(n)) == 0 and done == []
+
+
+def test_an_existing_cluster_through_scheduler(frames, cli_out, tmp_path):
+    import time
+    sched_file = tmp_path / "scheduler.json"
+    env = dict(os.environ)
+    procs = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port",
+                               "0", "--no-dashboard", "--scheduler-file", str(sched_file)],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)]
+    try:
+        for _ in range(600):  # until the scheduler has written its address (a guard, not a time limit)
+            if sched_file.exists() and sched_file.stat().st_size > 0:
+                break
+            time.sleep(0.05)
+        address = json.loads(sched_file.read_text())["address"]
+        procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nworkers", "2",
+                                       "--nthreads", "1", "--no-dashboard"],
+                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env))
+        from distributed import Client
+        with Client(address) as c:
+            c.wait_for_workers(2)
+        out = tmp_path / "rainy"
+        assert main(["rain", "--scheduler", address, "--input-dir", str(frames), "--output-dir", str(out),
+                     "--seed", "4", "--rate-mmh", "25", "--wind-mps", "2", "--frame-index", "10", "-q"]) == 0
+        names = sorted(os.listdir(cli_out / "rainy"))
+        assert_same_bytes(cli_out / "rainy", out, names)
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+            p.wait()
+
+
+def test_an_unreachable_scheduler_is_a_usage_error_and_writes_nothing(frames, tmp_path, capfd):
+    import socket
+    with socket.socket() as s:  # a port nobody listens on
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    out = tmp_path / "rainy"
+    assert main(["rain", "--scheduler", f"tcp://127.0.0.1:{port}", "--input-dir", str(frames), "--output-dir",
+                 str(out), "-q"]) == 2
+    assert "cannot connect" in capfd.readouterr().err
+    assert not out.exists()

@@ -39,7 +39,7 @@ def open_client(scheduler: Optional[str], workers: int, threads_per_worker: int,
 
     if scheduler:
         try:
-            client = Client(scheduler, timeout="20s")
+            client = Client(scheduler, timeout="10s")
         except OSError as e:
             raise UsageError(f"--scheduler {scheduler}: cannot connect: {e}") from None
         return client, None
@@ -55,6 +55,15 @@ def open_client(scheduler: Optional[str], workers: int, threads_per_worker: int,
         cluster = LocalCluster(n_workers=workers, threads_per_worker=threads_per_worker, processes=True,
                                host="127.0.0.1", dashboard_address="127.0.0.1:0")
     return Client(cluster), cluster
+
+
+def close_client(client, cluster) -> None:
+    """Closes the client, then the local cluster (its workers stop before this returns)."""
+    try:
+        client.close()
+    finally:
+        if cluster is not None:
+            cluster.close()
 
 
 def dashboard_link(client) -> Optional[str]:

@@ -149,13 +149,14 @@ def run(a: argparse.Namespace, after_result=None) -> int:
     out_dir = os.path.abspath(a.output_dir)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise UsageError(f"--output-dir {out_dir}: exists and is not a folder")
-    os.makedirs(out_dir, exist_ok=True)
-    manifest = _common.Manifest(out_dir, "lee-atlas", {})
-    client = cluster = None
+    # The cluster first: an unreachable scheduler leaves no output folder behind.
+    client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
+    manifest = None
     failed: List[str] = []
     try:
+        os.makedirs(out_dir, exist_ok=True)
+        manifest = _common.Manifest(out_dir, "lee-atlas", {})
         todo = [t for t in tables if not _is_done(manifest.records.get(t["name"]), out_dir, t["name"], t["args"])]
-        client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
         cores = os.cpu_count() or 1
         threads = a.threads_per_table or (0 if a.scheduler else max(1, cores // max(1, a.workers)))
         progress = _common.Progress("batch lee-atlas", len(todo), "tables", a.quiet)
@@ -179,12 +180,10 @@ def run(a: argparse.Namespace, after_result=None) -> int:
                           progress, lambda r: 0 if isinstance(r, Exception) or "error" in r else 1, after_result)
         progress.finish()
     finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-        _common.remove_stale_temporaries(out_dir, [t["name"] + e for t in tables for e in (".exr", ".png", ".json")])
-        manifest.close()
+        _common.close_client(client, cluster)
+        if manifest is not None:
+            _common.remove_stale_temporaries(out_dir, [t["name"] + e for t in tables for e in (".exr", ".png", ".json")])
+            manifest.close()
     if not a.quiet:
         print(f"batch lee-atlas: {len(tables) - len(failed)} of {len(tables)} tables in {out_dir}"
               + (f"; {len(failed)} failed: {', '.join(failed[:5])}" if failed else ""), file=sys.stderr)

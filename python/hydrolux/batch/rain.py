@@ -226,16 +226,17 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
         field = hydrolux.RainRenderer(size[0], size[1], True, **opts).field_info()
     except ValueError as e:
         raise _flag_error(e) from None
-    for d in (out_dir, mask_dir):
-        if d:
-            os.makedirs(d, exist_ok=True)
-
-    params = {"input_dir": in_dir, "mask_dir": mask_dir, "frame_index": a.frame_index, "options": opts,
-              "size": list(size)}
-    manifest = _common.Manifest(out_dir, "rain", params)
-    client = cluster = None
+    # The cluster first: an unreachable scheduler leaves no output folder behind.
+    client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
+    manifest = None
     failed: List[str] = []
     try:
+        for d in (out_dir, mask_dir):
+            if d:
+                os.makedirs(d, exist_ok=True)
+        params = {"input_dir": in_dir, "mask_dir": mask_dir, "frame_index": a.frame_index, "options": opts,
+                  "size": list(size)}
+        manifest = _common.Manifest(out_dir, "rain", params)
         if manifest.restarted and not a.quiet:
             print(f"batch rain: {out_dir} holds a run with other parameters; every frame is redone",
                   file=sys.stderr)
@@ -245,7 +246,6 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
                             os.path.join(mask_dir, name) if mask_dir else None):
                 todo.append((src, name, a.frame_index + k))
         skipped = len(frames) - len(todo)
-        client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
         workers = max(1, len(client.scheduler_info().get("workers", {})) or a.workers)
         chunk = a.chunk_frames or max(1, min(32, math.ceil(len(todo) / (4 * workers))))
         tasks = [todo[i:i + chunk] for i in range(0, len(todo), chunk)]
@@ -277,14 +277,12 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
                           lambda r: 0 if isinstance(r, Exception) else len(r), after_result)
         progress.finish()
     finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-        for d in (out_dir, mask_dir):
-            if d:
-                _common.remove_stale_temporaries(d, names)
-        manifest.close()
+        _common.close_client(client, cluster)
+        if manifest is not None:
+            for d in (out_dir, mask_dir):
+                if d:
+                    _common.remove_stale_temporaries(d, names)
+            manifest.close()
     if not a.quiet:
         print(f"batch rain: {len(frames) - len(failed)} of {len(frames)} frames in {out_dir}"
               + (f"; {len(failed)} failed: {', '.join(failed[:5])}{' ...' if len(failed) > 5 else ''}"
@@ -362,71 +360,72 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
     if expected <= 0:  # the container says nothing: count them
         expected = _video.VideoReader(video, "--video").skip(1 << 40)
     staging = os.path.join(out_dir, f".{os.path.basename(output)}.chunks")
-    os.makedirs(staging, exist_ok=True)
     stamp = _common.file_stamp(video)
     params = {"video": video, "input_size": stamp["size"], "input_mtime_ns": stamp["mtime_ns"],
               "frame_index": a.frame_index, "options": opts}
-    manifest = _common.Manifest(staging, "rain-video", params)
-    out_name = os.path.basename(output)
-    final = manifest.records.get(out_name)
-    if final and final.get("crf") == a.crf and _common.file_stamp(output) and \
-            _common.file_stamp(output)["size"] == final.get("size"):
-        manifest.close()
-        if not a.quiet:
-            print(f"batch rain: {output} is done (hydrolux-manifest.jsonl in {staging})", file=sys.stderr)
-        return 0
+    # The cluster first: an unreachable scheduler leaves no staging folder behind.
+    client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
+    manifest = None
+    chunk_names: List[str] = []
     try:
-        return _video_job(a, after_result, info, field, expected, staging, manifest, video, output, out_name, opts)
+        os.makedirs(staging, exist_ok=True)
+        manifest = _common.Manifest(staging, "rain-video", params)
+        out_name = os.path.basename(output)
+        final = manifest.records.get(out_name)
+        if final and final.get("crf") == a.crf and _common.file_stamp(output) and \
+                _common.file_stamp(output)["size"] == final.get("size"):
+            if not a.quiet:
+                print(f"batch rain: {output} is done (hydrolux-manifest.jsonl in {staging})", file=sys.stderr)
+            return 0
+        return _video_job(a, after_result, client, info, field, expected, staging, manifest, video, output,
+                          out_name, opts, chunk_names)
     finally:
-        manifest.close()
+        _common.close_client(client, cluster)
+        if manifest is not None:
+            _common.remove_stale_temporaries(staging, chunk_names)
+            manifest.close()
 
 
-def _video_job(a, after_result, info, field, expected, staging, manifest, video, output, out_name, opts) -> int:
+def _video_job(a, after_result, client, info, field, expected, staging, manifest, video, output, out_name, opts,
+               chunk_names) -> int:
+    """Renders the chunks not done yet on the cluster, then encodes them all in order."""
     import numpy as np
 
     from hydrolux import _video
 
-    client = cluster = None
     failed: List[str] = []
     chunk = a.chunk_frames or 8
     starts = list(range(0, max(1, expected), chunk))
-    chunk_names = [f"chunk_{s:09d}.rgb" for s in starts]
-    try:
-        def done_chunk(i):
-            rec = manifest.records.get(chunk_names[i])
-            st = _common.file_stamp(os.path.join(staging, chunk_names[i]))
-            return bool(rec) and st is not None and st["size"] == rec["size"]
+    chunk_names.extend(f"chunk_{s:09d}.rgb" for s in starts)
 
-        client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
-        cores = os.cpu_count() or 1
-        job = {"video": video, "staging": staging, "width": info["width"], "height": info["height"],
-               "options": opts, "frame_index": a.frame_index,
-               "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker))}
-        tasks = [(job, s, chunk if i + 1 < len(starts) else -1) for i, s in enumerate(starts) if not done_chunk(i)]
-        progress = _common.Progress("batch rain", len(tasks), "frames", a.quiet)
-        if not a.quiet:
-            link = _common.dashboard_link(client)
-            where = a.scheduler or f"a local cluster of {a.workers} worker(s)"
-            print(f"batch rain: {video}: {expected} frames at {info['fps']:g}/s in {len(starts)} chunks of {chunk} "
-                  f"({len(starts) - len(tasks)} done before) on {where}; {field['drops']} drops in the field"
-                  + (f"; dashboard {link}" if link else ""), file=sys.stderr)
+    def done_chunk(i):
+        rec = manifest.records.get(chunk_names[i])
+        st = _common.file_stamp(os.path.join(staging, chunk_names[i]))
+        return bool(rec) and st is not None and st["size"] == rec["size"]
 
-        def on_result(rec):
-            if isinstance(rec, Exception):
-                failed.append(f"a chunk failed: {rec}")
-                progress.message(f"batch rain: {failed[-1]}")
-            else:
-                manifest.add(rec)
+    cores = os.cpu_count() or 1
+    job = {"video": video, "staging": staging, "width": info["width"], "height": info["height"],
+           "options": opts, "frame_index": a.frame_index,
+           "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker))}
+    tasks = [(job, s, chunk if i + 1 < len(starts) else -1) for i, s in enumerate(starts) if not done_chunk(i)]
+    progress = _common.Progress("batch rain", len(tasks), "frames", a.quiet)
+    if not a.quiet:
+        link = _common.dashboard_link(client)
+        where = a.scheduler or f"a local cluster of {a.workers} worker(s)"
+        print(f"batch rain: {video}: {expected} frames at {info['fps']:g}/s in {len(starts)} chunks of {chunk} "
+              f"({len(starts) - len(tasks)} done before) on {where}; {field['drops']} drops in the field"
+              + (f"; dashboard {link}" if link else ""), file=sys.stderr)
 
-        _common.run_tasks(client, tasks, render_video_chunk, on_result, progress,
-                          lambda r: 0 if isinstance(r, Exception) else r["frames"], after_result)
-        progress.finish()
-    finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-        _common.remove_stale_temporaries(staging, chunk_names)
+    def on_result(rec):
+        if isinstance(rec, Exception):
+            failed.append(f"a chunk failed: {rec}")
+            progress.message(f"batch rain: {failed[-1]}")
+        else:
+            manifest.add(rec)
+
+    _common.run_tasks(client, tasks, render_video_chunk, on_result, progress,
+                      lambda r: 0 if isinstance(r, Exception) else r["frames"], after_result)
+    progress.finish()
     if failed:
         return 1
     # Every chunk in order through the CLI's encoder: the same frames give the same bytes.
