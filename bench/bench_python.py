@@ -85,7 +85,8 @@ def main():
 
             from hydrolux.batch import rain as br
             t0 = time.perf_counter()
-            ns = argparse.Namespace(input_dir=frames, output_dir=out, mask_dir=None, frame_index=0,
+            ns = argparse.Namespace(input_dir=frames, output_dir=out, mask_dir=None, depth_dir=None,
+                                    depth_scale_m=0.001, frame_index=0,
                                     no_unresolved=False, chunk_frames=4, workers=workers, threads_per_worker=1,
                                     scheduler=None, quiet=True, video=None, output=None, crf=18)
             for _, name, _, default, _ in br.OPTIONS:

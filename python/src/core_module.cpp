@@ -147,7 +147,6 @@ void check_mie_args(std::complex<double> m, const double* x, py::ssize_t n) {
   for (py::ssize_t i = 0; i < n; ++i)
     require_arg("x", x[i], scatter::kMieMinSizeParameter, scatter::kMieMaxSizeParameter);
   // m's domain by the library's own check (named m_real / m_imag), once, before any work.
-  if (n > 0) (void)scatter::mie_terms(x[0]);
   scatter::MieCoefficients probe;
   try {
     scatter::mie_coefficients(m, 1.0, probe, 1);

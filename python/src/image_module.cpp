@@ -52,6 +52,20 @@ py::tuple read_image(const std::string& path) {
   return py::make_tuple(to_array(d.image), short_name(d.format), d.warnings);
 }
 
+// A depth map for a width x height frame (io::depth_from_decoded), as hydrolux rain reads --depth.
+py::array_t<float> read_depth(const std::string& path, double scale_m, int width, int height, const std::string& label) {
+  require_arg("depth_scale_m", scale_m, 1e-6, 1e3, "m");
+  Image depth;
+  {
+    py::gil_scoped_release release;
+    const std::string bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, label);
+    const std::string origin = fmt::format("{} {}", label, path);
+    if (io::sniff_image_format(bytes) == io::ImageFormat::jpeg) throw Error(origin + io::kJpegDepthRefusal);
+    depth = io::depth_from_decoded(io::decode_image(bytes, origin), scale_m, width, height, origin);
+  }
+  return to_array(depth);
+}
+
 py::bytes encode(const py::array& image, const std::string& format, int bits, bool coverage) {
   if (bits != 8 && bits != 16) throw Error(fmt::format("bits = {}: PNG takes 8 or 16", bits));
   const io::ImageFormat f = format_arg(format);
@@ -83,6 +97,8 @@ PYBIND11_MODULE(_image, m) {
   m.doc() = "hydrolux's image files (use hydrolux.read_image / write_image)";
   m.def("decode", &decode, py::arg("data"), py::arg("origin"));
   m.def("read", &read_image, py::arg("path"));
+  m.def("read_depth", &read_depth, py::arg("path"), py::arg("scale_m"), py::arg("width"), py::arg("height"),
+        py::arg("label"));
   m.def("encode", &encode, py::arg("image"), py::arg("format"), py::arg("bits"), py::arg("coverage"));
   m.def("write", &write_image, py::arg("path"), py::arg("image"), py::arg("bits"));
 }

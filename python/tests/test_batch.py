@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import hydrolux as h
@@ -38,7 +39,8 @@ def cli_out(frames, tmp_path_factory, cli):
 
 
 def batch_args(frames, out, **kw):
-    a = argparse.Namespace(input_dir=str(frames), output_dir=str(out), mask_dir=None, frame_index=10,
+    a = argparse.Namespace(input_dir=str(frames), output_dir=str(out), mask_dir=None, depth_dir=None,
+                           depth_scale_m=0.001, video=None, output=None, crf=18, frame_index=10,
                            no_unresolved=False, chunk_frames=3, workers=2, threads_per_worker=1, scheduler=None,
                            quiet=True)
     for _, name, _, default, _ in batch_rain.OPTIONS:
@@ -205,7 +207,7 @@ def test_video_in_chunks_is_the_cli_video_and_resumes(cli, tmp_path):
     def args():
         a = batch_args(None, None, chunk_frames=5, frame_index=7, wind_mps=3.0)
         a.input_dir = a.output_dir = None
-        a.video, a.output, a.crf = str(src), str(out), 18
+        a.video, a.output = str(src), str(out)
         return a
 
     # Interrupted after two chunks (a crash of the client): nothing is in place yet.
@@ -268,3 +270,30 @@ def test_an_unreachable_scheduler_is_a_usage_error_and_writes_nothing(frames, tm
                  str(out), "-q"]) == 2
     assert "cannot connect" in capfd.readouterr().err
     assert not out.exists()
+
+
+def test_depth_maps_give_the_cli_bytes_and_are_tracked(frames, cli, cli_out, tmp_path):
+    # A wall 3 m away over the left half (EXR metres), open sky elsewhere; PNG codes for the others.
+    depth = tmp_path / "depth"
+    depth.mkdir()
+    w, hh = SIZE
+    for k in range(FRAMES):
+        z = np.full((hh, w, 1), np.inf, np.float32)
+        z[:, : w // 2] = 3.0 + 0.1 * k
+        if k % 2:
+            h.write_image(str(depth / f"f_{k:03d}.exr"), z)
+        else:  # a 16-bit PNG (code 0: no geometry); what its codes mean is the same for both readers
+            h.write_image(str(depth / f"f_{k:03d}.png"), np.where(np.isfinite(z), z / 100, 0), bits=16)
+    cli("rain", "--input-dir", frames, "--output-dir", tmp_path / "cli", "--depth-dir", depth, "--seed", 4,
+        "--rate-mmh", 25, "--wind-mps", 2, "--frame-index", 10, "-q")
+    out = tmp_path / "rainy"
+    assert batch_rain.run(batch_args(frames, out, depth_dir=str(depth))) == 0
+    names = sorted(os.listdir(tmp_path / "cli"))
+    assert_same_bytes(tmp_path / "cli", out, names)
+    assert (out / names[0]).read_bytes() != (cli_out / "rainy" / names[0]).read_bytes()  # the wall hides rain
+    # A changed depth map redoes its frame alone.
+    z = h.read_image(str(depth / "f_003.exr"))
+    h.write_image(str(depth / "f_003.exr"), z * 0.5)
+    done = []
+    assert batch_rain.run(batch_args(frames, out, depth_dir=str(depth)), after_result=lambda n, c: done.append(n)) == 0
+    assert len(done) == 1

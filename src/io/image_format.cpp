@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <iterator>
+#include <limits>
 
 #include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
@@ -600,6 +602,32 @@ Image coverage_for_encoding(const Image& alpha, ImageFormat format) {
   }
   for (float& v : a.pixels) v = float(color::srgb_decode(double(std::clamp(v, 0.f, 1.f))));
   return a;
+}
+
+Image depth_from_decoded(const DecodedImage& decoded, double scale_m, int width, int height, std::string_view origin) {
+  if (decoded.format == ImageFormat::jpeg) throw Error(std::string(origin) + kJpegDepthRefusal);
+  const Image& src = decoded.image;
+  const bool coded =
+      decoded.format == ImageFormat::png || decoded.format == ImageFormat::tiff || decoded.format == ImageFormat::pnm;
+  if (std::abs(double(src.width) * height - double(src.height) * width) > double(std::max(width, height)))
+    throw Error(fmt::format("{}: {}x{} has not the frame's aspect ({}x{})", origin, src.width, src.height, width,
+                            height));
+  const double max_code = 65535;
+  Image depth(width, height, 1);
+  for (int y = 0; y < height; ++y) {
+    const int sy = std::min(src.height - 1, int(std::int64_t(y) * src.height / height));
+    for (int x = 0; x < width; ++x) {
+      const int sx = std::min(src.width - 1, int(std::int64_t(x) * src.width / width));
+      const float v = src.at(sx, sy, 0);
+      double z = v;
+      if (coded) {
+        z = std::round(color::srgb_encode(double(v)) * max_code) * scale_m;
+        if (z <= 0) z = std::numeric_limits<double>::infinity();  // code 0: no geometry
+      }
+      depth.at(x, y, 0) = float(z);
+    }
+  }
+  return depth;
 }
 
 }  // namespace hydrolux::io

@@ -56,41 +56,15 @@ bool is_frame_file(const fs::path& p) {
          e == ".ppm" || e == ".pfm";
 }
 
-// A depth map as camera z in metres: an EXR (or other linear format) holds metres in its first
-// channel; a PNG holds code values times `scale_m`. The decoder hands 8/16-bit files over linearised
-// through the sRGB curve; encoding back recovers the codes exactly (the curve round-trips to well
-// under half a code).
+// A depth map (io::depth_from_decoded), the JPEG refused before it is decoded.
 Image read_depth(const std::string& flag, const std::string& path, double scale_m, int width, int height) {
   const ImageApi& images = image_api();
   const std::string bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, flag);
-  if (io::sniff_image_format(bytes) == io::ImageFormat::jpeg)  // refused before decoding it
-    throw Error(fmt::format("{} {}: a JPEG cannot hold depth faithfully; give a 16-bit PNG or an EXR", flag, path));
-  auto decoded = images.decode_image(bytes, fmt::format("{} {}", flag, path), io::ImageLimits{});
-  for (const auto& w : decoded.warnings) warn(fmt::format("{} {}: {}", flag, path, w));
-  const Image& src = decoded.image;
-  const bool coded = decoded.format == io::ImageFormat::png || decoded.format == io::ImageFormat::tiff ||
-                     decoded.format == io::ImageFormat::pnm;
-  // The depth map may have another resolution than the frame, with the same aspect (nearest sample).
-  if (std::abs(double(src.width) * height - double(src.height) * width) > double(std::max(width, height)))
-    throw Error(fmt::format("{} {}: {}x{} has not the frame's aspect ({}x{})", flag, path, src.width, src.height,
-                            width, height));
-  const double max_code = 65535;
-  Image depth(width, height, 1);
-  for (int y = 0; y < height; ++y) {
-    const int sy = std::min(src.height - 1, int(std::int64_t(y) * src.height / height));
-    for (int x = 0; x < width; ++x) {
-      const int sx = std::min(src.width - 1, int(std::int64_t(x) * src.width / width));
-      const float v = src.at(sx, sy, 0);
-      double z = v;
-      if (coded) {
-        // 16-bit codes (an 8-bit file's codes come back as multiples of 257).
-        z = std::round(color::srgb_encode(double(v)) * max_code) * scale_m;
-        if (z <= 0) z = std::numeric_limits<double>::infinity();  // code 0: no geometry
-      }
-      depth.at(x, y, 0) = float(z);
-    }
-  }
-  return depth;
+  const std::string origin = fmt::format("{} {}", flag, path);
+  if (io::sniff_image_format(bytes) == io::ImageFormat::jpeg) throw Error(origin + io::kJpegDepthRefusal);
+  auto decoded = images.decode_image(bytes, origin, io::ImageLimits{});
+  for (const auto& w : decoded.warnings) warn(fmt::format("{}: {}", origin, w));
+  return io::depth_from_decoded(decoded, scale_m, width, height, origin);
 }
 
 nlohmann::json stats_json(const rain::RainStats& s) {

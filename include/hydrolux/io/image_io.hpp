@@ -110,6 +110,15 @@ std::string jpeg_without_metadata(std::string_view bytes);
 // value is handed over through its inverse). Encode the result with PngOptions{16} for PNG.
 Image coverage_for_encoding(const Image& alpha, ImageFormat format);
 
+// A depth map as camera z in metres for a width x height frame (hydrolux rain --depth, the Python
+// batch's --depth-dir): an EXR (or another linear format) holds metres in its first channel; a PNG,
+// TIFF or PNM holds 16-bit codes times `scale_m` (the decoder hands them over through the sRGB
+// curve, which round-trips to well under half a code; an 8-bit file's codes are multiples of 257),
+// code 0 meaning no geometry (infinity). Another resolution with the frame's aspect is sampled at the
+// nearest pixel. Error naming `origin` for another aspect or a JPEG (lossy codes are not depths).
+Image depth_from_decoded(const DecodedImage& decoded, double scale_m, int width, int height, std::string_view origin);
+inline constexpr const char* kJpegDepthRefusal = ": a JPEG cannot hold depth faithfully; give a 16-bit PNG or an EXR";
+
 // Encodes to PNG or EXR bytes (IoError for other formats or an inconsistent image).
 std::string encode_image(const Image& image, ImageFormat format, PngOptions png = {});
 

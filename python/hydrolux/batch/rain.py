@@ -64,6 +64,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", help="Output video with --video (.mp4, .mov or .mkv), H.264")
     p.add_argument("--crf", type=int, default=18, help="H.264 quality of the output video (0 lossless .. 51) [18]")
     p.add_argument("--mask-dir", help="Folder for the rain's coverage masks (same names as the frames)")
+    p.add_argument("--depth-dir", help="Depth maps for --input-dir: each frame's stem as .exr (metres) or .png "
+                                       "(16-bit codes x --depth-scale-m); without, a ground plane")
+    p.add_argument("--depth-scale-m", type=float, default=0.001, help="Metres per code of a PNG depth map [0.001]")
     for flag, name, typ, default, text in OPTIONS:
         p.add_argument(flag, dest=name, type=typ, default=default,
                        help=text + (f" [{default:g}]" if isinstance(default, (int, float)) else ""))
@@ -118,6 +121,21 @@ def output_names(input_dir: str, frames: List[str]) -> List[str]:
     return out
 
 
+def depth_maps(depth_dir: str, frames: List[str]) -> List[str]:
+    """Each frame's depth map in depth_dir, its stem as .exr or .png, found before any work (the CLI's
+    rule)."""
+    if not os.path.isdir(depth_dir):
+        raise UsageError(f"--depth-dir {depth_dir}: not a folder")
+    out = []
+    for f in frames:
+        stem = os.path.splitext(f)[0]
+        found = next((stem + e for e in (".exr", ".png") if os.path.isfile(os.path.join(depth_dir, stem + e))), None)
+        if found is None:
+            raise UsageError(f"--depth-dir {depth_dir}: no depth map for {f} ({stem}.exr or {stem}.png)")
+        out.append(found)
+    return out
+
+
 # ---- on the workers -------------------------------------------------------------------------------
 
 _RENDERERS: Dict[str, Any] = {}
@@ -133,13 +151,14 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
 
     if job["threads"]:
         hydrolux.set_threads(job["threads"])
-    key = json.dumps([job["options"], job["width"], job["height"]], sort_keys=True)
+    ground = not job["depth_dir"]
+    key = json.dumps([job["options"], job["width"], job["height"], ground], sort_keys=True)
     renderer = _RENDERERS.get(key)
     if renderer is None:  # one field per worker process for the whole job
         _RENDERERS.clear()
-        renderer = _RENDERERS[key] = hydrolux.RainRenderer(job["width"], job["height"], True, **job["options"])
+        renderer = _RENDERERS[key] = hydrolux.RainRenderer(job["width"], job["height"], ground, **job["options"])
     records = []
-    for src, name, index in frames:
+    for src, name, index, depth_name in frames:
         rec: Dict[str, Any] = {"output": name, "input": src, "frame_index": index}
         try:
             path = os.path.join(job["input_dir"], src)
@@ -149,7 +168,12 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
             if (w, h) != (job["width"], job["height"]):
                 raise ValueError(f"is {w}x{h}, unlike the first frame ({job['width']}x{job['height']}); "
                                  "one sequence has one size")
-            result = renderer.render(image, None, index)
+            depth = depth_stamp = None
+            if depth_name:
+                depth_stamp = _common.file_stamp(os.path.join(job["depth_dir"], depth_name))
+                depth = _image.read_depth(os.path.join(job["depth_dir"], depth_name), job["depth_scale_m"], w, h,
+                                          "--depth-dir")[:, :, 0]
+            result = renderer.render(image, depth, index)
             fmt = "exr" if name.endswith(".exr") else "png"
             if job["mask_dir"]:
                 _core.write_file(os.path.join(job["mask_dir"], name), _image.encode(result.mask, fmt, 16, True),
@@ -158,6 +182,8 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
             _core.write_file(os.path.join(job["output_dir"], name), data, "--output-dir")
             rec.update(input_size=stamp["size"], input_mtime_ns=stamp["mtime_ns"], output_size=len(data),
                        stats=result.stats)
+            if depth_name:
+                rec["depth"] = depth_stamp
         except Exception as e:  # reported by name; the chunk's other frames go on
             rec["error"] = str(e)
         records.append(rec)
@@ -166,8 +192,11 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
 
 # ---- on the client --------------------------------------------------------------------------------
 
-def _is_done(rec: Optional[dict], input_path: str, output_path: str, mask_path: Optional[str]) -> bool:
+def _is_done(rec: Optional[dict], input_path: str, output_path: str, mask_path: Optional[str],
+             depth_path: Optional[str]) -> bool:
     if not rec or "error" in rec:
+        return False
+    if depth_path and rec.get("depth") != _common.file_stamp(depth_path):
         return False
     stamp = _common.file_stamp(input_path)
     out = _common.file_stamp(output_path)
@@ -202,12 +231,18 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
     mask_dir = os.path.abspath(a.mask_dir) if a.mask_dir else None
     frames = list_frames(in_dir)
     names = output_names(in_dir, frames)
+    depth_dir = os.path.abspath(a.depth_dir) if a.depth_dir else None
+    depths = depth_maps(depth_dir, frames) if depth_dir else [None] * len(frames)
+    if not 1e-6 <= a.depth_scale_m <= 1e3:
+        raise UsageError(f"--depth-scale-m {a.depth_scale_m:g}: outside [1e-06, 1000] m")
     for flag, d in (("--output-dir", out_dir), ("--mask-dir", mask_dir)):
         if d and os.path.exists(d):
             if not os.path.isdir(d):
                 raise UsageError(f"{flag} {d}: exists and is not a folder")
             if os.path.samefile(d, in_dir):
                 raise UsageError(f"{flag} {d}: is the input folder; the frames would replace their inputs")
+            if depth_dir and os.path.samefile(d, depth_dir):
+                raise UsageError(f"{flag} {d}: is --depth-dir; the outputs could replace depth maps")
     if mask_dir and os.path.exists(mask_dir) and os.path.exists(out_dir) and os.path.samefile(mask_dir, out_dir):
         raise UsageError(f"--mask-dir {mask_dir}: is --output-dir; masks and frames share names")
     # The sequence's size from its first readable frame (an unreadable one is reported with the rest).
@@ -223,7 +258,7 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
         raise UsageError(f"--input-dir {in_dir}: no frame could be read")
     # Every option checked, and the field's size, before any task starts.
     try:
-        field = hydrolux.RainRenderer(size[0], size[1], True, **opts).field_info()
+        field = hydrolux.RainRenderer(size[0], size[1], depth_dir is None, **opts).field_info()
     except ValueError as e:
         raise _flag_error(e) from None
     # The cluster first: an unreachable scheduler leaves no output folder behind.
@@ -235,7 +270,7 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
             if d:
                 os.makedirs(d, exist_ok=True)
         params = {"input_dir": in_dir, "mask_dir": mask_dir, "frame_index": a.frame_index, "options": opts,
-                  "size": list(size)}
+                  "size": list(size), "depth_dir": depth_dir, "depth_scale_m": a.depth_scale_m if depth_dir else None}
         manifest = _common.Manifest(out_dir, "rain", params)
         if manifest.restarted and not a.quiet:
             print(f"batch rain: {out_dir} holds a run with other parameters; every frame is redone",
@@ -243,15 +278,16 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
         todo = []
         for k, (src, name) in enumerate(zip(frames, names)):
             if not _is_done(manifest.records.get(name), os.path.join(in_dir, src), os.path.join(out_dir, name),
-                            os.path.join(mask_dir, name) if mask_dir else None):
-                todo.append((src, name, a.frame_index + k))
+                            os.path.join(mask_dir, name) if mask_dir else None,
+                            os.path.join(depth_dir, depths[k]) if depth_dir else None):
+                todo.append((src, name, a.frame_index + k, depths[k]))
         skipped = len(frames) - len(todo)
         workers = max(1, len(client.scheduler_info().get("workers", {})) or a.workers)
         chunk = a.chunk_frames or max(1, min(32, math.ceil(len(todo) / (4 * workers))))
         tasks = [todo[i:i + chunk] for i in range(0, len(todo), chunk)]
         cores = os.cpu_count() or 1
         job = {"input_dir": in_dir, "output_dir": out_dir, "mask_dir": mask_dir, "width": size[0],
-               "height": size[1], "options": opts,
+               "height": size[1], "options": opts, "depth_dir": depth_dir, "depth_scale_m": a.depth_scale_m,
                "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker))}
         progress = _common.Progress("batch rain", len(tasks), "frames", a.quiet)
         if not a.quiet:
@@ -328,8 +364,9 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
     import hydrolux
     from hydrolux import _video
 
-    if a.input_dir or a.output_dir or a.mask_dir:
-        raise UsageError("--video writes one video (-o); --input-dir, --output-dir and --mask-dir are for frames")
+    if a.input_dir or a.output_dir or a.mask_dir or a.depth_dir:
+        raise UsageError("--video writes one video (-o); --output-dir, --mask-dir and --depth-dir are for "
+                         "--input-dir (video frames use the ground plane)")
     if not a.output:
         raise UsageError("-o: give the output video (.mp4, .mov or .mkv)")
     if os.path.splitext(a.output)[1].lower() not in (".mp4", ".mov", ".mkv"):
