@@ -51,9 +51,12 @@ def open_client(scheduler: Optional[str], workers: int, threads_per_worker: int,
     # Buffers up to 64 MiB (a 1080p float frame is 25 MB) come from the heap again.
     import dask
 
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_MMAP_THRESHOLD_": 64 << 20}):
+    # Workers log only warnings and errors (not each start-up step) on the client's terminal.
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_MMAP_THRESHOLD_": 64 << 20,
+                          "distributed.nanny.pre-spawn-environ.DASK_LOGGING__DISTRIBUTED": "warning"}):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=threads_per_worker, processes=True,
-                               host="127.0.0.1", dashboard_address="127.0.0.1:0")
+                               host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                               preload=["hydrolux.batch._worker"])  # Ctrl-C is the client's
     return Client(cluster), cluster
 
 
