@@ -10,8 +10,8 @@ The same physics, defaults, units and validation as the ``hydrolux`` command lin
 - :func:`rain`, :class:`RainRenderer`, :func:`builtin_scene` -- rain over images and sequences
 - :func:`read_image`, :func:`write_image` -- image files (linear float32), written atomically
 
-A bad argument raises ``ValueError`` naming it and its valid range; long calls release the GIL and
-stop on Ctrl-C (``KeyboardInterrupt``). Images are numpy arrays of shape (height, width, channels),
+A bad argument raises ``ValueError`` naming it and its valid range; calls that take time release the
+GIL, and Lee tables, drop renders and large Mie calls stop on Ctrl-C (``KeyboardInterrupt``). Images are numpy arrays of shape (height, width, channels),
 linear light, float32. Batch jobs on Dask: ``python3 -m hydrolux.batch --help``.
 """
 from __future__ import annotations
@@ -152,6 +152,8 @@ def bulk_optics(m: complex, wavelength_nm: float, distribution: "SizeDistributio
     distribution (``scatter::mie_bulk_optics``)."""
     if not (wavelength_nm > 0 and math.isfinite(wavelength_nm)):
         raise ValueError(f"wavelength_nm = {wavelength_nm} must be a positive number of nanometres")
+    if not (1e-3 <= medium_index <= 1e3):
+        raise ValueError(f"medium_index = {medium_index} is outside [0.001, 1000]")
     r, w = distribution.quadrature(nodes)
     k = 2 * math.pi * medium_index / (wavelength_nm * 1e-9)
     return _core.bulk_optics(complex(m), k, r, w, int(threads))
@@ -252,8 +254,17 @@ class LeeTable(NamedTuple):
 
 
 def _span(value, name):
+    """One value, (A, B), or the CLI's text "A:B" / "A"."""
     if value is None:
         return None
+    if isinstance(value, str):
+        try:
+            parts = [float(v) for v in value.split(":")]
+        except ValueError:
+            parts = []
+        if len(parts) not in (1, 2):
+            raise ValueError(f"{name} '{value}': expected A:B or one value (numbers)")
+        return (parts[0], parts[-1])
     if np.ndim(value) == 0:
         v = float(value)
         return (v, v)
@@ -347,9 +358,9 @@ def _rain_options(kw: dict) -> dict:
     for k in kw:
         if k not in _RAIN_OPTIONS:
             raise TypeError(f"unknown rain option '{k}' (options: {', '.join(_RAIN_OPTIONS)})")
-    if kw.get("fov_deg") is not None and "focal_mm" in kw:
+    if kw.get("fov_deg") is not None and kw.get("focal_mm") is not None:
         raise ValueError("fov_deg: give focal_mm or fov_deg, not both")
-    if kw.get("pixel_pitch_um") is not None and "sensor_width_mm" in kw:
+    if kw.get("pixel_pitch_um") is not None and kw.get("sensor_width_mm") is not None:
         raise ValueError("pixel_pitch_um: give sensor_width_mm or pixel_pitch_um, not both")
     return {k: v for k, v in kw.items() if v is not None}
 
@@ -408,9 +419,16 @@ def rain(image: np.ndarray, depth: Optional[np.ndarray] = None, frame_index: int
     return r.render(img, depth, frame_index, with_layer)
 
 
+_CAMERA_OPTIONS = ("focal_mm", "fov_deg", "sensor_width_mm", "pixel_pitch_um", "f_number", "focus_m", "exposure_s",
+                   "fps", "camera_height_m", "pitch_deg")
+
+
 def builtin_scene(width: int = 1280, height: int = 720, **camera: Any) -> np.ndarray:
     """The built-in street scene (``hydrolux rain --image builtin``) as the camera sees it: (H, W, 3)
     float32 linear RGB. Camera options as :func:`rain` (focal_mm, fov_deg, pitch_deg, ...)."""
+    for k in camera:
+        if k not in _CAMERA_OPTIONS:
+            raise TypeError(f"builtin_scene: '{k}' is not a camera option ({', '.join(_CAMERA_OPTIONS)})")
     return _core.builtin_scene(int(width), int(height), _rain_options(camera))
 
 

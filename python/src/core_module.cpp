@@ -271,7 +271,7 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
              const std::string& radius_scale, const std::string& axis, double sun_disk_deg, bool limb_darkening,
              double size_spread, std::pair<double, double> wavelengths_nm, int wavelengths, std::optional<double> temperature_c,
              const std::string& medium, const std::string& sun, const std::string& color_space, double sampling,
-             std::uint64_t seed, int threads) {
+             long long seed, int threads) {
   atmos::LeeSpec s = atmos::default_lee_spec(lee_kind(table));
   try {
     s.theory = scatter::parse_theory(theory);
@@ -331,7 +331,7 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
   }
   s.sampling = sampling;
   require_arg("seed", double(seed), 0, 9007199254740992.0);
-  s.seed = seed;
+  s.seed = std::uint64_t(seed);
   require_arg("threads", threads, 0, 1024);
   s.threads = threads;
   try {
@@ -384,7 +384,7 @@ py::array_t<float> drop_render(std::optional<py::array> env, double radius_mm, d
   if (temperature_c) require_arg("temperature_c", *temperature_c, -273.15, 1000, "C");
   require_arg("wavelength_nm", wavelength_nm, 200, 2500, "nm");
   require_arg("exposure_ev", exposure_ev, -30, 30);
-  require_arg("depth", depth, 1, 64);
+  require_arg("depth", depth, 6, 64);
   if (method != "model" && method != "exact") throw UnknownNameError("method '" + method + "': expected model or exact");
   if (shape != "sphere" && shape != "beard-chuang")
     throw UnknownNameError("shape '" + shape + "': expected sphere or beard-chuang");
@@ -463,6 +463,7 @@ py::array_t<float> drop_render(std::optional<py::array> env, double radius_mm, d
 py::array_t<float> drop_undistort(const py::array& image, std::pair<double, double> drop_center, double drop_radius_px,
                                   double mu, double fov_deg, double yaw_deg, double pitch_deg,
                                   std::pair<int, int> size, bool transmission_correction) {
+  require_arg("mu", mu, 1.0001, 10);  // the CLI's --mu
   drop::UndistortView view;
   view.yaw_deg = yaw_deg, view.pitch_deg = pitch_deg, view.fov_deg = fov_deg;
   view.width = size.first, view.height = size.second;
@@ -490,8 +491,29 @@ const std::map<std::string, ArgName>& rain_names() {
   return names;
 }
 
+// hydrolux rain's flag ranges (tools/hydrolux/cmd_rain.cpp), checked first so that Python refuses
+// what the CLI refuses (the library's checks then add the ranges that depend on other values).
+void check_rain_ranges(const py::dict& kw) {
+  struct Range {
+    const char* name;
+    double lo, hi;
+    const char* unit;
+  };
+  static constexpr Range ranges[] = {
+      {"rate_mmh", 0, 500, "mm/h"},      {"wind_mps", 0, 50, "m/s"},        {"wind_dir_deg", -360, 360, "deg"},
+      {"exposure_s", 1e-6, 1, "s"},      {"focal_mm", 1, 2000, "mm"},       {"fov_deg", 1, 170, "deg"},
+      {"sensor_width_mm", 1, 100, "mm"}, {"pixel_pitch_um", 0.1, 1000, "um"}, {"f_number", 0, 64, ""},
+      {"focus_m", 0.01, 1e4, "m"},       {"fps", 1, 1000, "1/s"},           {"camera_height_m", 0, 1000, "m"},
+      {"pitch_deg", -80, 80, "deg"},     {"near_m", 0.05, 100, "m"},        {"far_m", 0.1, 1e4, "m"},
+      {"min_radius_mm", 0.04, 2.9, "mm"}, {"max_radius_mm", 0.04, 2.9, "mm"}, {"min_alpha", 1e-5, 0.5, ""},
+      {"extent_m", 0, 1e5, "m"},         {"backdrop_m", 1, 1e5, "m"},       {"oscillation", 0, 0.5, ""}};
+  for (const auto& r : ranges)
+    if (kw.contains(r.name) && !kw[r.name].is_none()) require_arg(r.name, kw[r.name].cast<double>(), r.lo, r.hi, r.unit);
+}
+
 // The camera for a frame of width x height, as hydrolux rain makes it from its flags.
 rain::RainCamera rain_camera(const py::dict& kw, int width, int height) {
+  check_rain_ranges(kw);
   rain::RainCamera c;
   c.width = width, c.height = height;
   const auto get = [&](const char* k, double& v) {
@@ -518,12 +540,16 @@ rain::RainCamera rain_camera(const py::dict& kw, int width, int height) {
   try {
     rain::validate(c);
   } catch (const DomainError& e) {
+    if (e.quantity() == "sensor_width_mm" && kw.contains("pixel_pitch_um") && !kw["pixel_pitch_um"].is_none())
+      throw Error(fmt::format("pixel_pitch_um = {:g}: x {} px gives a sensor {:g} mm wide, outside [1, 100] mm",
+                              kw["pixel_pitch_um"].cast<double>(), width, e.value()));
     rethrow_named(e, rain_names());
   }
   return c;
 }
 
 rain::RainSettings rain_settings(const py::dict& kw) {
+  check_rain_ranges(kw);
   rain::RainSettings s;
   const auto get = [&](const char* k, double& v) {
     if (kw.contains(k) && !kw[k].is_none()) v = kw[k].cast<double>();
@@ -541,9 +567,10 @@ rain::RainSettings rain_settings(const py::dict& kw) {
   get("oscillation", s.oscillation);
   if (kw.contains("seed")) {
     const py::object seed = kw["seed"];
-    const double v = seed.cast<double>();
-    require_arg("seed", v, 0, 9007199254740992.0);
-    s.seed = seed.cast<std::uint64_t>();
+    if (!py::isinstance<py::int_>(seed)) throw Error("seed: expected a whole number in [0, 2^53]");
+    const long long v = seed.cast<long long>();
+    require_arg("seed", double(v), 0, 9007199254740992.0);
+    s.seed = std::uint64_t(v);
   }
   if (kw.contains("unresolved")) s.unresolved = kw["unresolved"].cast<bool>();
   try {
@@ -603,16 +630,20 @@ class PyRainRenderer {
         throw Error(fmt::format("depth: expected ({}, {}) metres, got {}x{} with {} channels", cam.height, cam.width,
                                 z->width, z->height, z->channels));
     }
-    {
-      py::gil_scoped_release release;
-      std::lock_guard<std::mutex> lock(mutex_);  // the renderer keeps per-sequence scratch
-      renderer_->render_into(frame, z ? &*z : nullptr, frame_index, with_layer, result_);
-    }
     py::dict d;
-    d["image"] = to_array(result_.image);
-    d["mask"] = to_array(result_.alpha);
-    d["layer"] = with_layer ? py::object(to_array(result_.layer)) : py::object(py::none());
-    d["stats"] = stats_dict(result_.stats);
+    {
+      // The renderer and its result buffers are one sequence's: one render at a time, and the
+      // result copied out before the next may start. Waiting for the lock without the GIL, and
+      // taking the GIL back under it, cannot deadlock: no thread waits for the lock holding the GIL.
+      py::gil_scoped_release release;
+      std::lock_guard<std::mutex> lock(mutex_);
+      renderer_->render_into(frame, z ? &*z : nullptr, frame_index, with_layer, result_);
+      py::gil_scoped_acquire gil;
+      d["image"] = to_array(result_.image);
+      d["mask"] = to_array(result_.alpha);
+      d["layer"] = with_layer ? py::object(to_array(result_.layer)) : py::object(py::none());
+      d["stats"] = stats_dict(result_.stats);
+    }
     return d;
   }
 

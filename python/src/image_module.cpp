@@ -31,16 +31,6 @@ std::string short_name(io::ImageFormat f) {
   return "?";
 }
 
-py::tuple decode(const py::bytes& data, const std::string& origin) {
-  const std::string bytes = data;
-  io::DecodedImage d;
-  {
-    py::gil_scoped_release release;
-    d = io::decode_image(bytes, origin);
-  }
-  return py::make_tuple(to_array(d.image), short_name(d.format), d.warnings);
-}
-
 py::tuple read_image(const std::string& path) {
   std::string bytes;
   io::DecodedImage d;
@@ -95,7 +85,6 @@ PYBIND11_MODULE(_image, m) {
   using namespace hydrolux::py_bind;
   register_errors();
   m.doc() = "hydrolux's image files (use hydrolux.read_image / write_image)";
-  m.def("decode", &decode, py::arg("data"), py::arg("origin"));
   m.def("read", &read_image, py::arg("path"));
   m.def("read_depth", &read_depth, py::arg("path"), py::arg("scale_m"), py::arg("width"), py::arg("height"),
         py::arg("label"));

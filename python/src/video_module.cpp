@@ -26,12 +26,6 @@ const color::Srgb8Tables& tables() {
   return t;
 }
 
-py::array_t<std::uint8_t> rgb8_array(const cli::VideoFrame& f) {
-  py::array_t<std::uint8_t> out({py::ssize_t(f.height), py::ssize_t(f.width), py::ssize_t(3)});
-  std::copy(f.rgb.begin(), f.rgb.end(), out.mutable_data());
-  return out;
-}
-
 class PyVideoReader {
  public:
   PyVideoReader(const std::string& path, const std::string& label) : input_(path, label) {
@@ -49,15 +43,14 @@ class PyVideoReader {
     return d;
   }
 
-  // The next frame as 8-bit sRGB (linear=False) or linear float32 (True); None after the last.
-  py::object read(bool linear) {
+  // The next frame as linear float32 (H, W, 3) through the CLI's tables; None after the last.
+  py::object read() {
     bool got;
     {
       py::gil_scoped_release release;
       got = reader_->read(frame_);
     }
     if (!got) return py::none();
-    if (!linear) return rgb8_array(frame_);
     py::array_t<float> out({py::ssize_t(frame_.height), py::ssize_t(frame_.width), py::ssize_t(3)});
     tables().to_linear(frame_.rgb.data(), std::size_t(frame_.width) * frame_.height, out.mutable_data());
     return out;
@@ -146,7 +139,7 @@ PYBIND11_MODULE(_video, m) {
   py::class_<PyVideoReader>(m, "VideoReader")
       .def(py::init<const std::string&, const std::string&>(), py::arg("path"), py::arg("label") = "--video")
       .def("info", &PyVideoReader::info)
-      .def("read", &PyVideoReader::read, py::arg("linear") = true)
+      .def("read", &PyVideoReader::read)
       .def("skip", &PyVideoReader::skip, py::arg("frames"));
   py::class_<PyVideoWriter>(m, "VideoWriter")
       .def(py::init<const std::string&, const py::dict&, int, const std::string&>(), py::arg("path"),

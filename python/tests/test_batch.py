@@ -218,6 +218,22 @@ def test_video_in_chunks_is_the_cli_video_and_resumes(cli, tmp_path):
     with pytest.raises(KeyboardInterrupt):
         batch_rain.run(args(), after_result=stop)
     assert not out.exists()
+    # Resumed with another chunk size elsewhere: the staged chunks do not fit, everything is redone.
+    other = out.parent / "other.mp4"
+
+    def args7():
+        a = args()
+        a.output, a.chunk_frames = str(other), 7
+        return a
+
+    a5 = args()
+    a5.output = str(other)
+    with pytest.raises(KeyboardInterrupt):
+        batch_rain.run(a5, after_result=stop)
+    done7 = []
+    assert batch_rain.run(args7(), after_result=lambda n, c: done7.append(n)) == 0
+    assert len(done7) == 4  # 23 frames in chunks of 7
+    assert other.read_bytes() == (tmp_path / "cli.mp4").read_bytes()
     # The re-run does the other three chunks and encodes: the CLI's bytes.
     done = []
     assert batch_rain.run(args(), after_result=lambda n, c: done.append(n)) == 0
@@ -297,3 +313,59 @@ def test_depth_maps_give_the_cli_bytes_and_are_tracked(frames, cli, cli_out, tmp
     done = []
     assert batch_rain.run(batch_args(frames, out, depth_dir=str(depth)), after_result=lambda n, c: done.append(n)) == 0
     assert len(done) == 1
+
+
+def test_a_frame_added_before_others_shifts_their_index(frames, tmp_path):
+    src = tmp_path / "frames"
+    shutil.copytree(frames, src)
+    out = tmp_path / "rainy"
+    assert batch_rain.run(batch_args(src, out, chunk_frames=4)) == 0
+    shutil.copy(src / "f_000.png", src / "f_000a.png")  # sorts second: every later frame moves on by one
+    done = []
+    assert batch_rain.run(batch_args(src, out, chunk_frames=1), after_result=lambda n, c: done.append(n)) == 0
+    assert len(done) == FRAMES  # all but f_000.png, and the new one
+    records = {r["output"]: r["frame_index"] for r in manifest_records(out)[1]}
+    assert records["f_000.png"] == 10 and records["f_000a.png"] == 11 and records["f_015.png"] == 10 + FRAMES
+
+
+def test_a_torn_manifest_line_is_dropped_not_glued_to_the_next(tmp_path):
+    m = _common.Manifest(str(tmp_path), "rain", {"p": 1})
+    m.add({"output": "a.png", "x": 1})
+    m.close()
+    with open(tmp_path / _common.MANIFEST, "ab") as f:
+        f.write(b'{"output": "b.p')  # a crash mid-line
+    m = _common.Manifest(str(tmp_path), "rain", {"p": 1})
+    assert set(m.records) == {"a.png"}
+    m.add({"output": "c.png", "x": 3})
+    m.close()
+    m = _common.Manifest(str(tmp_path), "rain", {"p": 1})
+    assert set(m.records) == {"a.png", "c.png"}
+    # One run at a time per folder.
+    with pytest.raises(_common.UsageError, match="another hydrolux.batch run"):
+        _common.Manifest(str(tmp_path), "rain", {"p": 1})
+    m.close()
+
+
+def crash_on_f_005(job, frames):
+    """A task that kills its worker whenever its chunk holds f_005.png (a frame that crashes a codec)."""
+    if any(f[0] == "f_005.png" for f in frames):
+        os._exit(17)
+    from hydrolux.batch.rain import render_frames
+    return render_frames(job, frames)
+
+
+def test_a_frame_that_kills_its_worker_is_named_and_the_rest_kept(frames, cli_out, tmp_path, monkeypatch, capfd):
+    import cloudpickle
+    import dask
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])  # the workers cannot import this file
+    monkeypatch.setattr(batch_rain, "render_frames", crash_on_f_005)
+    out = tmp_path / "rainy"
+    a = batch_args(frames, out, chunk_frames=4)
+    a.quiet = False
+    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
+        assert batch_rain.run(a) == 1
+    err = capfd.readouterr().err
+    assert "f_005.png: KilledWorker" in err and "1 failed: f_005.png" in err
+    names = [n for n in sorted(os.listdir(cli_out / "rainy")) if n != "f_005.png"]
+    assert sorted(n for n in os.listdir(out) if n.endswith(".png")) == names
+    assert_same_bytes(cli_out / "rainy", out, names)

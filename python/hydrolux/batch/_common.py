@@ -149,14 +149,20 @@ class Manifest:
         except BlockingIOError:
             os.close(self._lock_fd)
             raise UsageError(f"--output-dir {folder}: another hydrolux.batch run is writing into it") from None
-        header = {"manifest": "hydrolux.batch", "job": job, "params": params}
-        old = self._read()
-        if old is not None and old[0] == header:
-            self.records = old[1]
-        else:
-            self.restarted = old is not None
-            self._rewrite([header])
-        self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+        try:
+            header = {"manifest": "hydrolux.batch", "job": job, "params": params}
+            old = self._read()
+            if old is not None and old[0] == header:
+                self.records = old[1]
+            else:
+                self.restarted = old is not None
+            # Written afresh, atomically: the header and the records that still count, one per output
+            # (a torn last line of a crashed run is dropped here, not glued to the next record).
+            self._rewrite([header] + list(self.records.values()))
+            self._fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+        except BaseException:
+            os.close(self._lock_fd)
+            raise
 
     def _read(self):
         try:
@@ -228,22 +234,22 @@ def remove_stale_temporaries(folder: str, names: Iterable[str]) -> int:
     return removed
 
 
-def run_tasks(client, tasks: List[tuple], fn: Callable, on_result: Callable[[Any], None], progress: Progress,
+def run_tasks(client, tasks: List[tuple], fn: Callable, on_result: Callable[[tuple, Any], None], progress: Progress,
               count: Callable[[Any], int], after_result: Optional[Callable[[int, Any], None]] = None) -> None:
-    """Submits fn(*task) for each task and hands each result to ``on_result`` as it arrives. A task
-    whose worker dies is rerun elsewhere by Dask (up to its allowed failures); one that raises is
-    reported through on_result as the exception."""
+    """Submits fn(*task) for each task and hands (task, result) to ``on_result`` as each arrives. A
+    task whose worker dies is rerun elsewhere by Dask (up to its allowed failures); one that still
+    fails (its own error, or workers lost once too often: KilledWorker) comes as the exception."""
     from distributed import as_completed
 
     token = uuid.uuid4().hex[:8]
-    futures = [client.submit(fn, *t, pure=False, key=f"{fn.__name__}-{token}-{i}") for i, t in enumerate(tasks)]
+    futures = {client.submit(fn, *t, pure=False, key=f"{fn.__name__}-{token}-{i}"): t for i, t in enumerate(tasks)}
     done = items = 0
-    for fut in as_completed(futures):
+    for fut in as_completed(list(futures)):
         try:
             result = fut.result()
-        except Exception as e:  # a task that failed (its own error, or too many lost workers)
+        except Exception as e:
             result = e
-        on_result(result)
+        on_result(futures[fut], result)
         done += 1
         items += count(result)
         progress.update(done, items)

@@ -166,10 +166,10 @@ def run(a: argparse.Namespace, after_result=None) -> int:
             print(f"batch lee-atlas: {len(tables)} tables ({len(tables) - len(todo)} done before) on {where}"
                   + (f"; dashboard {link}" if link else ""), file=sys.stderr)
 
-        def on_result(rec):
+        def on_result(task, rec):
             if isinstance(rec, Exception):
-                failed.append(f"a task failed: {rec}")
-                progress.message(f"batch lee-atlas: {failed[-1]}")
+                failed.append(task[1])
+                progress.message(f"batch lee-atlas: {task[1]}: {type(rec).__name__}: {rec}")
             elif "error" in rec:
                 failed.append(rec["output"])
                 progress.message(f"batch lee-atlas: {rec['output']}: {rec['error']}")

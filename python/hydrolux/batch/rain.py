@@ -192,9 +192,9 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
 
 # ---- on the client --------------------------------------------------------------------------------
 
-def _is_done(rec: Optional[dict], input_path: str, output_path: str, mask_path: Optional[str],
+def _is_done(rec: Optional[dict], frame_index: int, input_path: str, output_path: str, mask_path: Optional[str],
              depth_path: Optional[str]) -> bool:
-    if not rec or "error" in rec:
+    if not rec or "error" in rec or rec.get("frame_index") != frame_index:  # a frame added or removed before it
         return False
     if depth_path and rec.get("depth") != _common.file_stamp(depth_path):
         return False
@@ -277,7 +277,8 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
                   file=sys.stderr)
         todo = []
         for k, (src, name) in enumerate(zip(frames, names)):
-            if not _is_done(manifest.records.get(name), os.path.join(in_dir, src), os.path.join(out_dir, name),
+            if not _is_done(manifest.records.get(name), a.frame_index + k, os.path.join(in_dir, src),
+                            os.path.join(out_dir, name),
                             os.path.join(mask_dir, name) if mask_dir else None,
                             os.path.join(depth_dir, depths[k]) if depth_dir else None):
                 todo.append((src, name, a.frame_index + k, depths[k]))
@@ -297,10 +298,19 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
                   f"on {where}; {field['drops']} drops in the field" + (f"; dashboard {link}" if link else ""),
                   file=sys.stderr)
 
-        def on_result(result):
+        retry: List[tuple] = []
+        final_round = False
+
+        def on_result(task, result):
             if isinstance(result, Exception):
-                failed.append(f"a task failed: {result}")
-                progress.message(f"batch rain: {failed[-1]}")
+                # The task as a whole failed: a frame that kills its worker every time (KilledWorker), or
+                # a bystander queued on that worker. Its frames go again alone, one task at a time, so
+                # that only the culprit can fail and the others are kept.
+                if not final_round:
+                    retry.extend(task[1])
+                    return
+                failed.append(task[1][0][0])
+                progress.message(f"batch rain: {task[1][0][0]}: {type(result).__name__}: {result}")
                 return
             for rec in result:
                 if "error" in rec:
@@ -309,8 +319,17 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
                 else:
                     manifest.add(rec)
 
-        _common.run_tasks(client, [(job, t) for t in tasks], render_frames, on_result, progress,
-                          lambda r: 0 if isinstance(r, Exception) else len(r), after_result)
+        def count(r):
+            return 0 if isinstance(r, Exception) else len(r)
+
+        _common.run_tasks(client, [(job, t) for t in tasks], render_frames, on_result, progress, count, after_result)
+        if retry:
+            final_round = True
+            progress.message(f"batch rain: {len(retry)} frame(s) of failed tasks, again one at a time")
+            progress = _common.Progress("batch rain (again)", len(retry), "frames", a.quiet)
+            for k, f in enumerate(sorted(retry)):
+                _common.run_tasks(client, [(job, [f])], render_frames, on_result, progress, count)
+                progress.update(k + 1, k + 1)
         progress.finish()
     finally:
         _common.close_client(client, cluster)
@@ -345,11 +364,11 @@ def render_video_chunk(job: Dict[str, Any], start: int, count: int) -> Dict[str,
         renderer = _RENDERERS[key] = hydrolux.RainRenderer(job["width"], job["height"], True, **job["options"])
     name = f"chunk_{start:09d}.rgb"
     reader = _video.VideoReader(job["video"], "--video")
-    if reader.skip(start) != start:
-        return {"output": name, "start": start, "frames": 0, "size": 0, "stats": []}
     parts, stats = [], []
+    if reader.skip(start) != start:  # the container promised more frames than it holds
+        count = 0
     while count < 0 or len(parts) < count:
-        frame = reader.read(True)
+        frame = reader.read()
         if frame is None:
             break
         result = renderer.render(frame, None, job["frame_index"] + start + len(parts))
@@ -399,7 +418,7 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
     staging = os.path.join(out_dir, f".{os.path.basename(output)}.chunks")
     stamp = _common.file_stamp(video)
     params = {"video": video, "input_size": stamp["size"], "input_mtime_ns": stamp["mtime_ns"],
-              "frame_index": a.frame_index, "options": opts}
+              "frame_index": a.frame_index, "options": opts, "chunk_frames": a.chunk_frames or 8}
     # The cluster first: an unreachable scheduler leaves no staging folder behind.
     client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
     manifest = None
@@ -420,6 +439,7 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
         _common.close_client(client, cluster)
         if manifest is not None:
             _common.remove_stale_temporaries(staging, chunk_names)
+            _common.remove_stale_temporaries(out_dir, [os.path.basename(output)])
             manifest.close()
 
 
@@ -453,10 +473,10 @@ def _video_job(a, after_result, client, info, field, expected, staging, manifest
               f"({len(starts) - len(tasks)} done before) on {where}; {field['drops']} drops in the field"
               + (f"; dashboard {link}" if link else ""), file=sys.stderr)
 
-    def on_result(rec):
+    def on_result(task, rec):
         if isinstance(rec, Exception):
-            failed.append(f"a chunk failed: {rec}")
-            progress.message(f"batch rain: {failed[-1]}")
+            failed.append(f"frames from {task[1]}")
+            progress.message(f"batch rain: the chunk of frames from {task[1]} failed: {type(rec).__name__}: {rec}")
         else:
             manifest.add(rec)
 
