@@ -143,6 +143,18 @@ py::tuple sphere_problem(const DoubleArray& radius_um, double wavelength_nm, con
 
 // ---- Mie --------------------------------------------------------------------------------------
 
+// Work of `work` units: inline with the GIL released when small (a thread start would cost more than
+// the call), on run_cancellable's thread, stoppable by Ctrl-C, when larger than `cancellable_from`.
+template <class Body>
+void run_sized(double work, double cancellable_from, Body&& body) {
+  if (work > cancellable_from) {
+    run_cancellable(body);
+  } else {
+    py::gil_scoped_release release;
+    body(ProgressFn{});
+  }
+}
+
 void check_mie_args(std::complex<double> m, const double* x, py::ssize_t n) {
   for (py::ssize_t i = 0; i < n; ++i)
     require_arg("x", x[i], scatter::kMieMinSizeParameter, scatter::kMieMaxSizeParameter);
@@ -165,17 +177,14 @@ py::dict mie(std::complex<double> m, const DoubleArray& x, std::optional<DoubleA
   DoubleArray qext(shape), qsca(shape), qabs(shape), qback(shape), g(shape);
   py::array_t<std::int32_t> terms(shape);
   py::dict d;
-  const auto store = [&](py::ssize_t i, const scatter::MieEfficiencies& q, int nt) {
-    qext.mutable_data()[i] = q.qext, qsca.mutable_data()[i] = q.qsca, qabs.mutable_data()[i] = q.qabs;
-    qback.mutable_data()[i] = q.qback, g.mutable_data()[i] = q.g, terms.mutable_data()[i] = nt;
-  };
+  // Per size, filled without the GIL, copied into the arrays after.
+  std::vector<scatter::MieEfficiencies> q(static_cast<std::size_t>(n));
+  std::vector<int> nt(static_cast<std::size_t>(n));
   if (!angles_deg) {
     // Efficiencies alone: the fast path, sizes in parallel (each size's result is independent of
     // the thread that computes it).
     double work = 0;
     for (py::ssize_t i = 0; i < n; ++i) work += xs[i];
-    std::vector<scatter::MieEfficiencies> q(static_cast<std::size_t>(n));
-    std::vector<int> nt(static_cast<std::size_t>(n));
     const auto body = [&](const ProgressFn& progress) {
       with_threads(threads, [&] {
         tbb::parallel_for(py::ssize_t(0), n, [&](py::ssize_t i) {
@@ -187,13 +196,7 @@ py::dict mie(std::complex<double> m, const DoubleArray& x, std::optional<DoubleA
       });
       return 0;
     };
-    if (work > 1e6) {
-      run_cancellable(body);
-    } else {
-      py::gil_scoped_release release;
-      body({});
-    }
-    for (py::ssize_t i = 0; i < n; ++i) store(i, q[std::size_t(i)], nt[std::size_t(i)]);
+    run_sized(work, 1e6, body);
   } else {
     const DoubleArray& ang = *angles_deg;
     if (ang.ndim() != 1) throw Error("angles_deg: expected a 1-D array of angles in degrees");
@@ -209,8 +212,6 @@ py::dict mie(std::complex<double> m, const DoubleArray& x, std::optional<DoubleA
     ComplexArray s1(s_shape), s2(s_shape);
     std::complex<double>* p1 = s1.mutable_data();
     std::complex<double>* p2 = s2.mutable_data();
-    std::vector<scatter::MieEfficiencies> q(static_cast<std::size_t>(n));
-    std::vector<int> nt(static_cast<std::size_t>(n));
     double work = 0;
     for (py::ssize_t i = 0; i < n; ++i) work += (xs[i] + 10) * double(na + 1);
     const auto body = [&](const ProgressFn& progress) {
@@ -225,14 +226,13 @@ py::dict mie(std::complex<double> m, const DoubleArray& x, std::optional<DoubleA
       }
       return 0;
     };
-    if (work > 2e7) {
-      run_cancellable(body);
-    } else {
-      py::gil_scoped_release release;
-      body({});
-    }
-    for (py::ssize_t i = 0; i < n; ++i) store(i, q[std::size_t(i)], nt[std::size_t(i)]);
+    run_sized(work, 2e7, body);
     d["s1"] = s1, d["s2"] = s2;
+  }
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const auto& e = q[std::size_t(i)];
+    qext.mutable_data()[i] = e.qext, qsca.mutable_data()[i] = e.qsca, qabs.mutable_data()[i] = e.qabs;
+    qback.mutable_data()[i] = e.qback, g.mutable_data()[i] = e.g, terms.mutable_data()[i] = nt[std::size_t(i)];
   }
   d["qext"] = qext, d["qsca"] = qsca, d["qabs"] = qabs, d["qback"] = qback, d["g"] = g, d["n_terms"] = terms;
   return d;

@@ -56,24 +56,22 @@ py::array_t<float> read_depth(const std::string& path, double scale_m, int width
   return to_array(depth);
 }
 
-py::bytes encode(const py::array& image, const std::string& format, int bits, bool coverage) {
+// The bytes of a PNG or EXR (a coverage mask through io::coverage_for_encoding), as the CLI writes them.
+std::string encode_bytes(const py::array& image, io::ImageFormat f, int bits, bool coverage) {
   if (bits != 8 && bits != 16) throw Error(fmt::format("bits = {}: PNG takes 8 or 16", bits));
-  const io::ImageFormat f = format_arg(format);
   Image img = to_image(image, "image");
   if (coverage && img.channels != 1) throw Error("coverage: a coverage mask has one channel");
-  std::string out;
-  {
-    py::gil_scoped_release release;
-    if (coverage) img = io::coverage_for_encoding(img, f);
-    out = io::encode_image(img, f, io::PngOptions{bits});
-  }
-  return py::bytes(out);
+  py::gil_scoped_release release;
+  if (coverage) img = io::coverage_for_encoding(img, f);
+  return io::encode_image(img, f, io::PngOptions{bits});
+}
+
+py::bytes encode(const py::array& image, const std::string& format, int bits, bool coverage) {
+  return py::bytes(encode_bytes(image, format_arg(format), bits, coverage));
 }
 
 void write_image(const std::string& path, const py::array& image, int bits) {
-  const io::ImageFormat f = io::output_image_format(path, "path");
-  const py::bytes data = encode(image, short_name(f), bits, false);
-  const std::string bytes = data;
+  const std::string bytes = encode_bytes(image, io::output_image_format(path, "path"), bits, false);
   py::gil_scoped_release release;
   io::write_file(path, bytes, "path");
 }

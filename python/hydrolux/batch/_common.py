@@ -136,7 +136,9 @@ class Progress:
 # ---- the manifest ---------------------------------------------------------------------------------
 
 class Manifest:
-    """The journal of finished outputs in ``folder`` (see the module's docstring)."""
+    """The journal of finished outputs in ``folder`` (see the module's docstring). Written whole through
+    hydrolux's atomic output path when opened; each record is then appended and fsync'd (a journal
+    cannot be renamed into place per line: a torn last line is what the next open drops)."""
 
     def __init__(self, folder: str, job: str, params: Dict[str, Any]):
         self.folder, self.job, self.params = folder, job, params
@@ -185,13 +187,10 @@ class Manifest:
         return header, records
 
     def _rewrite(self, lines: List[dict]) -> None:
-        tmp = os.path.join(self.folder, f".{MANIFEST}.tmp-{os.getpid()}")
-        with open(tmp, "w") as f:
-            for line in lines:
-                f.write(json.dumps(line, sort_keys=True) + "\n")
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, self.path)
+        from hydrolux import _core  # hydrolux's checked, atomic output path
+
+        _core.write_file(self.path, "".join(json.dumps(line, sort_keys=True) + "\n" for line in lines).encode(),
+                         "manifest")
 
     def add(self, record: dict) -> None:
         line = (json.dumps(record, sort_keys=True) + "\n").encode()

@@ -141,22 +141,29 @@ def depth_maps(depth_dir: str, frames: List[str]) -> List[str]:
 _RENDERERS: Dict[str, Any] = {}
 
 
-def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
-    """A task: renders consecutive frames [(input name, output name, frame index), ...] and writes
-    them. Returns one record per frame; a frame that fails carries "error" and the others go on."""
+def _renderer(job: Dict[str, Any], ground: bool):
+    """The worker process's renderer for this job: the field is built once per process and kept for
+    every task of the same options, frame size and scene (ground plane or depth maps)."""
     import json
 
     import hydrolux
-    from hydrolux import _core, _image
 
     if job["threads"]:
         hydrolux.set_threads(job["threads"])
-    ground = not job["depth_dir"]
     key = json.dumps([job["options"], job["width"], job["height"], ground], sort_keys=True)
     renderer = _RENDERERS.get(key)
-    if renderer is None:  # one field per worker process for the whole job
+    if renderer is None:
         _RENDERERS.clear()
         renderer = _RENDERERS[key] = hydrolux.RainRenderer(job["width"], job["height"], ground, **job["options"])
+    return renderer
+
+
+def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
+    """A task: renders consecutive frames [(input name, output name, frame index, depth map), ...] and writes
+    them. Returns one record per frame; a frame that fails carries "error" and the others go on."""
+    from hydrolux import _core, _image
+
+    renderer = _renderer(job, ground=not job["depth_dir"])
     records = []
     for src, name, index, depth_name in frames:
         rec: Dict[str, Any] = {"output": name, "input": src, "frame_index": index}
@@ -350,18 +357,9 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
 def render_video_chunk(job: Dict[str, Any], start: int, count: int) -> Dict[str, Any]:
     """A task: frames [start, start + count) of the video (count -1: to its end), rendered and
     written as raw 8-bit RGB into the staging folder."""
-    import json
-
-    import hydrolux
     from hydrolux import _core, _video
 
-    if job["threads"]:
-        hydrolux.set_threads(job["threads"])
-    key = json.dumps([job["options"], job["width"], job["height"]], sort_keys=True)
-    renderer = _RENDERERS.get(key)
-    if renderer is None:
-        _RENDERERS.clear()
-        renderer = _RENDERERS[key] = hydrolux.RainRenderer(job["width"], job["height"], True, **job["options"])
+    renderer = _renderer(job, ground=True)
     name = f"chunk_{start:09d}.rgb"
     reader = _video.VideoReader(job["video"], "--video")
     parts, stats = [], []
