@@ -33,7 +33,11 @@ std::string DomainError::range_text() const {
     if (suffix == "c") unit = " C";
   }
   std::string m = fmt::format("outside the valid range [{:g}, {:g}]{}", lo_, hi_, unit);
-  if (!context_.empty()) m += fmt::format(" of {}", context_);
+  // A context that states a relation to another quantity ("beyond near_m", "at most 1 / fps") follows
+  // the range in parentheses; one that names what the range belongs to ("water (IAPWS R9-97)") with "of".
+  const bool relation = context_.rfind("beyond ", 0) == 0 || context_.rfind("at most ", 0) == 0 ||
+                        context_.rfind("at least ", 0) == 0;
+  if (!context_.empty()) m += relation ? fmt::format(" ({})", context_) : fmt::format(" of {}", context_);
   return m;
 }
 

@@ -26,6 +26,16 @@ std::optional<long long> integer(std::string_view s) {
   const auto v = number(s);
   constexpr double kLimit = 9007199254740992.0;  // 2^53: every whole double below is exact
   if (!v || *v != std::floor(*v) || std::fabs(*v) > kLimit) return std::nullopt;
+  if (std::fabs(*v) == kLimit) {
+    // At 2^53 a decimal may have been rounded onto it ("9007199254740993" reads as 2^53): only the
+    // digits of 2^53 itself, read exactly, are accepted there.
+    std::string_view digits = s;
+    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
+    long long exact = 0;
+    const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), exact);
+    if (ec != std::errc() || ptr != digits.data() + digits.size() || (exact != (1LL << 53) && exact != -(1LL << 53)))
+      return std::nullopt;
+  }
   return static_cast<long long>(*v);
 }
 

@@ -283,31 +283,42 @@ struct OutputFile::State {
   }
 };
 
+namespace {
+
+// What an output path will replace: a symbolic link is written through, to the file it names (a
+// dangling one is refused, as GNU cp refuses, since replacing the link would leave its real
+// destination unwritten); an existing destination must be a regular file. Returns the destination
+// and, if it exists, its permission bits. `name` is the path as the user gave it, with its label.
+std::pair<fs::path, std::optional<mode_t>> output_destination(const fs::path& target, const std::string& name) {
+  fs::path destination = target;
+  struct stat st {};
+  if (::lstat(target.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
+    struct stat pointed {};
+    if (::stat(target.c_str(), &pointed) != 0 && errno == ENOENT)
+      throw IoError(fmt::format("{}: is a symbolic link to a missing file; give the file itself", name));
+    std::error_code ec;
+    destination = fs::weakly_canonical(fs::absolute(target), ec);
+    if (ec) throw IoError(fmt::format("{}: cannot resolve the symbolic link: {}", name, ec.message()));
+  }
+  if (::stat(destination.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) throw IoError(fmt::format("{}: is a folder; give a file name", name));
+    if (!S_ISREG(st.st_mode))
+      throw IoError(fmt::format("{}: is {}, not a regular file; refusing to replace it", name, file_kind(st.st_mode)));
+    return {destination, mode_t(st.st_mode & 07777)};
+  }
+  if (errno != ENOENT) throw IoError(fmt::format("{}: {}", name, os_error(errno)));
+  return {destination, std::nullopt};
+}
+
+}  // namespace
+
 OutputFile::OutputFile(fs::path target, std::string label) : s_(std::make_unique<State>()) {
   s_->target = std::move(target);
   s_->label = std::move(label);
   if (s_->target.empty()) throw IoError(fmt::format("{}: no file name given", s_->label.empty() ? "output" : s_->label));
-  s_->destination = s_->target;
-  struct stat st {};
-  if (::lstat(s_->target.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
-    // A link is written through, to the file it names; a dangling one is refused (as GNU cp
-    // refuses), since replacing the link would leave its real destination unwritten.
-    struct stat pointed {};
-    if (::stat(s_->target.c_str(), &pointed) != 0 && errno == ENOENT)
-      throw IoError(fmt::format("{}: is a symbolic link to a missing file; give the file itself", s_->name()));
-    std::error_code ec;
-    s_->destination = fs::weakly_canonical(fs::absolute(s_->target), ec);
-    if (ec) throw IoError(fmt::format("{}: cannot resolve the symbolic link: {}", s_->name(), ec.message()));
-  }
-  if (::stat(s_->destination.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) throw IoError(fmt::format("{}: is a folder; give a file name", s_->name()));
-    if (!S_ISREG(st.st_mode))
-      throw IoError(fmt::format("{}: is {}, not a regular file; refusing to replace it", s_->name(),
-                                file_kind(st.st_mode)));
-    s_->keep_mode = st.st_mode & 07777;
-  } else if (errno != ENOENT) {
-    throw IoError(fmt::format("{}: {}", s_->name(), os_error(errno)));
-  }
+  const auto [destination, mode] = output_destination(s_->target, s_->name());
+  s_->destination = destination;
+  if (mode) s_->keep_mode = *mode;
   probe_folder(s_->destination, s_->label.empty() ? std::string_view{} : std::string_view(s_->label));
 }
 
@@ -595,6 +606,12 @@ OutputFile& FileSet::output(std::string label, fs::path path) {
   s_->files.push_back(std::move(out));
   s_->order.emplace_back(false, s_->files.size() - 1);
   return *s_->files.back();
+}
+
+void FileSet::planned_output(std::string label, fs::path path) {
+  s_->refuse_clash(label, path, true);
+  output_destination(path, describe(label, path));
+  s_->output_names.push_back({std::move(label), std::move(path)});
 }
 
 OutputDirectory& FileSet::output_directory(std::string label, fs::path path) {

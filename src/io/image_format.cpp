@@ -612,6 +612,14 @@ Image depth_from_decoded(const DecodedImage& decoded, double scale_m, int width,
   if (std::abs(double(src.width) * height - double(src.height) * width) > double(std::max(width, height)))
     throw Error(fmt::format("{}: {}x{} has not the frame's aspect ({}x{})", origin, src.width, src.height, width,
                             height));
+  // Upsampled by nearest neighbour, a map coarser than kMinDepthMapFraction of the frame a side would
+  // put whole objects at one depth: refused rather than used for an occlusion it cannot give.
+  const int min_w = (width + kMinDepthMapFraction - 1) / kMinDepthMapFraction;
+  const int min_h = (height + kMinDepthMapFraction - 1) / kMinDepthMapFraction;
+  if (src.width < min_w || src.height < min_h)
+    throw Error(fmt::format("{}: {}x{} is too coarse for a {}x{} frame; a depth map needs at least 1/{} of the "
+                            "frame a side ({}x{})",
+                            origin, src.width, src.height, width, height, kMinDepthMapFraction, min_w, min_h));
   const double max_code = 65535;
   Image depth(width, height, 1);
   for (int y = 0; y < height; ++y) {

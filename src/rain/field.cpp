@@ -56,7 +56,7 @@ void validate(const RainCamera& c) {
   require_in_range("sensor_width_mm", c.sensor_width_mm, 1, 100);
   if (c.f_number != 0) require_in_range("f_number", c.f_number, 0.7, 64, "0 for a pinhole");
   if (c.f_number != 0) require_in_range("focus_m", c.focus_m, c.focal_mm * 1e-3 * 1.01, 1e4);
-  require_in_range("fps", c.fps, 1, 1000);
+  require_in_range("fps", c.fps, 0.01, 1000);
   require_in_range("exposure_s", c.exposure_s, 1e-6, 1.0 / c.fps, "at most one frame interval, 1 / fps");
   require_in_range("height_m", c.height_m, 0, 1000);
   require_in_range("pitch_deg", c.pitch_deg, -80, 80);

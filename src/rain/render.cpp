@@ -1,4 +1,5 @@
 // Streaks of a frame, rasterised and composited over the frame (rain.hpp).
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -131,7 +132,55 @@ double percentile(std::vector<float> v, double q) {
   return double(v[k]);
 }
 
+// Refuses a non-finite value anywhere in the frame (NonFinitePixel, the first in row order) and
+// counts the negative RGB values the composite reads as 0. Rows in parallel; the first bad row wins.
+std::uint64_t check_frame_values(const Image& frame) {
+  const int W = frame.width, H = frame.height, ch = frame.channels;
+  std::vector<std::uint64_t> negatives(std::size_t(H), 0);
+  std::atomic<int> first_bad_row{H};
+  tbb::parallel_for(0, H, [&](int y) {
+    const float* row = frame.pixels.data() + std::size_t(y) * std::size_t(W) * std::size_t(ch);
+    std::uint64_t neg = 0;
+    bool finite = true;
+    for (std::size_t i = 0; i < std::size_t(W) * std::size_t(ch); ++i) {
+      const float v = row[i];
+      finite &= std::isfinite(v);
+      neg += (v < 0.f && int(i % std::size_t(ch)) < 3) ? 1 : 0;
+    }
+    negatives[std::size_t(y)] = neg;
+    if (!finite) {
+      int cur = first_bad_row.load();
+      while (y < cur && !first_bad_row.compare_exchange_weak(cur, y)) {
+      }
+    }
+  });
+  if (const int y = first_bad_row.load(); y < H) {
+    for (int x = 0; x < W; ++x)
+      for (int k = 0; k < ch; ++k)
+        if (const float v = frame.at(x, y, k); !std::isfinite(v)) throw NonFinitePixel(x, y, k, v);
+  }
+  return std::accumulate(negatives.begin(), negatives.end(), std::uint64_t(0));
+}
+
 }  // namespace
+
+NonFinitePixel::NonFinitePixel(int x, int y, int channel, float value)
+    : Error(fmt::format("pixel ({}, {}) channel {} is {}: rain needs finite linear values (negative ones read as 0)", x,
+                        y, channel, std::isnan(value) ? "NaN" : value > 0 ? "+inf" : "-inf")),
+      x_(x),
+      y_(y) {}
+
+std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channels, bool with_layer) {
+  // Per pixel: the decoded frame and the rainy frame (4 bytes a channel each); the alpha, the
+  // renderer's depth, transmittance and streak accumulators (4 + 4 + 4 + 4 + 12 bytes); the encoder's
+  // scratch; with the layer, its 16 bytes and its own encoding. The encoders' shares are fitted to the
+  // peak resident size of `hydrolux rain --image builtin` at 2000x2000 and 4000x4000 (74 bytes a pixel
+  // to a PNG, 116 with an EXR, --layer-out and --mask-out; 2026-11-25), plus the program and the drops.
+  constexpr double kEncodeBytesPerPixel = 18, kLayerBytesPerPixel = 16 + 26, kFixedBytes = 64e6;
+  const double per_pixel =
+      8.0 * std::max(3, input_channels) + 32 + kEncodeBytesPerPixel + (with_layer ? kLayerBytesPerPixel : 0);
+  return std::uint64_t(kFixedBytes + per_pixel * double(camera.width) * double(camera.height));
+}
 
 Image builtin_scene(const RainCamera& c) {
   validate(c);
@@ -255,6 +304,7 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   if (frame.width != W || frame.height != H || frame.channels < 3)
     throw Error("rain: the frame's size must be the camera's, with at least 3 channels");
   const std::size_t npx = std::size_t(W) * std::size_t(H);
+  const std::uint64_t negatives = check_frame_values(frame);
   // The scene depth and the unresolved rain's transmittance along each pixel's ray: once for the
   // ground plane, per frame for a depth map.
   if (depth || !ground_plane_ || depth_.size() != npx) {
@@ -364,7 +414,7 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
         // rain's veil, which lies behind them).
         float luma_in = 0, luma_out = 0, layer[3];
         for (int k = 0; k < 3; ++k) {
-          const float clear = frame.pixels[i * std::size_t(ch) + std::size_t(k)];
+          const float clear = std::max(0.f, frame.pixels[i * std::size_t(ch) + std::size_t(k)]);
           const float air = float(air_row[std::size_t(x)][k]) * (1 - tu);
           layer[k] = air * ts + acc_c_[i * 3 + std::size_t(k)] * inv_w * as;
           const float v = clear * tu * ts + layer[k];
@@ -398,6 +448,7 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
 
   RainStats& st = out.stats;
   st = RainStats{};
+  st.negative_values_clamped = negatives;
   st.drops_total = field_.drop_count();
   st.drops_in_view = n_streaks;
   std::vector<float> lengths;

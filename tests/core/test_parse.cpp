@@ -26,7 +26,11 @@ TEST(Parse, Integers) {
   EXPECT_EQ(integer("1e3"), 1000);
   EXPECT_EQ(integer("-7"), -7);
   EXPECT_EQ(integer("9007199254740992"), 9007199254740992LL);  // 2^53
-  for (const char* bad : {"1.5", "1e-3", "9007199254740994", "1e30", "abc", "", "nan"})
+  EXPECT_EQ(integer("+9007199254740992"), 9007199254740992LL);
+  // Issue 23: 2^53 + 1 and 2^53 + 3 round onto representable doubles (2^53, 2^53 + 4); read as
+  // doubles they were accepted as 2^53, a different seed than the one given.
+  for (const char* bad : {"1.5", "1e-3", "9007199254740993", "9007199254740994", "9007199254740995",
+                          "-9007199254740993", "9007199254740992.5", "1e30", "abc", "", "nan"})
     EXPECT_EQ(integer(bad), std::nullopt) << bad;
 }
 

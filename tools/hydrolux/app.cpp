@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -136,6 +137,24 @@ std::vector<Command> add_all_commands(CLI::App& app) {
 
 namespace {
 
+// `text` with each library quantity it names as a whole word ("near_m") replaced by its flag.
+std::string with_flags(std::string text, const std::map<std::string, std::string>& flags_for_quantity) {
+  const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; };
+  for (const auto& [quantity, flag] : flags_for_quantity) {
+    std::size_t pos = 0;
+    while ((pos = text.find(quantity, pos)) != std::string::npos) {
+      const std::size_t end = pos + quantity.size();
+      if ((pos > 0 && word(text[pos - 1])) || (end < text.size() && word(text[end]))) {
+        pos = end;
+        continue;
+      }
+      text.replace(pos, quantity.size(), flag);
+      pos += flag.size();
+    }
+  }
+  return text;
+}
+
 int run_parsed(int argc, char** argv) {
   // A provisional name for messages (the leading words of argv, "hydrolux drop render"), set before
   // the signal handling starts: a Ctrl-C may come before the command tree is even built.
@@ -222,8 +241,11 @@ int run_parsed(int argc, char** argv) {
     } catch (const DomainError& e) {
       wait_if_cancelled();  // a failure the cancellation caused is not reported
       const auto it = cmd.flags_for_quantity.find(e.quantity());
-      if (it != cmd.flags_for_quantity.end())
-        fmt::print(stderr, "{}: {} {:g} is {}\n", prog, it->second, e.value(), printable(e.range_text()));
+      if (it != cmd.flags_for_quantity.end()) {
+        // A range that follows from another quantity ("beyond near_m") names that quantity's flag.
+        const std::string range = with_flags(e.range_text(), cmd.flags_for_quantity);
+        fmt::print(stderr, "{}: {} {:g} is {}\n", prog, it->second, e.value(), printable(range));
+      }
       else
         fmt::print(stderr, "{}: {}\n", prog, printable(e.what()));
       return kExitUsage;

@@ -18,6 +18,7 @@
 #include "common.hpp"
 #include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/memory.hpp"
 #include "hydrolux/rain/rain.hpp"
 #include "image_plugin.hpp"
 #include "progress.hpp"
@@ -41,6 +42,8 @@ struct RainArgs {
   int crf = 18;
   bool no_unresolved = false;
   bool quiet = false;
+  // Flags whose defaults mean nothing in some modes: given by the user, they must be used.
+  bool crf_given = false, depth_scale_given = false;
 };
 
 std::string lower_extension(const fs::path& p) {
@@ -56,12 +59,17 @@ bool is_frame_file(const fs::path& p) {
          e == ".ppm" || e == ".pfm";
 }
 
-// A depth map (io::depth_from_decoded), the JPEG refused before it is decoded.
-Image read_depth(const std::string& flag, const std::string& path, double scale_m, int width, int height) {
+// A depth map (io::depth_from_decoded), the JPEG refused before it is decoded. --depth-scale-m, if
+// given, must have a coded map (PNG, TIFF, PNM) to scale: an EXR holds metres.
+Image read_depth(const RainArgs& a, const std::string& flag, const std::string& path, int width, int height) {
   const ImageApi& images = image_api();
   const std::string bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, flag);
   const std::string origin = fmt::format("{} {}", flag, path);
-  if (io::sniff_image_format(bytes) == io::ImageFormat::jpeg) throw Error(origin + io::kJpegDepthRefusal);
+  const auto format = io::sniff_image_format(bytes);
+  if (format == io::ImageFormat::jpeg) throw Error(origin + io::kJpegDepthRefusal);
+  if (a.depth_scale_given && (format == io::ImageFormat::exr || format == io::ImageFormat::hdr))
+    throw Error(fmt::format("--depth-scale-m: scales the codes of a PNG depth map; {} holds metres already", origin));
+  const double scale_m = a.depth_scale_m;
   auto decoded = images.decode_image(bytes, origin, io::ImageLimits{});
   for (const auto& w : decoded.warnings) warn(fmt::format("{}: {}", origin, w));
   return io::depth_from_decoded(decoded, scale_m, width, height, origin);
@@ -79,7 +87,8 @@ nlohmann::json stats_json(const rain::RainStats& s) {
           {"streak_luminance_gain", s.streak_luminance_gain},
           {"streak_pixel_fraction", s.streak_pixel_fraction},
           {"alpha_mean", s.alpha_mean},
-          {"unresolved_transmittance_mean", s.unresolved_transmittance_mean}};
+          {"unresolved_transmittance_mean", s.unresolved_transmittance_mean},
+          {"negative_values_clamped", s.negative_values_clamped}};
 }
 
 nlohmann::json run_json(const RainArgs& a, const rain::RainField& field) {
@@ -142,10 +151,42 @@ rain::RainCamera camera_for(const RainArgs& a, int width, int height, std::optio
   c.width = width;
   c.height = height;
   if (a.pixel_pitch_um) c.sensor_width_mm = *a.pixel_pitch_um * 1e-3 * width;
-  if (a.fov_deg) c.focal_mm = rain::focal_mm_from_fov(*a.fov_deg, c.sensor_width_mm);
+  if (a.fov_deg) {
+    c.focal_mm = rain::focal_mm_from_fov(*a.fov_deg, c.sensor_width_mm);
+    // The focal length it implies must lie in the camera's range: said in --fov-deg's terms.
+    try {
+      rain::validate(c);
+    } catch (const DomainError& e) {
+      if (e.quantity() == "focal_mm")
+        throw Error(fmt::format("--fov-deg {:g}: on a {:g} mm wide sensor that is a focal length of {:.4g} mm, {}",
+                                *a.fov_deg, c.sensor_width_mm, c.focal_mm, e.range_text()));
+    }
+  }
   if (fps) c.fps = *fps;
-  // A long exposure for the default frame rate: never longer than the frame interval.
   return c;
+}
+
+// Refuses a frame size whose rendering would not fit in the memory available now, before any work.
+void check_memory(const rain::RainCamera& c, int input_channels, bool with_layer, const std::string& what) {
+  const double need = double(rain::estimated_render_bytes(c, input_channels, with_layer));
+  const double avail = double(available_memory_bytes());
+  if (need <= avail) return;
+  const double scale = std::sqrt(avail / need);
+  throw Error(fmt::format("{}: rain over {}x{} needs about {} of memory and {} is available; about {}x{} would fit",
+                          what, c.width, c.height, format_bytes(need), format_bytes(avail),
+                          int(std::floor(c.width * scale)), int(std::floor(c.height * scale))));
+}
+
+// One frame rendered: a non-finite input value is bad input naming the frame, negative values a warning.
+void render_frame(rain::RainRenderer& renderer, const Image& frame, const Image* depth, std::int64_t index,
+                  bool with_layer, rain::RainFrame& out, const std::string& origin) {
+  try {
+    renderer.render_into(frame, depth, index, with_layer, out);
+  } catch (const rain::NonFinitePixel& e) {
+    throw Error(fmt::format("{}: {}", origin, e.what()));
+  }
+  if (const auto n = out.stats.negative_values_clamped)
+    warn(fmt::format("{}: {} negative value{} read as 0 (light cannot be negative)", origin, n, n == 1 ? "" : "s"));
 }
 
 void print_summary(const RainArgs& a, const rain::RainField& f, const rain::RainStats& st, std::size_t frames,
@@ -161,6 +202,8 @@ void print_summary(const RainArgs& a, const rain::RainField& f, const rain::Rain
 }
 
 int run_image(const RainArgs& a) {
+  if (a.crf_given) throw Error("--crf: sets the H.264 quality of --video's output; --image writes one picture");
+  if (a.depth_scale_given && !a.depth) throw Error("--depth-scale-m: scales a PNG --depth map; none is given");
   io::FileSet files;
   const bool builtin = *a.image == "builtin";
   if (!builtin) files.input("--image", *a.image);
@@ -180,18 +223,24 @@ int run_image(const RainArgs& a) {
   const auto start = std::chrono::steady_clock::now();
   Image frame;
   if (builtin) {
-    const auto wh = parse_size(a.size.value_or("1280x720"));  // checked by the option's validator
-    frame = rain::builtin_scene(camera_for(a, (*wh)[0], (*wh)[1], a.fps));
+    const std::string size = a.size.value_or("1280x720");
+    const auto wh = parse_size(size);  // checked by the option's validator
+    const rain::RainCamera c = camera_for(a, (*wh)[0], (*wh)[1], a.fps);
+    check_memory(c, 3, layer.has_value(), "--size " + size);
+    frame = rain::builtin_scene(c);
   } else {
     frame = read_input_image("--image", *a.image);
   }
   const rain::RainCamera cam = camera_for(a, frame.width, frame.height, a.fps);
+  if (!builtin) check_memory(cam, frame.channels, layer.has_value(), "--image " + *a.image);
   std::optional<Image> depth;
-  if (a.depth) depth = read_depth("--depth", *a.depth, a.depth_scale_m, frame.width, frame.height);
+  if (a.depth) depth = read_depth(a, "--depth", *a.depth, frame.width, frame.height);
   rain::RainSettings s = a.s;
   s.unresolved = !a.no_unresolved;
   rain::RainRenderer renderer(make_field(s, cam, !depth));
-  rain::RainFrame result = renderer.render(frame, depth ? &*depth : nullptr, a.frame_index, layer.has_value());
+  rain::RainFrame result;
+  render_frame(renderer, frame, depth ? &*depth : nullptr, a.frame_index, layer.has_value(), result,
+               builtin ? std::string("--image builtin") : "--image " + *a.image);
   // The optional outputs first: a failure (a full disk) is then reported under their own flag.
   if (layer) write_output_image(*layer, result.layer);
   if (mask) mask->file->write(image_api().encode_image(io::coverage_for_encoding(result.alpha, mask->format), mask->format, io::PngOptions{16}));
@@ -209,23 +258,57 @@ int run_image(const RainArgs& a) {
   return 0;
 }
 
+// The frames of --input-dir in name order: regular files (through links) with an image extension.
+// Entries with such a name that cannot be read as a file (a FIFO, a device, a folder, a dangling link)
+// are left out and listed in one warning line, never skipped without a word.
+std::vector<fs::path> list_frames(const std::string& input_dir) {
+  const fs::path in_dir(input_dir);
+  std::error_code ec;
+  if (!fs::is_directory(in_dir, ec)) throw Error(fmt::format("--input-dir {}: not a folder", input_dir));
+  std::vector<fs::path> frames;
+  std::vector<std::string> skipped;
+  for (const auto& e : fs::directory_iterator(in_dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (!is_frame_file(e.path()) || name.front() == '.') continue;
+    std::error_code kind_ec;
+    const fs::file_status st = fs::status(e.path(), kind_ec);
+    if (fs::is_regular_file(st)) {
+      frames.push_back(e.path());
+      continue;
+    }
+    const char* kind = !fs::exists(st)           ? "dangling link"
+                       : fs::is_directory(st)    ? "folder"
+                       : fs::is_fifo(st)         ? "FIFO"
+                       : fs::is_socket(st)       ? "socket"
+                       : fs::is_block_file(st) || fs::is_character_file(st) ? "device"
+                                                                              : "not a regular file";
+    skipped.push_back(fmt::format("{} ({})", name, kind));
+  }
+  if (ec) throw Error(fmt::format("--input-dir {}: cannot list: {}", input_dir, ec.message()));
+  std::sort(frames.begin(), frames.end());
+  std::sort(skipped.begin(), skipped.end());
+  if (!skipped.empty()) {
+    std::string list;
+    for (const auto& k : skipped) list += (list.empty() ? "" : ", ") + k;
+    warn(fmt::format("--input-dir {}: skipped {} entr{} that {} not regular files: {}", input_dir, skipped.size(),
+                     skipped.size() == 1 ? "y" : "ies", skipped.size() == 1 ? "is" : "are", list));
+  }
+  if (frames.empty())
+    throw Error(fmt::format("--input-dir {}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)", input_dir));
+  return frames;
+}
+
 int run_folder(const RainArgs& a) {
   if (a.output) throw Error("-o: with --input-dir the frames go to --output-dir");
   if (!a.output_dir) throw Error("--output-dir: give the folder for the rainy frames (with --input-dir)");
   if (a.depth) throw Error("--depth: one depth map serves one --image; give a folder's maps with --depth-dir");
   if (a.mask_out) throw Error("--mask-out: with --input-dir give --mask-dir for the masks");
   if (a.layer_out) throw Error("--layer-out: available with --image");
+  if (a.crf_given) throw Error("--crf: sets the H.264 quality of --video's output; --input-dir writes pictures");
+  if (a.depth_scale_given && !a.depth_dir) throw Error("--depth-scale-m: scales PNG maps of --depth-dir; none is given");
   const fs::path in_dir(*a.input_dir), out_dir(*a.output_dir);
   std::error_code ec;
-  if (!fs::is_directory(in_dir, ec)) throw Error(fmt::format("--input-dir {}: not a folder", *a.input_dir));
-  std::vector<fs::path> frames;
-  for (const auto& e : fs::directory_iterator(in_dir, ec))
-    if (e.is_regular_file() && is_frame_file(e.path()) && e.path().filename().string().front() != '.')
-      frames.push_back(e.path());
-  if (ec) throw Error(fmt::format("--input-dir {}: cannot list: {}", *a.input_dir, ec.message()));
-  std::sort(frames.begin(), frames.end());
-  if (frames.empty())
-    throw Error(fmt::format("--input-dir {}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)", *a.input_dir));
+  const std::vector<fs::path> frames = list_frames(*a.input_dir);
   // Each frame's output name (its own, as .exr or .png); two frames may not share one.
   std::vector<fs::path> out_names;
   {
@@ -248,7 +331,7 @@ int run_folder(const RainArgs& a) {
       fs::path found;
       for (const char* ext : {".exr", ".png"}) {
         const fs::path candidate = fs::path(*a.depth_dir) / (f.stem().string() + ext);
-        if (fs::exists(candidate, ec)) {
+        if (fs::exists(fs::symlink_status(candidate, ec))) {
           found = candidate;
           break;
         }
@@ -256,7 +339,6 @@ int run_folder(const RainArgs& a) {
       if (found.empty())
         throw Error(fmt::format("--depth-dir {}: no depth map for {} ({}.exr or {}.png)", *a.depth_dir,
                                 f.filename().string(), f.stem().string(), f.stem().string()));
-      io::check_input_file(found, "--depth-dir");
       depth_files.push_back(found);
     }
   }
@@ -272,7 +354,16 @@ int run_folder(const RainArgs& a) {
   }
   if (a.mask_dir && io::same_file(*a.mask_dir, out_dir))
     throw Error(fmt::format("--mask-dir {}: is --output-dir; masks and frames share names", *a.mask_dir));
+  // Every file the run reads or writes, declared before any work: the frames and depth maps as inputs,
+  // each frame's output and mask as planned outputs, the statistics as an output. An output on an
+  // input (a --stats-json naming a frame, a link in --output-dir to a frame) or two outputs on one
+  // path are refused here, whichever folders they are in.
   io::FileSet files;
+  for (const auto& f : frames) files.input("--input-dir", f);
+  for (const auto& d : depth_files) files.input("--depth-dir", d);
+  for (const auto& n : out_names) files.planned_output("--output-dir", out_dir / n);
+  if (a.mask_dir)
+    for (const auto& n : out_names) files.planned_output("--mask-dir", fs::path(*a.mask_dir) / n);
   io::OutputFile* stats = a.stats_json ? &files.output("--stats-json", *a.stats_json) : nullptr;
   fs::create_directories(out_dir, ec);
   if (ec) throw IoError(fmt::format("--output-dir {}: cannot create: {}", *a.output_dir, ec.message()));
@@ -281,28 +372,46 @@ int run_folder(const RainArgs& a) {
     if (ec) throw IoError(fmt::format("--mask-dir {}: cannot create: {}", *a.mask_dir, ec.message()));
   }
 
+  // A frame that cannot be used (unreadable, truncated, of another size, a non-finite value) is named
+  // and left out, the others written, and the run ends with exit 1, as the batch job does: found only
+  // by decoding, it would otherwise cost a second pass over every frame before the work.
   const auto start = std::chrono::steady_clock::now();
   ProgressBar bar("rain", a.quiet);
   std::optional<rain::RainRenderer> renderer;
   rain::RainFrame result;
   nlohmann::json per_frame = nlohmann::json::array();
+  std::vector<std::string> failed;
   const ImageApi& images = image_api();
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const std::string name = frames[k].string();
-    const Image frame = read_input_image("--input-dir", name);
-    if (!renderer) {
-      rain::RainSettings s = a.s;
-      s.unresolved = !a.no_unresolved;
-      renderer.emplace(make_field(s, camera_for(a, frame.width, frame.height, a.fps), !a.depth_dir));
-    } else if (frame.width != renderer->field().camera().width || frame.height != renderer->field().camera().height) {
-      throw Error(fmt::format("--input-dir: {} is {}x{}, unlike the first frame ({}x{}); one sequence has one size",
-                              name, frame.width, frame.height, renderer->field().camera().width,
-                              renderer->field().camera().height));
+    try {
+      const Image frame = read_input_image("--input-dir", name);
+      if (!renderer) {
+        rain::RainSettings s = a.s;
+        s.unresolved = !a.no_unresolved;
+        const rain::RainCamera cam = camera_for(a, frame.width, frame.height, a.fps);
+        check_memory(cam, frame.channels, false, "--input-dir " + name);
+        renderer.emplace(make_field(s, cam, !a.depth_dir));
+      } else if (frame.width != renderer->field().camera().width ||
+                 frame.height != renderer->field().camera().height) {
+        throw IoError(fmt::format("--input-dir {}: is {}x{}, unlike the first frame ({}x{}); one sequence has one size",
+                                  name, frame.width, frame.height, renderer->field().camera().width,
+                                  renderer->field().camera().height));
+      }
+      std::optional<Image> depth;
+      if (a.depth_dir) depth = read_depth(a, "--depth-dir", depth_files[k].string(), frame.width, frame.height);
+      render_frame(*renderer, frame, depth ? &*depth : nullptr, a.frame_index + std::int64_t(k), false, result,
+                   "--input-dir " + name);
+    } catch (const IoFailure&) {
+      throw;
+    } catch (const Error& e) {
+      // Before any frame is rendered nothing is lost by stopping: bad input, exit 2, as before.
+      if (!renderer) throw;
+      bar.clear();
+      warn(fmt::format("{} (left out)", e.what()));
+      failed.push_back(frames[k].filename().string());
+      continue;
     }
-    std::optional<Image> depth;
-    if (a.depth_dir)
-      depth = read_depth("--depth-dir", depth_files[k].string(), a.depth_scale_m, frame.width, frame.height);
-    renderer->render_into(frame, depth ? &*depth : nullptr, a.frame_index + std::int64_t(k), false, result);
     const fs::path& out_name = out_names[k];
     const auto format = out_name.extension() == ".exr" ? io::ImageFormat::exr : io::ImageFormat::png;
     io::write_file(out_dir / out_name, images.encode_image(result.image, format, io::PngOptions{}), "--output-dir");
@@ -324,11 +433,19 @@ int run_folder(const RainArgs& a) {
     auto j = run_json(a, renderer->field());
     j["input"] = *a.input_dir;
     j["frames"] = std::move(per_frame);
+    if (!failed.empty()) j["left_out"] = failed;
     stats->write(j.dump(2) + "\n");
   }
   files.commit();
-  print_summary(a, renderer->field(), result.stats, frames.size(),
+  print_summary(a, renderer->field(), result.stats, frames.size() - failed.size(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  if (!failed.empty()) {
+    std::string list;
+    for (const auto& f : failed) list += (list.empty() ? "" : ", ") + f;
+    fmt::print(stderr, "{}: {} of {} frames left out ({}); the others are written\n", program_name(), failed.size(),
+               frames.size(), printable(list));
+    return kExitFailure;
+  }
   return 0;
 }
 
@@ -338,6 +455,7 @@ int run_video(const RainArgs& a) {
   if (a.mask_out || a.mask_dir || a.layer_out || a.output_dir)
     throw Error("--video writes one video (-o) and optionally --stats-json; masks are for --image and --input-dir");
   if (a.fps) throw Error("--fps: a video's frame rate is its own");
+  if (a.depth_scale_given) throw Error("--depth-scale-m: scales PNG depth maps, which are for --image and --input-dir");
   const std::string ext = lower_extension(*a.output);
   if (std::find(std::begin(kVideoExtensions), std::end(kVideoExtensions), ext) == std::end(kVideoExtensions))
     throw Error(fmt::format("-o {}: expected a .mp4, .mov or .mkv file", *a.output));
@@ -354,7 +472,23 @@ int run_video(const RainArgs& a) {
   const VideoInfo info = reader->info();
   rain::RainSettings s = a.s;
   s.unresolved = !a.no_unresolved;
-  rain::RainRenderer renderer(make_field(s, camera_for(a, info.width, info.height, info.fps()), true));
+  rain::RainCamera cam = camera_for(a, info.width, info.height, std::nullopt);
+  cam.fps = info.fps();
+  // The video's own frame rate, size and the exposure it allows, said in the video's terms.
+  try {
+    rain::validate(cam);
+  } catch (const DomainError& e) {
+    if (e.quantity() == "fps" || e.quantity() == "width" || e.quantity() == "height")
+      throw Error(fmt::format("--video {}: its {} {:g} is {}", *a.video,
+                              e.quantity() == "fps" ? "frame rate (1/s)" : e.quantity().c_str(), e.value(),
+                              e.range_text()));
+    if (e.quantity() == "exposure_s")
+      throw Error(fmt::format("--exposure-s {:g}: is longer than one frame of --video {} ({:g} frames/s); at most {:g} s",
+                              e.value(), *a.video, cam.fps, 1.0 / cam.fps));
+    throw;
+  }
+  check_memory(cam, 3, false, "--video " + *a.video);
+  rain::RainRenderer renderer(make_field(s, cam, true));
   auto writer = api.open_writer([&out](std::uint64_t off, std::string_view bytes) { out.write_at(off, bytes); }, ext,
                                 info, a.crf, fmt::format("-o {}", *a.output));
   const SrgbTables tables;
@@ -370,7 +504,7 @@ int run_video(const RainArgs& a) {
                                                       : -1;
   while (reader->read(in_frame)) {
     tables.to_linear(in_frame, linear);
-    renderer.render_into(linear, nullptr, a.frame_index + k, false, result);
+    render_frame(renderer, linear, nullptr, a.frame_index + k, false, result, "--video " + *a.video);
     tables.to_srgb(result.image, out_frame);
     writer->write(out_frame);
     if (stats) {
@@ -429,7 +563,7 @@ Command add_rain(CLI::App& app) {
   sub->add_option("--output-dir", a->output_dir, "Output folder for --input-dir (created; never the input folder)");
   sub->add_option("--depth", a->depth, "Depth map for --image: camera z in metres (EXR), or a 16-bit PNG times --depth-scale-m; 0/inf = sky");
   sub->add_option("--depth-dir", a->depth_dir, "Depth maps for --input-dir: each frame's stem as .exr or .png (as --depth)");
-  sub->add_option("--depth-scale-m", a->depth_scale_m, "Metres per code of a PNG depth map")
+  auto* depth_scale = sub->add_option("--depth-scale-m", a->depth_scale_m, "Metres per code of a PNG depth map (--depth, --depth-dir)")
       ->check(number_in(1e-6, 1e3, "m"))->capture_default_str();
   sub->add_option("--mask-out", a->mask_out, "The rain's alpha for --image: .png (16-bit linear) or .exr; rainy = clear (1 - alpha) + layer");
   sub->add_option("--mask-dir", a->mask_dir, "Folder for the masks of --input-dir (same names as the frames)");
@@ -453,7 +587,7 @@ Command add_rain(CLI::App& app) {
       ->check(number_in(0, 64))->capture_default_str();
   sub->add_option("--focus-m", c.focus_m, "Focus distance, m (with --f-number)")->check(number_in(0.01, 1e4, "m"))->capture_default_str();
   sub->add_option("--fps", a->fps, "Frame rate of --image / --input-dir frames (frame k is exposed from k / fps) [25]")
-      ->check(number_in(1, 1000, "1/s"));
+      ->check(number_in(0.01, 1000, "1/s"));
   sub->add_option("--frame-index", a->frame_index, "Index of the first frame in the rain field's time")
       ->transform(integer_in(0, 1000000000))->capture_default_str();
   sub->add_option("--camera-height-m", c.height_m, "Camera height above the ground plane, m")
@@ -477,12 +611,16 @@ Command add_rain(CLI::App& app) {
       ->check(number_in(0, 0.5))->capture_default_str();
   sub->add_flag("--no-unresolved", a->no_unresolved, "Leave out the unresolved rain's extinction and airlight (streaks only)");
   sub->add_option("--seed", s.seed, "Random seed: the same seed gives the same rain, bytes for bytes")
-      ->transform(integer_in(0, 1LL << 53))->capture_default_str();
-  sub->add_option("--crf", a->crf, "H.264 quality of --video's output (0 lossless .. 51; 18 visually lossless)")
+      ->transform(integer_in(0, (long long)rain::kMaxSeed))->capture_default_str();
+  auto* crf = sub->add_option("--crf", a->crf, "H.264 quality of --video's output (0 lossless .. 51; 18 visually lossless)")
       ->transform(integer_in(0, 51))->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
   return {sub,
-          [a] { return run_rain(*a); },
+          [a, crf, depth_scale] {
+            a->crf_given = crf->count() > 0;
+            a->depth_scale_given = depth_scale->count() > 0;
+            return run_rain(*a);
+          },
           {{"rate_mmh", "--rate-mmh"},
            {"wind_mps", "--wind-mps"},
            {"wind_dir_deg", "--wind-dir-deg"},

@@ -31,17 +31,19 @@ void ProgressBar::update(double fraction, std::string_view label) {
   printed_ = true;
 }
 
+void ProgressBar::clear() {
+  if (!quiet_ && !finished_ && tty_ && printed_) {
+    std::fputs("\r\033[K", stderr);
+    std::fflush(stderr);
+  }
+}
+
 void ProgressBar::finish() {
   if (quiet_ || finished_) return;
   finished_ = true;
   if (tty_ && printed_) fmt::print(stderr, "\n");
 }
 
-ProgressBar::~ProgressBar() {
-  if (!quiet_ && !finished_ && tty_ && printed_) {
-    std::fputs("\r\033[K", stderr);
-    std::fflush(stderr);
-  }
-}
+ProgressBar::~ProgressBar() { clear(); }
 
 }  // namespace hydrolux::cli

@@ -18,6 +18,8 @@ class ProgressBar {
   ProgressBar& operator=(const ProgressBar&) = delete;
   ProgressFn callback();
   void update(double fraction, std::string_view label);
+  // Erases the bar from the terminal so that a warning line can be printed; the next update redraws it.
+  void clear();
   void finish();
 
  private:

@@ -23,7 +23,8 @@ class DomainError : public Error {
   double value() const noexcept { return value_; }
   double lo() const noexcept { return lo_; }
   double hi() const noexcept { return hi_; }
-  // What the range belongs to, e.g. "water (IAPWS R9-97)"; may be empty.
+  // What the range belongs to, e.g. "water (IAPWS R9-97)", or how it follows from another quantity
+  // ("beyond near_m", "at most ...", "at least ..."); may be empty.
   const std::string& context() const noexcept { return context_; }
   // "outside [lo, hi] of <context>", without the quantity: for callers that name it themselves.
   std::string range_text() const;

@@ -150,7 +150,9 @@ class OutputDirectory {
 // flag such as "--env"). Declaring a file checks it at once: an input must be a regular file; an
 // output is reserved (OutputFile) and refused if it is the same file as an input or another
 // output, whichever was declared first. Commands declare every file before they start work, so
-// a bad path fails in a second, not after a long render.
+// a bad path fails in a second, not after a long render; a command that reads or writes folders
+// declares each member it reads (input) and each it will write (planned_output), so that no output,
+// in a folder or not, can land on an input or on another output.
 class FileSet {
  public:
   FileSet();
@@ -161,6 +163,10 @@ class FileSet {
   // Returns the input's size in bytes.
   std::uint64_t input(std::string label, std::filesystem::path path);
   OutputFile& output(std::string label, std::filesystem::path path);
+  // An output the command writes later through write_file() (one file of a folder of outputs, such
+  // as a rainy frame): checked now as output() checks it (not an input, not another output, not a
+  // folder or a device), without reserving it, since its folder may not exist yet.
+  void planned_output(std::string label, std::filesystem::path path);
   OutputDirectory& output_directory(std::string label, std::filesystem::path path);
   // Commits every output in the order declared.
   void commit();

@@ -115,7 +115,9 @@ Image coverage_for_encoding(const Image& alpha, ImageFormat format);
 // TIFF or PNM holds 16-bit codes times `scale_m` (the decoder hands them over through the sRGB
 // curve, which round-trips to well under half a code; an 8-bit file's codes are multiples of 257),
 // code 0 meaning no geometry (infinity). Another resolution with the frame's aspect is sampled at the
-// nearest pixel. Error naming `origin` for another aspect or a JPEG (lossy codes are not depths).
+// nearest pixel. Error naming `origin` for another aspect, a map smaller than 1/kMinDepthMapFraction
+// of the frame a side, or a JPEG (lossy codes are not depths).
+inline constexpr int kMinDepthMapFraction = 16;
 Image depth_from_decoded(const DecodedImage& decoded, double scale_m, int width, int height, std::string_view origin);
 inline constexpr const char* kJpegDepthRefusal = ": a JPEG cannot hold depth faithfully; give a 16-bit PNG or an EXR";
 

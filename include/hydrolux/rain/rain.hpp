@@ -78,7 +78,7 @@ double focal_mm_from_fov(double fov_deg, double sensor_width_mm);
 
 // DomainError naming the quantity ("focal_mm", "exposure_s", ...) for a value outside its range:
 // width, height [16, 16384]; focal_mm [1, 2000]; sensor_width_mm [1, 100]; f_number 0 or [0.7, 64];
-// focus_m (f, 1e4]; fps [1, 1000]; exposure_s [1e-6, 1 / fps]; height_m [0, 1000];
+// focus_m (f, 1e4]; fps [0.01, 1000] (a time lapse too); exposure_s [1e-6, 1 / fps]; height_m [0, 1000];
 // pitch_deg [-80, 80].
 void validate(const RainCamera& camera);
 
@@ -99,6 +99,10 @@ struct RainSettings {
   bool unresolved = true;        // the unresolved rain's extinction and airlight
   int radius_classes = 24;       // log-spaced radius classes, [1, 256]
 };
+
+// The largest seed every door accepts (CLI --seed, Python seed=, the batch jobs): 2^53, so that a
+// seed survives a round trip through JSON and double-precision numbers exactly.
+inline constexpr std::uint64_t kMaxSeed = std::uint64_t(1) << 53;
 
 // DomainError naming the setting ("rate_mmh", "near_m", ...) for a value outside its range.
 void validate(const RainSettings& settings);
@@ -233,6 +237,23 @@ struct RainStats {
   double alpha_mean = 0;                 // of the whole rain layer over the image
   double streak_pixel_fraction = 0;      // of pixels with streak alpha >= 0.01
   double unresolved_transmittance_mean = 0;
+  // Negative input values (a colour transform's undershoot in an EXR) read as 0; how many there were.
+  std::uint64_t negative_values_clamped = 0;
+};
+
+// What the renderer does with the frame's values: a non-finite one (NaN, +-inf) in any channel is
+// refused with NonFinitePixel, naming the first one in row order, since one infinite pixel would
+// spread through the drops' light to thousands of outputs; a negative one in RGB is light that cannot
+// be and is read as 0, counted in RainStats::negative_values_clamped (channels beyond RGB are copied
+// as they are). So every output value is finite.
+class NonFinitePixel : public Error {
+ public:
+  NonFinitePixel(int x, int y, int channel, float value);
+  int x() const noexcept { return x_; }
+  int y() const noexcept { return y_; }
+
+ private:
+  int x_, y_;
 };
 
 struct RainFrame {
@@ -241,6 +262,13 @@ struct RainFrame {
   Image layer;   // 4 channels, premultiplied: RGB the rain's light, A = alpha (if requested)
   RainStats stats;
 };
+
+// The memory, in bytes, that rendering one frame of the camera's size takes beyond the drops
+// themselves: the frame as decoded (`input_channels` floats a pixel), the renderer's per-pixel
+// buffers, the rainy frame, its alpha, the layer if asked for, and the encoded output on its way to
+// a file. Measured (the peak resident size of `hydrolux rain` at two sizes, rain.cpp), so that a
+// door can refuse a size that cannot fit before any work instead of failing a minute in.
+std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channels, bool with_layer);
 
 class RainRenderer {
  public:

@@ -1,0 +1,51 @@
+#include "hydrolux/core/memory.hpp"
+
+#include <fmt/format.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace hydrolux {
+
+namespace {
+
+// A field of /proc/<...> files in kB ("MemAvailable:   123456 kB"), in bytes; 0 if absent.
+std::uint64_t proc_kb_field(const char* path, const std::string& key) {
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind(key, 0) != 0) continue;
+    std::istringstream fields(line.substr(key.size()));
+    std::uint64_t kb = 0;
+    if (fields >> kb) return kb * 1024;
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::uint64_t available_memory_bytes() {
+  std::uint64_t avail = proc_kb_field("/proc/meminfo", "MemAvailable:");
+  if (avail == 0) {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    avail = pages > 0 && page > 0 ? std::uint64_t(pages) * std::uint64_t(page) : UINT64_MAX;
+  }
+  rlimit as{};
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
+    const std::uint64_t mapped = proc_kb_field("/proc/self/status", "VmSize:");
+    const std::uint64_t left = as.rlim_cur > mapped ? std::uint64_t(as.rlim_cur) - mapped : 0;
+    avail = std::min(avail, left);
+  }
+  return avail;
+}
+
+std::string format_bytes(double bytes) {
+  if (bytes >= 1e9) return fmt::format("{:.1f} GB", bytes / 1e9);
+  if (bytes >= 1e6) return fmt::format("{:.0f} MB", bytes / 1e6);
+  return fmt::format("{:.0f} kB", bytes / 1e3);
+}
+
+}  // namespace hydrolux
