@@ -17,6 +17,8 @@ linear light, float32. Batch jobs on Dask: ``python3 -m hydrolux.batch --help``.
 from __future__ import annotations
 
 import math
+import os
+import warnings
 from typing import Any, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -33,6 +35,108 @@ __all__ = [
 ArrayLike = Union[float, Sequence[float], np.ndarray]
 
 
+# ---- arguments ------------------------------------------------------------------------------------
+# Every argument is checked by type here (numbers, strings, flags, pairs) or in _core (whole numbers
+# with their ranges, arrays), never laundered through int() / float() / bool() / str(): a bad one is a
+# one-line TypeError or ValueError naming it, its value (short, never an array's contents) and what
+# is valid.
+
+def _describe(value: Any) -> str:
+    """A value as an error message shows it: short, and never an array's or a container's contents."""
+    if value is None:
+        return "None"
+    if isinstance(value, np.ndarray):
+        return f"an array of shape {value.shape} and dtype {value.dtype}"
+    if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) and \
+            abs(int(value)).bit_length() > 128:
+        return f"a whole number of {int(abs(int(value)).bit_length() * 0.30103) + 1} digits"
+    if isinstance(value, (str, bytes, bool, int, float, complex, np.generic)):
+        r = repr(value) if isinstance(value, (str, bytes)) else str(value)
+        return r if len(r) <= 40 else r[:37] + "..."
+    return f"a {type(value).__name__}"
+
+
+_REALS = (int, float, np.integer, np.floating)
+
+
+def _real(value: Any, name: str) -> float:
+    """One real number (not a bool); +-inf past a float's range, for the range check that follows."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        value = value[()]
+    if isinstance(value, _REALS) and not isinstance(value, (bool, np.bool_)):
+        try:
+            return float(value)
+        except OverflowError:
+            return math.inf if value > 0 else -math.inf
+    raise TypeError(f"{name}: expected a number, got {_describe(value)}")
+
+
+def _opt_real(value: Any, name: str) -> Optional[float]:
+    return None if value is None else _real(value, name)
+
+
+def _complex(value: Any, name: str) -> complex:
+    """One complex number (a real one too)."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iufc":
+        value = value[()]
+    if isinstance(value, _REALS + (complex, np.complexfloating)) and not isinstance(value, (bool, np.bool_)):
+        return complex(value)
+    raise TypeError(f"{name}: expected one complex number such as 1.333+1e-8j, got {_describe(value)}")
+
+
+def _reals(value: Any, name: str) -> np.ndarray:
+    """Numbers of any shape: an ndarray as it is (_core checks its dtype and copies it, MemoryError
+    when the copy cannot be made), anything else through numpy as float64."""
+    if isinstance(value, np.ndarray):
+        return value
+    if value is None or isinstance(value, (str, bytes, complex, np.complexfloating)):
+        raise TypeError(f"{name}: expected a number or an array of numbers, got {_describe(value)}")
+    try:
+        return np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected a number or an array of numbers, got {_describe(value)}") from None
+
+
+def _text(value: Any, name: str, valid: str) -> str:
+    if not isinstance(value, str):
+        raise TypeError(f"{name}: expected a string ({valid}), got {_describe(value)}")
+    return value
+
+
+def _flag(value: Any, name: str) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name}: expected True or False, got {_describe(value)}")
+    return bool(value)
+
+
+def _pair(value: Any, name: str, what: str) -> tuple:
+    """Two values, (A, B) or [A, B] or a 1-D array of two; their own checks follow."""
+    if isinstance(value, (tuple, list)) and len(value) == 2:
+        return (value[0], value[1])
+    if isinstance(value, np.ndarray) and value.shape == (2,):
+        return (value[0], value[1])
+    raise TypeError(f"{name}: expected {what}, got {_describe(value)}")
+
+
+def _path(value: Any, name: str) -> str:
+    if isinstance(value, str) or (isinstance(value, os.PathLike) and isinstance(os.fspath(value), str)):
+        return os.fspath(value)
+    raise TypeError(f"{name}: expected a file path (str or pathlib.Path), got {_describe(value)}")
+
+
+def _array_arg(value: Any, name: str) -> np.ndarray:
+    """An image argument as an ndarray (_core checks its shape and dtype, naming it)."""
+    if isinstance(value, np.ndarray):
+        return value
+    try:
+        return np.asarray(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected an array (height, width[, channels]), got {_describe(value)}") from None
+
+
+_MEDIUM = "a name from media() or 'const:1.49'"
+
+
 def simd_target() -> str:
     """The SIMD instruction set the Mie kernels run on this CPU (e.g. "AVX2", "AVX3")."""
     return _core.simd_target()
@@ -40,7 +144,7 @@ def simd_target() -> str:
 
 def set_threads(threads: int) -> None:
     """Use at most ``threads`` threads for every parallel loop of this process (0: every core)."""
-    _core.set_threads(int(threads))
+    _core.set_threads(threads)
 
 
 # ---- interface optics ----------------------------------------------------------------------------
@@ -54,7 +158,7 @@ def fresnel(theta_deg: ArrayLike, n1: float = 1.0, n2: float = 1.333, k2: float 
     ``t`` (NaN for an absorbing medium), ``theta_t_deg`` (NaN under total internal reflection or for
     an absorbing medium), and ``tir`` (bool). Indices in [1e-3, 1000], k2 in [0, 1000].
     """
-    return _core.fresnel(np.asarray(theta_deg, dtype=np.float64), float(n1), float(n2), float(k2))
+    return _core.fresnel(_reals(theta_deg, "theta_deg"), _real(n1, "n1"), _real(n2, "n2"), _real(k2, "k2"))
 
 
 def media() -> list:
@@ -69,8 +173,8 @@ def refractive_index(medium: str, wavelength_nm: ArrayLike, temperature_c: Optio
     temperature model (water: 0 to 100 C); None takes the medium's default. Returns complex128 of
     the shape of ``wavelength_nm``.
     """
-    return _core.refractive_index(medium, np.asarray(wavelength_nm, dtype=np.float64),
-                                  None if temperature_c is None else float(temperature_c))
+    return _core.refractive_index(_text(medium, "medium", _MEDIUM), _reals(wavelength_nm, "wavelength_nm"),
+                                  _opt_real(temperature_c, "temperature_c"))
 
 
 # ---- Mie ------------------------------------------------------------------------------------------
@@ -104,15 +208,15 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
     ``"A:B:N"`` for N angles from A to B; the default is the CLI's 0:180:181. ``None`` computes the
     efficiencies alone (the fast path for size sweeps, ``--no-angles``). ``threads``: 0 = all cores.
     """
-    m = complex(m)
-    x_arr = np.asarray(x, dtype=np.float64)
+    m = _complex(m, "m")
+    x_arr = _reals(x, "x")
     angles = None
     if angles_deg is not None:
         if isinstance(angles_deg, str):
             angles = _parse_angles(angles_deg)
         else:
-            angles = np.atleast_1d(np.asarray(angles_deg, dtype=np.float64))
-    d = _core.mie(m, x_arr, angles, int(threads))
+            angles = np.atleast_1d(_reals(angles_deg, "angles_deg"))
+    d = _core.mie(m, x_arr, angles, threads)
     return MieResult(d["qext"], d["qsca"], d["qabs"], d["qback"], d["g"], d["n_terms"], d.get("s1"), d.get("s2"))
 
 
@@ -132,7 +236,7 @@ def _parse_angles(text: str) -> np.ndarray:
 
 def mie_terms(x: float) -> int:
     """The number of partial waves hydrolux sums for size parameter x: max(3, x + 7 x^(1/3) + 2)."""
-    return _core.mie_terms(float(x))
+    return _core.mie_terms(_real(x, "x"))
 
 
 def sphere(radius_um: ArrayLike, wavelength_nm: float, medium: str = "water", surrounding: str = "air",
@@ -140,8 +244,9 @@ def sphere(radius_um: ArrayLike, wavelength_nm: float, medium: str = "water", su
     """The relative index m and size parameters x of spheres of ``radius_um`` (micrometres) of
     ``medium`` in ``surrounding`` at vacuum wavelength ``wavelength_nm`` (``hydrolux mie --radius-um``).
     Returns (m, x) with x of the shape of ``radius_um``."""
-    return _core.sphere_problem(np.asarray(radius_um, dtype=np.float64), float(wavelength_nm), medium,
-                                surrounding, None if temperature_c is None else float(temperature_c))
+    return _core.sphere_problem(_reals(radius_um, "radius_um"), _real(wavelength_nm, "wavelength_nm"),
+                                _text(medium, "medium", _MEDIUM), _text(surrounding, "surrounding", _MEDIUM),
+                                _opt_real(temperature_c, "temperature_c"))
 
 
 def bulk_optics(m: complex, wavelength_nm: float, distribution: "SizeDistribution", nodes: int = 64,
@@ -150,13 +255,18 @@ def bulk_optics(m: complex, wavelength_nm: float, distribution: "SizeDistributio
     parameter g of a population of spheres of index ``m`` (relative to the surrounding medium of
     real index ``medium_index``) at vacuum ``wavelength_nm``, by ``nodes``-point quadrature of the
     distribution (``scatter::mie_bulk_optics``)."""
+    m = _complex(m, "m")
+    wavelength_nm = _real(wavelength_nm, "wavelength_nm")
+    medium_index = _real(medium_index, "medium_index")
+    if not isinstance(distribution, SizeDistribution):
+        raise TypeError(f"distribution: expected a hydrolux.SizeDistribution, got {_describe(distribution)}")
     if not (wavelength_nm > 0 and math.isfinite(wavelength_nm)):
         raise ValueError(f"wavelength_nm = {wavelength_nm} must be a positive number of nanometres")
     if not (1e-3 <= medium_index <= 1e3):
         raise ValueError(f"medium_index = {medium_index} is outside [0.001, 1000]")
     r, w = distribution.quadrature(nodes)
     k = 2 * math.pi * medium_index / (wavelength_nm * 1e-9)
-    return _core.bulk_optics(complex(m), k, r, w, int(threads))
+    return _core.bulk_optics(m, k, r, w, threads)
 
 
 class SizeDistribution:
@@ -172,22 +282,27 @@ class SizeDistribution:
 
     @classmethod
     def monodisperse(cls, radius_m: float, number_per_m3: float = 1.0) -> "SizeDistribution":
-        return cls(_core.SizeDistribution.monodisperse(float(radius_m), float(number_per_m3)))
+        return cls(_core.SizeDistribution.monodisperse(_real(radius_m, "radius_m"),
+                                                       _real(number_per_m3, "number_per_m3")))
 
     @classmethod
     def gamma(cls, mean_radius_m: float, relative_width: float, number_per_m3: float = 1.0) -> "SizeDistribution":
-        return cls(_core.SizeDistribution.gamma(float(mean_radius_m), float(relative_width), float(number_per_m3)))
+        return cls(_core.SizeDistribution.gamma(_real(mean_radius_m, "mean_radius_m"),
+                                                _real(relative_width, "relative_width"),
+                                                _real(number_per_m3, "number_per_m3")))
 
     @classmethod
     def log_normal(cls, mean_radius_m: float, relative_width: float,
                    number_per_m3: float = 1.0) -> "SizeDistribution":
-        return cls(_core.SizeDistribution.log_normal(float(mean_radius_m), float(relative_width),
-                                                     float(number_per_m3)))
+        return cls(_core.SizeDistribution.log_normal(_real(mean_radius_m, "mean_radius_m"),
+                                                     _real(relative_width, "relative_width"),
+                                                     _real(number_per_m3, "number_per_m3")))
 
     @classmethod
     def marshall_palmer(cls, rain_rate_mm_per_h: float, n0_per_m4: float = 8e6) -> "SizeDistribution":
         """Marshall & Palmer (1948): n(r) = N0' exp(-Lambda r), N0 = 8e6 m^-4 per metre of diameter."""
-        return cls(_core.SizeDistribution.marshall_palmer(float(rain_rate_mm_per_h), float(n0_per_m4)))
+        return cls(_core.SizeDistribution.marshall_palmer(_real(rain_rate_mm_per_h, "rain_rate_mm_per_h"),
+                                                          _real(n0_per_m4, "n0_per_m4")))
 
     @property
     def kind(self) -> str:
@@ -195,11 +310,11 @@ class SizeDistribution:
 
     def number_density(self, radius_m: ArrayLike) -> np.ndarray:
         """n(r) in m^-4 at the given radii (m); float64 of their shape."""
-        return self._d.number_density(np.asarray(radius_m, dtype=np.float64))
+        return self._d.number_density(_reals(radius_m, "radius_m"))
 
     def moment(self, k: float) -> float:
         """M_k = integral of r^k n(r) dr (m^(k-3))."""
-        return self._d.moment(float(k))
+        return self._d.moment(_real(k, "k"))
 
     @property
     def number_concentration(self) -> float:
@@ -227,7 +342,8 @@ class SizeDistribution:
         """Gauss quadrature of the distribution: (radius_m, weight) float64 arrays, the weights in
         drops per m^3, so that sum(w f(r)) approximates the integral of f(r) n(r) dr. With r_min_m and
         r_max_m: over that range (log_spaced: Gauss-Legendre in ln r)."""
-        return self._d.quadrature(int(nodes), r_min_m, r_max_m, bool(log_spaced))
+        return self._d.quadrature(nodes, _opt_real(r_min_m, "r_min_m"), _opt_real(r_max_m, "r_max_m"),
+                                  _flag(log_spaced, "log_spaced"))
 
     def __repr__(self) -> str:
         return f"SizeDistribution.{self.kind}(mean_radius={self.mean_radius:.4g} m, N={self.number_concentration:.4g} m^-3)"
@@ -265,13 +381,11 @@ def _span(value, name):
         if len(parts) not in (1, 2):
             raise ValueError(f"{name} '{value}': expected A:B or one value (numbers)")
         return (parts[0], parts[-1])
-    if np.ndim(value) == 0:
-        v = float(value)
-        return (v, v)
-    a = [float(v) for v in value]
-    if len(a) != 2:
-        raise ValueError(f"{name}: expected one value or (A, B)")
-    return (a[0], a[1])
+    if isinstance(value, (tuple, list, np.ndarray)) and np.ndim(value) == 1:
+        a, b = _pair(value, name, "one value or (A, B)")
+        return (_real(a, f"{name}[0]"), _real(b, f"{name}[1]"))
+    v = _real(value, name)
+    return (v, v)
 
 
 def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=None,
@@ -289,11 +403,17 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     ``wavelengths``: samples over ``wavelengths_nm`` (0: one every 10 nm / sampling). Other
     arguments as the CLI's flags of the same names. Long: the GIL is released and Ctrl-C stops it.
     """
-    d = _core.lee(table, theory, _span(radius_um, "radius_um"), _span(angle_deg, "angle_deg"),
-                  None if size is None else (int(size[0]), int(size[1])), radius_scale, axis, float(sun_disk_deg),
-                  bool(limb_darkening), float(size_spread), _span(wavelengths_nm, "wavelengths_nm"),
-                  int(wavelengths), None if temperature_c is None else float(temperature_c), medium, sun,
-                  color_space, float(sampling), int(seed), int(threads))
+    d = _core.lee(_text(table, "table", "rainbow, corona or glory"),
+                  _text(theory, "theory", "mie, debye:P, airy, airy:3 or geometric[:P]"),
+                  _span(radius_um, "radius_um"), _span(angle_deg, "angle_deg"),
+                  None if size is None else _pair(size, "size", "(columns, rows), two whole numbers"),
+                  _text(radius_scale, "radius_scale", "log or linear"), _text(axis, "axis", "angle or cos"),
+                  _real(sun_disk_deg, "sun_disk_deg"), _flag(limb_darkening, "limb_darkening"),
+                  _real(size_spread, "size_spread"), _span(wavelengths_nm, "wavelengths_nm"), wavelengths,
+                  _opt_real(temperature_c, "temperature_c"), _text(medium, "medium", _MEDIUM),
+                  _text(sun, "sun", "a spectrum name as the CLI's --sun"),
+                  _text(color_space, "color_space", "an RGB space as the CLI's --color-space"),
+                  _real(sampling, "sampling"), seed, threads)
     info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations")}
     return LeeTable(d["rgb"], d["xyz"], d["display"], d["radius_um"], d["angle_deg"], d["cos_angle"],
                     d["wavelengths_nm"], info)
@@ -315,12 +435,14 @@ def drop_render(env: Optional[np.ndarray] = None, radius_mm: float = 1.0, distan
     ``shape`` "sphere" or "beard-chuang"). ``background=False``: black background with the drop's
     coverage in alpha. Returns (size, size, 4) float32, linear RGBA.
     """
-    return _core.drop_render(None if env is None else np.asarray(env), float(radius_mm), float(distance_m),
-                             float(focal_mm), float(f_number), None if frame_mm is None else float(frame_mm),
-                             int(size), int(samples), int(internal), medium,
-                             None if temperature_c is None else float(temperature_c), float(wavelength_nm),
-                             bool(dispersion), bool(background_blur), bool(background), float(exposure_ev), method,
-                             shape, int(depth))
+    return _core.drop_render(None if env is None else _array_arg(env, "env"), _real(radius_mm, "radius_mm"),
+                             _real(distance_m, "distance_m"), _real(focal_mm, "focal_mm"),
+                             _real(f_number, "f_number"), _opt_real(frame_mm, "frame_mm"), size, samples, internal,
+                             _text(medium, "medium", _MEDIUM), _opt_real(temperature_c, "temperature_c"),
+                             _real(wavelength_nm, "wavelength_nm"), _flag(dispersion, "dispersion"),
+                             _flag(background_blur, "background_blur"), _flag(background, "background"),
+                             _real(exposure_ev, "exposure_ev"), _text(method, "method", "model or exact"),
+                             _text(shape, "shape", "sphere or beard-chuang"), depth)
 
 
 def drop_undistort(image: np.ndarray, drop_center: Tuple[float, float], drop_radius_px: float,
@@ -331,9 +453,13 @@ def drop_undistort(image: np.ndarray, drop_center: Tuple[float, float], drop_rad
     pinhole camera at the drop whose image, centred at ``drop_center`` (x, y pixels) with radius
     ``drop_radius_px``, is in ``image`` (linear). Returns (height, width, 4) float32 RGBA, alpha = 1
     where the drop resolves the direction."""
-    return _core.drop_undistort(np.asarray(image), (float(drop_center[0]), float(drop_center[1])),
-                                float(drop_radius_px), float(mu), float(fov_deg), float(yaw_deg), float(pitch_deg),
-                                (int(size[0]), int(size[1])), bool(transmission_correction))
+    cx, cy = _pair(drop_center, "drop_center", "(x, y) in pixels")
+    return _core.drop_undistort(_array_arg(image, "image"),
+                                (_real(cx, "drop_center[0]"), _real(cy, "drop_center[1]")),
+                                _real(drop_radius_px, "drop_radius_px"), _real(mu, "mu"), _real(fov_deg, "fov_deg"),
+                                _real(yaw_deg, "yaw_deg"), _real(pitch_deg, "pitch_deg"),
+                                _pair(size, "size", "(width, height), two whole numbers"),
+                                _flag(transmission_correction, "transmission_correction"))
 
 
 # ---- rain -----------------------------------------------------------------------------------------
@@ -375,12 +501,22 @@ class RainRenderer:
     """
 
     def __init__(self, width: int, height: int, ground_plane: bool = True, **options: Any):
-        self._r = _core.RainRenderer(int(width), int(height), bool(ground_plane), _rain_options(options))
+        self._r = _core.RainRenderer(width, height, _flag(ground_plane, "ground_plane"), _rain_options(options))
 
     def render(self, image: np.ndarray, depth: Optional[np.ndarray] = None, frame_index: int = 0,
                with_layer: bool = False) -> RainResult:
-        d = self._r.render(np.asarray(image), None if depth is None else np.asarray(depth), int(frame_index),
-                           bool(with_layer))
+        """Frame ``frame_index`` over ``image`` (H, W, 3 or more) linear RGB: every value finite (a NaN
+        or infinity is a ValueError naming the pixel); negative values, light that cannot be, are read
+        as 0 with a warning, their count in stats["negative_values_clamped"]."""
+        return self._render(image, depth, frame_index, with_layer, 3)
+
+    def _render(self, image, depth, frame_index, with_layer, stacklevel) -> RainResult:
+        d = self._r.render(_array_arg(image, "image"), None if depth is None else _array_arg(depth, "depth"),
+                           frame_index, _flag(with_layer, "with_layer"))
+        n = d["stats"]["negative_values_clamped"]
+        if n:
+            warnings.warn(f"image: {n} negative value{'s' if n != 1 else ''} read as 0 (rain needs linear light, "
+                          ">= 0)", RuntimeWarning, stacklevel=stacklevel)
         return RainResult(d["image"], d["mask"], d["layer"], d["stats"])
 
     def field_info(self) -> dict:
@@ -412,11 +548,11 @@ def rain(image: np.ndarray, depth: Optional[np.ndarray] = None, frame_index: int
                  ("pixel_pitch_um", pixel_pitch_um)):
         if v is not None:
             opts[k] = v
-    img = np.asarray(image)
+    img = _array_arg(image, "image")
     if img.ndim != 3 or img.shape[2] < 3:
-        raise ValueError(f"image: expected (height, width, 3 or more channels) linear RGB, got shape {img.shape}")
+        raise ValueError(f"image: expected (height, width, 3 or more channels) linear RGB, got {_describe(img)}")
     r = RainRenderer(img.shape[1], img.shape[0], depth is None, **opts)
-    return r.render(img, depth, frame_index, with_layer)
+    return r._render(img, depth, frame_index, with_layer, 3)
 
 
 _CAMERA_OPTIONS = ("focal_mm", "fov_deg", "sensor_width_mm", "pixel_pitch_um", "f_number", "focus_m", "exposure_s",
@@ -429,7 +565,7 @@ def builtin_scene(width: int = 1280, height: int = 720, **camera: Any) -> np.nda
     for k in camera:
         if k not in _CAMERA_OPTIONS:
             raise TypeError(f"builtin_scene: '{k}' is not a camera option ({', '.join(_CAMERA_OPTIONS)})")
-    return _core.builtin_scene(int(width), int(height), _rain_options(camera))
+    return _core.builtin_scene(width, height, _rain_options(camera))
 
 
 # ---- image files ----------------------------------------------------------------------------------
@@ -442,10 +578,10 @@ def _image_module():
 def read_image(path: str) -> np.ndarray:
     """An image file (PNG, JPEG, EXR, TIFF, HDR, PNM) as (H, W, C) float32 linear values (8/16-bit
     files through the sRGB curve), checked as the CLI checks its inputs."""
-    return _image_module().read(str(path))[0]
+    return _image_module().read(_path(path, "path"))[0]
 
 
 def write_image(path: str, image: np.ndarray, bits: int = 8) -> None:
     """Writes (H, W, C) linear float values as .png (sRGB, ``bits`` 8 or 16) or .exr (float),
     atomically: the file appears whole or not at all, never half-written."""
-    _image_module().write(str(path), np.asarray(image), int(bits))
+    _image_module().write(_path(path, "path"), _array_arg(image, "image"), bits)

@@ -1,12 +1,14 @@
 #pragma once
-// Shared by the two extension modules: numpy <-> Image, the error translation, and long calls that
-// release the GIL and stop on Ctrl-C.
+// Shared by the extension modules: numpy <-> Image, arguments checked and named, the error
+// translation, and long calls that release the GIL and stop on Ctrl-C.
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <complex>
 #include <condition_variable>
 #include <exception>
 #include <map>
@@ -16,6 +18,7 @@
 #include <thread>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/image.hpp"
@@ -124,25 +127,140 @@ auto run_cancellable(Work&& work) -> std::invoke_result_t<Work&, const ProgressF
   return std::move(*result);
 }
 
-// ---- images ---------------------------------------------------------------------------------
+// ---- arguments ------------------------------------------------------------------------------
 
-using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+// A Python value as an error message may show it: short, and never an array's or a container's
+// contents ("None", "'8x16'", "8.5", "an array of shape (3,) and dtype float64", "a list").
+inline std::string describe(py::handle v) {
+  if (v.is_none()) return "None";
+  if (py::isinstance<py::array>(v)) {
+    const auto a = py::reinterpret_borrow<py::array>(v);
+    std::string shape;
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(a.shape(i));
+    if (a.ndim() == 1) shape += ",";
+    return fmt::format("an array of shape ({}) and dtype {}", shape, py::str(a.dtype()).cast<std::string>());
+  }
+  if (PyLong_Check(v.ptr())) {
+    // A whole number of any size; its digits while they fit a line (str() refuses past 4300).
+    const auto bits = v.attr("bit_length")().cast<long long>();
+    if (bits > 128) return fmt::format("a whole number of {} digits", (long long)(double(bits) * 0.30103) + 1);
+  }
+  const bool text = PyUnicode_Check(v.ptr()) || PyBytes_Check(v.ptr());
+  const bool number = PyLong_Check(v.ptr()) || PyFloat_Check(v.ptr()) || PyComplex_Check(v.ptr()) ||
+                      py::isinstance(v, py::module_::import("numpy").attr("generic"));
+  if (text || number) {
+    std::string r = text ? py::repr(v).cast<std::string>() : py::str(v).cast<std::string>();
+    if (r.size() > 40) r = r.substr(0, 37) + "...";
+    return r;
+  }
+  return "a " + py::str(v.get_type().attr("__name__")).cast<std::string>();
+}
 
-// A numpy image (H, W) or (H, W, C), any real dtype, as a linear float Image (copied).
+inline bool is_bool(py::handle v) {
+  return PyBool_Check(v.ptr()) || py::isinstance(v, py::module_::import("numpy").attr("bool_"));
+}
+
+// A whole-number argument (int, numpy integer, or a float with no fraction) in [lo, hi], as the
+// CLI's integer flags take it and in the same words: "seed: 18446744073709551616 is outside the
+// valid range [0, 9007199254740992]", "size: 8.5 is not a whole number; valid range [8, 16384] px"
+// (ValueError). A bool, a string, None or an array is a TypeError naming the argument. No value,
+// however large, reaches a C++ integer unchecked.
+inline long long whole_arg(py::handle v, const char* arg, long long lo, long long hi, const char* unit = "") {
+  const std::string range = fmt::format("[{}, {}]{}{}", lo, hi, *unit ? " " : "", unit);
+  const bool array = py::isinstance<py::array>(v);  // ndarray has __index__ (for 0-d integer arrays)
+  if (!array && !is_bool(v) && PyIndex_Check(v.ptr())) {
+    const auto i = py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr()));
+    if (!i) throw py::error_already_set();
+    int overflow = 0;
+    const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+    if (overflow == 0 && x == -1 && PyErr_Occurred()) throw py::error_already_set();
+    if (overflow != 0 || x < lo || x > hi)
+      throw Error(fmt::format("{}: {} is outside the valid range {}", arg, describe(i), range));
+    return x;
+  }
+  if (!array && (PyFloat_Check(v.ptr()) || py::isinstance(v, py::module_::import("numpy").attr("floating")))) {
+    const double d = PyFloat_AsDouble(v.ptr());
+    if (d == -1.0 && PyErr_Occurred()) throw py::error_already_set();
+    if (!std::isfinite(d) || d != std::floor(d))
+      throw Error(fmt::format("{}: {} is not a whole number; valid range {}", arg, describe(v), range));
+    if (d < double(lo) || d > double(hi))
+      throw Error(fmt::format("{}: {} is outside the valid range {}", arg, describe(v), range));
+    return static_cast<long long>(d);
+  }
+  throw py::type_error(fmt::format("{}: expected a whole number in {}, got {}", arg, range, describe(v)));
+}
+
+// A real-number argument (int, float, numpy number; not a bool): its value, +-inf past a double's
+// range (so that the range check that follows names it). Anything else is a TypeError naming it.
+inline double real_arg(py::handle v, const char* arg) {
+  if (!py::isinstance<py::array>(v) && !is_bool(v) &&
+      (PyFloat_Check(v.ptr()) || PyLong_Check(v.ptr()) ||
+       py::isinstance(v, py::module_::import("numpy").attr("integer")) ||
+       py::isinstance(v, py::module_::import("numpy").attr("floating")))) {
+    const double d = PyFloat_AsDouble(v.ptr());
+    if (d == -1.0 && PyErr_Occurred()) {
+      if (!PyErr_ExceptionMatches(PyExc_OverflowError)) throw py::error_already_set();
+      PyErr_Clear();
+      return v.attr("__gt__")(0).cast<bool>() ? HUGE_VAL : -HUGE_VAL;
+    }
+    return d;
+  }
+  throw py::type_error(fmt::format("{}: expected a number, got {}", arg, describe(v)));
+}
+
+// A True/False argument (bool or numpy.bool_); anything else is a TypeError naming it.
+inline bool flag_arg(py::handle v, const char* arg) {
+  if (!is_bool(v)) throw py::type_error(fmt::format("{}: expected True or False, got {}", arg, describe(v)));
+  return PyObject_IsTrue(v.ptr()) == 1;
+}
+
+// ---- arrays -----------------------------------------------------------------------------------
+
+template <class T>
+using CArray = py::array_t<T, py::array::c_style | py::array::forcecast>;
+using FloatArray = CArray<float>;
+
+// obj as a C-contiguous array of T, copied (converted) when it is not one already. Not
+// array_t::ensure, which returns a null array and drops Python's error when the copy fails (the
+// caller then reads through a null pointer): a copy that cannot be allocated raises MemoryError
+// here. A value numpy cannot read as numbers is a TypeError naming `arg`, never its contents.
+template <class T>
+CArray<T> c_array(py::handle obj, const char* arg) {
+  if (py::isinstance<py::array>(obj)) {
+    const char kind = py::reinterpret_borrow<py::array>(obj).dtype().kind();
+    const bool complex_ok = std::is_same_v<T, std::complex<double>> || std::is_same_v<T, std::complex<float>>;
+    if (!(kind == 'b' || kind == 'i' || kind == 'u' || kind == 'f' || (complex_ok && kind == 'c')))
+      throw py::type_error(fmt::format("{}: expected {} numbers, got {}", arg, complex_ok ? "complex" : "real",
+                                       describe(obj)));
+  }
+  try {
+    return CArray<T>(py::reinterpret_borrow<py::object>(obj));  // throws error_already_set, MemoryError kept
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_MemoryError)) throw;
+    throw py::type_error(fmt::format("{}: expected numbers (one or an array), got {}", arg, describe(obj)));
+  }
+}
+
+// A numpy image (H, W) or (H, W, C), any real dtype (bool, integers, floats) and any strides
+// (a broadcast view too), as a linear float Image: the shape checked before anything is allocated,
+// then one allocation (the Image's, std::bad_alloc -> MemoryError) that numpy casts into directly.
 inline Image to_image(const py::array& any, const char* arg) {
   if (any.ndim() != 2 && any.ndim() != 3)
-    throw Error(std::string(arg) + ": expected an array of shape (height, width) or (height, width, channels), got " +
-                std::to_string(any.ndim()) + " dimensions");
-  if (any.dtype().kind() == 'c' || any.dtype().kind() == 'O' || any.dtype().kind() == 'U' || any.dtype().kind() == 'S')
-    throw Error(std::string(arg) + ": expected a real-valued array (float32 or float64), got dtype " +
-                py::str(any.dtype()).cast<std::string>());
-  const FloatArray a = FloatArray::ensure(any);
-  const auto h = a.shape(0), w = a.shape(1), c = a.ndim() == 3 ? a.shape(2) : 1;
+    throw Error(fmt::format("{}: expected an array of shape (height, width) or (height, width, channels), got {}",
+                            arg, describe(any)));
+  const char kind = any.dtype().kind();
+  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f')
+    throw Error(fmt::format("{}: expected a real-valued array (float32 or float64), got {}", arg, describe(any)));
+  const auto h = any.shape(0), w = any.shape(1), c = any.ndim() == 3 ? any.shape(2) : 1;
   if (h < 1 || w < 1 || c < 1 || h > 65536 || w > 65536 || c > 64)
-    throw Error(std::string(arg) + ": shape (" + std::to_string(h) + ", " + std::to_string(w) + ", " + std::to_string(c) +
-                ") is outside 1..65536 pixels a side and 1..64 channels");
+    throw Error(fmt::format("{}: shape ({}, {}, {}) is outside 1..65536 pixels a side and 1..64 channels", arg, h, w,
+                            c));
   Image img(static_cast<int>(w), static_cast<int>(h), static_cast<int>(c));
-  std::copy(a.data(), a.data() + a.size(), img.pixels.begin());
+  std::vector<py::ssize_t> shape{h, w};
+  if (any.ndim() == 3) shape.push_back(c);
+  // A view of the Image's pixels (the capsule only marks it as borrowed: the Image outlives it).
+  py::array_t<float> view(shape, img.pixels.data(), py::capsule(img.pixels.data(), [](void*) {}));
+  py::module_::import("numpy").attr("copyto")(view, any, py::arg("casting") = "unsafe");
   return img;
 }
 

@@ -21,6 +21,7 @@
 #include "hydrolux/atmos/lee.hpp"
 #include "hydrolux/color/cie.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/parse.hpp"  // batch: the CLI's number parsers (parse_number, parse_integer)
 #include "hydrolux/drop/render.hpp"
 #include "hydrolux/drop/shape.hpp"
 #include "hydrolux/drop/trace.hpp"
@@ -40,7 +41,7 @@
 namespace hydrolux::py_bind {
 namespace {
 
-using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using DoubleArray = CArray<double>;
 using ComplexArray = py::array_t<std::complex<double>>;
 
 std::vector<py::ssize_t> shape_of(const py::array& a) { return {a.shape(), a.shape() + a.ndim()}; }
@@ -55,7 +56,8 @@ auto with_threads(int threads, F&& f) {
 
 // ---- interface optics -----------------------------------------------------------------------
 
-py::dict fresnel(const DoubleArray& theta_deg, double n1, double n2, double k2) {
+py::dict fresnel(py::handle theta_arg, double n1, double n2, double k2) {
+  const DoubleArray theta_deg = c_array<double>(theta_arg, "theta_deg");
   require_arg("n1", n1, 1e-3, 1000);
   require_arg("n2", n2, 1e-3, 1000);
   require_arg("k2", k2, 0, 1000);
@@ -110,8 +112,9 @@ py::list media() {
   return out;
 }
 
-ComplexArray refractive_index(const std::string& medium, const DoubleArray& wavelength_nm,
+ComplexArray refractive_index(const std::string& medium, py::handle wavelength_arg,
                               std::optional<double> temperature_c) {
+  const DoubleArray wavelength_nm = c_array<double>(wavelength_arg, "wavelength_nm");
   const auto med = medium_arg("medium", medium);
   ComplexArray out(shape_of(wavelength_nm));
   const double* w = wavelength_nm.data();
@@ -120,8 +123,9 @@ ComplexArray refractive_index(const std::string& medium, const DoubleArray& wave
 }
 
 // m and x of spheres of the given radii (um) in a medium at one wavelength.
-py::tuple sphere_problem(const DoubleArray& radius_um, double wavelength_nm, const std::string& medium,
+py::tuple sphere_problem(py::handle radius_arg, double wavelength_nm, const std::string& medium,
                          const std::string& surrounding, std::optional<double> temperature_c) {
+  const DoubleArray radius_um = c_array<double>(radius_arg, "radius_um");
   const auto sphere = medium_arg("medium", medium);
   const auto outside = medium_arg("surrounding", surrounding);
   if (temperature_c && !sphere->info().temperature_dependent && !outside->info().temperature_dependent)
@@ -168,8 +172,11 @@ void check_mie_args(std::complex<double> m, const double* x, py::ssize_t n) {
   }
 }
 
-py::dict mie(std::complex<double> m, const DoubleArray& x, std::optional<DoubleArray> angles_deg, int threads) {
-  require_arg("threads", threads, 0, 1024);
+py::dict mie(std::complex<double> m, py::handle x_arg, py::handle angles_arg, py::handle threads_arg) {
+  const int threads = int(whole_arg(threads_arg, "threads", 0, 1024));
+  const DoubleArray x = c_array<double>(x_arg, "x");
+  std::optional<DoubleArray> angles_deg;
+  if (!angles_arg.is_none()) angles_deg = c_array<double>(angles_arg, "angles_deg");
   const double* xs = x.data();
   const py::ssize_t n = x.size();
   check_mie_args(m, xs, n);
@@ -238,9 +245,11 @@ py::dict mie(std::complex<double> m, const DoubleArray& x, std::optional<DoubleA
   return d;
 }
 
-py::dict bulk_optics(std::complex<double> m, double wavenumber_per_m, const DoubleArray& radius_m,
-                     const DoubleArray& weight, int threads) {
+py::dict bulk_optics(std::complex<double> m, double wavenumber_per_m, py::handle radius_arg, py::handle weight_arg,
+                     py::handle threads_arg) {
+  const int threads = int(whole_arg(threads_arg, "threads", 0, 1024));
   require_arg("wavenumber_per_m", wavenumber_per_m, 1e-300, 1e300);
+  const DoubleArray radius_m = c_array<double>(radius_arg, "radius_m"), weight = c_array<double>(weight_arg, "weight");
   if (radius_m.ndim() != 1 || weight.ndim() != 1 || radius_m.size() != weight.size())
     throw Error("radius_m, weight: expected two 1-D arrays of the same length");
   scatter::RadiusQuadrature q;
@@ -267,17 +276,22 @@ atmos::LeeTableKind lee_kind(const std::string& table) {
 }
 
 py::dict lee(const std::string& table, const std::string& theory, std::optional<std::pair<double, double>> radius_um,
-             std::optional<std::pair<double, double>> angle_deg, std::optional<std::pair<int, int>> size,
+             std::optional<std::pair<double, double>> angle_deg,
+             std::optional<std::pair<py::object, py::object>> size_arg,
              const std::string& radius_scale, const std::string& axis, double sun_disk_deg, bool limb_darkening,
-             double size_spread, std::pair<double, double> wavelengths_nm, int wavelengths, std::optional<double> temperature_c,
-             const std::string& medium, const std::string& sun, const std::string& color_space, double sampling,
-             long long seed, int threads) {
+             double size_spread, std::pair<double, double> wavelengths_nm, py::handle wavelengths_arg,
+             std::optional<double> temperature_c, const std::string& medium, const std::string& sun,
+             const std::string& color_space, double sampling, py::handle seed_arg, py::handle threads_arg) {
+  // The whole numbers first, as the CLI's flags (--size's [1, 16384], --seed, --threads).
+  std::optional<std::pair<int, int>> size;
+  if (size_arg)
+    size.emplace(int(whole_arg(size_arg->first, "size[0] (columns)", 1, 16384)),
+                 int(whole_arg(size_arg->second, "size[1] (rows)", 1, 16384)));
+  const int wavelengths = int(whole_arg(wavelengths_arg, "wavelengths", 0, 2000));
+  const long long seed = whole_arg(seed_arg, "seed", 0, static_cast<long long>(rain::kMaxSeed));
+  const int threads = int(whole_arg(threads_arg, "threads", 0, 1024));
   atmos::LeeSpec s = atmos::default_lee_spec(lee_kind(table));
-  try {
-    s.theory = scatter::parse_theory(theory);
-  } catch (const Error& e) {
-    throw Error(fmt::format("theory '{}': {}", theory, e.what()));
-  }
+  s.theory = scatter::parse_theory(theory);  // its errors name the theory and its value, and list the valid ones
   bool single = false;
   if (radius_um) {
     if (radius_um->second < radius_um->first) throw Error("radius_um: expected (A, B) with A <= B, micrometres");
@@ -307,7 +321,6 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
   s.size_spread = size_spread;
   if (wavelengths_nm.second < wavelengths_nm.first) throw Error("wavelengths_nm: expected (A, B) with A <= B");
   s.wavelength_min_nm = wavelengths_nm.first, s.wavelength_max_nm = wavelengths_nm.second;
-  require_arg("wavelengths", wavelengths, 0, 2000);
   s.wavelengths = wavelengths;
   s.drop_medium = medium;
   const auto drop = medium_arg("medium", medium);
@@ -330,9 +343,7 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
     throw Error(fmt::format("color_space: {}", e.what()));
   }
   s.sampling = sampling;
-  require_arg("seed", double(seed), 0, 9007199254740992.0);
   s.seed = std::uint64_t(seed);
-  require_arg("threads", threads, 0, 1024);
   s.threads = threads;
   try {
     atmos::validate(s);
@@ -368,23 +379,24 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
 // ---- the drop -------------------------------------------------------------------------------
 
 py::array_t<float> drop_render(std::optional<py::array> env, double radius_mm, double distance_m, double focal_mm,
-                               double f_number, std::optional<double> frame_mm, int size, int samples, int internal,
+                               double f_number, std::optional<double> frame_mm, py::handle size_arg,
+                               py::handle samples_arg, py::handle internal_arg,
                                const std::string& medium, std::optional<double> temperature_c, double wavelength_nm,
                                bool dispersion, bool background_blur, bool background, double exposure_ev,
-                               const std::string& method, const std::string& shape, int depth) {
+                               const std::string& method, const std::string& shape, py::handle depth_arg) {
   // The CLI's ranges (tools/hydrolux/cmd_drop_render.cpp), in the same order.
   require_arg("radius_mm", radius_mm, 0.01, 100, "mm");
   require_arg("distance_m", distance_m, 0.001, 1e4, "m");
   require_arg("focal_mm", focal_mm, 1, 2000, "mm");
   require_arg("f_number", f_number, 0.5, 128);
   if (frame_mm) require_arg("frame_mm", *frame_mm, 1e-6, 1e6, "mm");
-  require_arg("size", size, 8, 16384, "px");
-  require_arg("samples", samples, 1, 64);
-  require_arg("internal", internal, 0, 20);
+  const int size = int(whole_arg(size_arg, "size", 8, 16384, "px"));
+  const int samples = int(whole_arg(samples_arg, "samples", 1, 64));
+  const int internal = int(whole_arg(internal_arg, "internal", 0, 20));
   if (temperature_c) require_arg("temperature_c", *temperature_c, -273.15, 1000, "C");
   require_arg("wavelength_nm", wavelength_nm, 200, 2500, "nm");
   require_arg("exposure_ev", exposure_ev, -30, 30);
-  require_arg("depth", depth, 6, 64);
+  const int depth = int(whole_arg(depth_arg, "depth", 6, 64));
   if (method != "model" && method != "exact") throw UnknownNameError("method '" + method + "': expected model or exact");
   if (shape != "sphere" && shape != "beard-chuang")
     throw UnknownNameError("shape '" + shape + "': expected sphere or beard-chuang");
@@ -462,11 +474,12 @@ py::array_t<float> drop_render(std::optional<py::array> env, double radius_mm, d
 
 py::array_t<float> drop_undistort(const py::array& image, std::pair<double, double> drop_center, double drop_radius_px,
                                   double mu, double fov_deg, double yaw_deg, double pitch_deg,
-                                  std::pair<int, int> size, bool transmission_correction) {
+                                  std::pair<py::object, py::object> size, bool transmission_correction) {
   require_arg("mu", mu, 1.0001, 10);  // the CLI's --mu
   drop::UndistortView view;
   view.yaw_deg = yaw_deg, view.pitch_deg = pitch_deg, view.fov_deg = fov_deg;
-  view.width = size.first, view.height = size.second;
+  view.width = int(whole_arg(size.first, "size[0] (width)", 1, 16384, "px"));
+  view.height = int(whole_arg(size.second, "size[1] (height)", 1, 16384, "px"));
   try {
     drop::validate(view);
   } catch (const DomainError& e) {
@@ -508,7 +521,8 @@ void check_rain_ranges(const py::dict& kw) {
       {"min_radius_mm", 0.04, 2.9, "mm"}, {"max_radius_mm", 0.04, 2.9, "mm"}, {"min_alpha", 1e-5, 0.5, ""},
       {"extent_m", 0, 1e5, "m"},         {"backdrop_m", 1, 1e5, "m"},       {"oscillation", 0, 0.5, ""}};
   for (const auto& r : ranges)
-    if (kw.contains(r.name) && !kw[r.name].is_none()) require_arg(r.name, kw[r.name].cast<double>(), r.lo, r.hi, r.unit);
+    if (kw.contains(r.name) && !kw[r.name].is_none())
+      require_arg(r.name, real_arg(kw[r.name], r.name), r.lo, r.hi, r.unit);
 }
 
 // The camera for a frame of width x height, as hydrolux rain makes it from its flags.
@@ -517,7 +531,7 @@ rain::RainCamera rain_camera(const py::dict& kw, int width, int height) {
   rain::RainCamera c;
   c.width = width, c.height = height;
   const auto get = [&](const char* k, double& v) {
-    if (kw.contains(k) && !kw[k].is_none()) v = kw[k].cast<double>();
+    if (kw.contains(k) && !kw[k].is_none()) v = real_arg(kw[k], k);
   };
   get("focal_mm", c.focal_mm);
   get("sensor_width_mm", c.sensor_width_mm);
@@ -528,12 +542,12 @@ rain::RainCamera rain_camera(const py::dict& kw, int width, int height) {
   get("camera_height_m", c.height_m);
   get("pitch_deg", c.pitch_deg);
   if (kw.contains("pixel_pitch_um") && !kw["pixel_pitch_um"].is_none()) {
-    const double p = kw["pixel_pitch_um"].cast<double>();
+    const double p = real_arg(kw["pixel_pitch_um"], "pixel_pitch_um");
     require_arg("pixel_pitch_um", p, 0.1, 1000, "um");
     c.sensor_width_mm = p * 1e-3 * width;
   }
   if (kw.contains("fov_deg") && !kw["fov_deg"].is_none()) {
-    const double f = kw["fov_deg"].cast<double>();
+    const double f = real_arg(kw["fov_deg"], "fov_deg");
     require_arg("fov_deg", f, 1, 170, "deg");
     c.focal_mm = rain::focal_mm_from_fov(f, c.sensor_width_mm);
   }
@@ -542,7 +556,7 @@ rain::RainCamera rain_camera(const py::dict& kw, int width, int height) {
   } catch (const DomainError& e) {
     if (e.quantity() == "sensor_width_mm" && kw.contains("pixel_pitch_um") && !kw["pixel_pitch_um"].is_none())
       throw Error(fmt::format("pixel_pitch_um = {:g}: x {} px gives a sensor {:g} mm wide, outside [1, 100] mm",
-                              kw["pixel_pitch_um"].cast<double>(), width, e.value()));
+                              real_arg(kw["pixel_pitch_um"], "pixel_pitch_um"), width, e.value()));
     rethrow_named(e, rain_names());
   }
   return c;
@@ -552,7 +566,7 @@ rain::RainSettings rain_settings(const py::dict& kw) {
   check_rain_ranges(kw);
   rain::RainSettings s;
   const auto get = [&](const char* k, double& v) {
-    if (kw.contains(k) && !kw[k].is_none()) v = kw[k].cast<double>();
+    if (kw.contains(k) && !kw[k].is_none()) v = real_arg(kw[k], k);
   };
   get("rate_mmh", s.rate_mmh);
   get("wind_mps", s.wind_mps);
@@ -565,14 +579,10 @@ rain::RainSettings rain_settings(const py::dict& kw) {
   get("extent_m", s.extent_m);
   get("backdrop_m", s.backdrop_m);
   get("oscillation", s.oscillation);
-  if (kw.contains("seed")) {
-    const py::object seed = kw["seed"];
-    if (!py::isinstance<py::int_>(seed)) throw Error("seed: expected a whole number in [0, 2^53]");
-    const long long v = seed.cast<long long>();
-    require_arg("seed", double(v), 0, 9007199254740992.0);
-    s.seed = std::uint64_t(v);
-  }
-  if (kw.contains("unresolved")) s.unresolved = kw["unresolved"].cast<bool>();
+  // The seed as the CLI's --seed takes it: a whole number in [0, rain::kMaxSeed], in the same words.
+  if (kw.contains("seed"))
+    s.seed = std::uint64_t(whole_arg(kw["seed"], "seed", 0, static_cast<long long>(rain::kMaxSeed)));
+  if (kw.contains("unresolved")) s.unresolved = flag_arg(kw["unresolved"], "unresolved");
   try {
     rain::validate(s);
   } catch (const DomainError& e) {
@@ -595,15 +605,16 @@ py::dict stats_dict(const rain::RainStats& s) {
   d["streak_pixel_fraction"] = s.streak_pixel_fraction;
   d["alpha_mean"] = s.alpha_mean;
   d["unresolved_transmittance_mean"] = s.unresolved_transmittance_mean;
+  d["negative_values_clamped"] = s.negative_values_clamped;  // the image's negative RGB values, read as 0
   return d;
 }
 
 // One rain for one camera: a sequence's frames go through one renderer (its field is built once).
 class PyRainRenderer {
  public:
-  PyRainRenderer(int width, int height, bool ground_plane, const py::dict& kw) {
-    require_arg("width", width, 16, 16384, "px");
-    require_arg("height", height, 16, 16384, "px");
+  PyRainRenderer(py::handle width_arg, py::handle height_arg, bool ground_plane, const py::dict& kw) {
+    const int width = int(whole_arg(width_arg, "width", 16, 16384, "px"));
+    const int height = int(whole_arg(height_arg, "height", 16, 16384, "px"));
     const rain::RainSettings s = rain_settings(kw);
     const rain::RainCamera c = rain_camera(kw, width, height);
     py::gil_scoped_release release;
@@ -616,8 +627,8 @@ class PyRainRenderer {
     }
   }
 
-  py::dict render(const py::array& image, std::optional<py::array> depth, long long frame_index, bool with_layer) {
-    require_arg("frame_index", double(frame_index), 0, 1e9);
+  py::dict render(const py::array& image, std::optional<py::array> depth, py::handle frame_arg, bool with_layer) {
+    const long long frame_index = whole_arg(frame_arg, "frame_index", 0, 1000000000);
     const auto& cam = renderer_->field().camera();
     Image frame = to_image(image, "image");
     if (frame.width != cam.width || frame.height != cam.height || frame.channels < 3)
@@ -637,7 +648,11 @@ class PyRainRenderer {
       // taking the GIL back under it, cannot deadlock: no thread waits for the lock holding the GIL.
       py::gil_scoped_release release;
       std::lock_guard<std::mutex> lock(mutex_);
-      renderer_->render_into(frame, z ? &*z : nullptr, frame_index, with_layer, result_);
+      try {
+        renderer_->render_into(frame, z ? &*z : nullptr, frame_index, with_layer, result_);
+      } catch (const rain::NonFinitePixel& e) {
+        throw Error(fmt::format("image: {}", e.what()));  // the library's text names the pixel and its value
+      }
       py::gil_scoped_acquire gil;
       d["image"] = to_array(result_.image);
       d["mask"] = to_array(result_.alpha);
@@ -663,9 +678,9 @@ class PyRainRenderer {
   std::mutex mutex_;
 };
 
-py::array_t<float> builtin_scene(int width, int height, const py::dict& kw) {
-  require_arg("width", width, 16, 16384, "px");
-  require_arg("height", height, 16, 16384, "px");
+py::array_t<float> builtin_scene(py::handle width_arg, py::handle height_arg, const py::dict& kw) {
+  const int width = int(whole_arg(width_arg, "width", 16, 16384, "px"));
+  const int height = int(whole_arg(height_arg, "height", 16, 16384, "px"));
   const rain::RainCamera c = rain_camera(kw, width, height);
   Image img;
   {
@@ -678,8 +693,8 @@ py::array_t<float> builtin_scene(int width, int height, const py::dict& kw) {
 // ---- files ----------------------------------------------------------------------------------
 
 // At most n threads for every parallel loop of this process from now on (0: every core again).
-void set_threads(int n) {
-  require_arg("threads", n, 0, 1024);
+void set_threads(py::handle threads) {
+  const int n = int(whole_arg(threads, "threads", 0, 1024));
   static std::unique_ptr<tbb::global_control> limit;
   limit.reset();
   if (n > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(n));
@@ -732,7 +747,8 @@ PYBIND11_MODULE(_core, m) {
                                }
                              })
       .def("number_density",
-           [](const sc::SizeDistribution& d, const DoubleArray& r) {
+           [](const sc::SizeDistribution& d, py::handle r_arg) {
+             const DoubleArray r = c_array<double>(r_arg, "radius_m");
              DoubleArray out(shape_of(r));
              for (py::ssize_t i = 0; i < r.size(); ++i) out.mutable_data()[i] = d.number_density(r.data()[i]);
              return out;
@@ -750,9 +766,9 @@ PYBIND11_MODULE(_core, m) {
                                return p;
                              })
       .def("quadrature",
-           [](const sc::SizeDistribution& d, int nodes, std::optional<double> r_min, std::optional<double> r_max,
-              bool log_spaced) {
-             require_arg("nodes", nodes, 1, sc::kMaxQuadratureNodes);
+           [](const sc::SizeDistribution& d, py::handle nodes_arg, std::optional<double> r_min,
+              std::optional<double> r_max, bool log_spaced) {
+             const int nodes = int(whole_arg(nodes_arg, "nodes", 1, sc::kMaxQuadratureNodes));
              sc::RadiusQuadrature q;
              if (r_min || r_max) {
                if (!r_min || !r_max) throw hydrolux::Error("r_min_m, r_max_m: give both or neither");
@@ -779,12 +795,20 @@ PYBIND11_MODULE(_core, m) {
         py::arg("mu"), py::arg("fov_deg"), py::arg("yaw_deg"), py::arg("pitch_deg"), py::arg("size"),
         py::arg("transmission_correction"));
   py::class_<PyRainRenderer>(m, "RainRenderer")
-      .def(py::init<int, int, bool, const py::dict&>(), py::arg("width"), py::arg("height"), py::arg("ground_plane"),
-           py::arg("options"))
+      .def(py::init<py::handle, py::handle, bool, const py::dict&>(), py::arg("width"), py::arg("height"),
+           py::arg("ground_plane"), py::arg("options"))
       .def("render", &PyRainRenderer::render, py::arg("image"), py::arg("depth"), py::arg("frame_index"),
            py::arg("with_layer"))
       .def("field_info", &PyRainRenderer::field_info);
   m.def("builtin_scene", &builtin_scene, py::arg("width"), py::arg("height"), py::arg("options"));
   m.def("set_threads", &set_threads, py::arg("threads"));
   m.def("write_file", &write_file, py::arg("path"), py::arg("data"), py::arg("label"));
+  // ---- batch: the CLI's own number parsers (python/hydrolux/batch parses every numeric flag with them) ----
+  // parse_number: a finite decimal number, the whole text or None; parse_integer: a whole number
+  // within +-2^53, also in exponent form ("1e3"), or None. Exactly what the CLI's flags accept.
+  m.def("parse_number", [](const std::string& text) { return hydrolux::parse::number(text); }, py::arg("text"));
+  m.def("parse_integer", [](const std::string& text) { return hydrolux::parse::integer(text); }, py::arg("text"));
+  // The largest seed every door accepts (rain::kMaxSeed, 2^53).
+  m.attr("kMaxSeed") = py::int_(hydrolux::rain::kMaxSeed);
+  // ---- end batch ----
 }

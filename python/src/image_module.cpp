@@ -57,8 +57,9 @@ py::array_t<float> read_depth(const std::string& path, double scale_m, int width
 }
 
 // The bytes of a PNG or EXR (a coverage mask through io::coverage_for_encoding), as the CLI writes them.
-std::string encode_bytes(const py::array& image, io::ImageFormat f, int bits, bool coverage) {
-  if (bits != 8 && bits != 16) throw Error(fmt::format("bits = {}: PNG takes 8 or 16", bits));
+std::string encode_bytes(const py::array& image, io::ImageFormat f, py::handle bits_arg, bool coverage) {
+  const int bits = int(whole_arg(bits_arg, "bits", 8, 16));
+  if (bits != 8 && bits != 16) throw Error(fmt::format("bits: {} is not 8 or 16 (PNG's sample sizes)", bits));
   Image img = to_image(image, "image");
   if (coverage && img.channels != 1) throw Error("coverage: a coverage mask has one channel");
   py::gil_scoped_release release;
@@ -66,11 +67,11 @@ std::string encode_bytes(const py::array& image, io::ImageFormat f, int bits, bo
   return io::encode_image(img, f, io::PngOptions{bits});
 }
 
-py::bytes encode(const py::array& image, const std::string& format, int bits, bool coverage) {
+py::bytes encode(const py::array& image, const std::string& format, py::handle bits, bool coverage) {
   return py::bytes(encode_bytes(image, format_arg(format), bits, coverage));
 }
 
-void write_image(const std::string& path, const py::array& image, int bits) {
+void write_image(const std::string& path, const py::array& image, py::handle bits) {
   const std::string bytes = encode_bytes(image, io::output_image_format(path, "path"), bits, false);
   py::gil_scoped_release release;
   io::write_file(path, bytes, "path");

@@ -96,11 +96,11 @@ class PyVideoWriter {
     const std::size_t pixels = std::size_t(frame_.width) * frame_.height;
     frame_.rgb.resize(pixels * 3);
     if (image.dtype().is(py::dtype::of<std::uint8_t>())) {
-      const auto a = py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>::ensure(image);
+      const auto a = c_array<std::uint8_t>(image, "frame");
       if (a.shape(2) != 3) throw Error("frame: an 8-bit frame has 3 channels");
       std::copy(a.data(), a.data() + pixels * 3, frame_.rgb.begin());
     } else {
-      const auto a = FloatArray::ensure(image);
+      const auto a = c_array<float>(image, "frame");
       tables().to_srgb8(a.data(), pixels, int(a.shape(2)), frame_.rgb.data());
     }
     py::gil_scoped_release release;
@@ -123,7 +123,7 @@ class PyVideoWriter {
 // Linear float frames (H, W, >= 3) as the 8-bit sRGB bytes the video encoder is given.
 py::array_t<std::uint8_t> to_srgb8(const py::array& image) {
   if (image.ndim() != 3 || image.shape(2) < 3) throw Error("image: expected (height, width, 3 or more channels)");
-  const auto a = FloatArray::ensure(image);
+  const auto a = c_array<float>(image, "image");
   py::array_t<std::uint8_t> out({a.shape(0), a.shape(1), py::ssize_t(3)});
   tables().to_srgb8(a.data(), std::size_t(a.shape(0) * a.shape(1)), int(a.shape(2)), out.mutable_data());
   return out;

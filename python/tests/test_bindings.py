@@ -170,8 +170,10 @@ def test_rain_matches_cli(cli, tmp_path):
     np.testing.assert_array_equal(r.mask, h.read_image(str(tmp_path / "mask.exr")))
     np.testing.assert_array_equal(r.layer, h.read_image(str(tmp_path / "layer.exr")))
     stats = json.loads((tmp_path / "s.json").read_text())["frames"][0]
-    for k, v in r.stats.items():
-        assert stats[k] == v, k
+    assert stats.pop("frame_index", 5) == 5  # the CLI's record names its frame
+    for k, v in stats.items():
+        assert r.stats[k] == v, k
+    assert set(r.stats) == set(stats) and r.stats["negative_values_clamped"] == 0
     assert r.stats["drops_in_view"] > 0
     # image = clear (1 - alpha) + layer, up to float rounding.
     assert np.all((r.mask >= 0) & (r.mask <= 1))
@@ -217,20 +219,20 @@ def test_image_files_round_trip(tmp_path):
     (lambda: h.mie(1.333, 1.0, angles_deg=[190.0]), "angles_deg = 190"),
     (lambda: h.mie(1.333, 1.0, angles_deg="0:180"), "angles_deg"),
     (lambda: h.SizeDistribution.gamma(-1.0, 0.1), "mean_radius_m"),
-    (lambda: h.SizeDistribution.gamma(1e-5, 0.1).quadrature(0), "nodes = 0"),
-    (lambda: h.lee(size=(0, 10)), "size[0] (columns)"),
+    (lambda: h.SizeDistribution.gamma(1e-5, 0.1).quadrature(0), "nodes: 0 is outside the valid range [1, 4096]"),
+    (lambda: h.lee(size=(0, 10)), "size[0] (columns): 0 is outside the valid range [1, 16384]"),
     (lambda: h.lee(table="halo"), "table 'halo'"),
     (lambda: h.lee(theory="magic"), "theory 'magic'"),
     (lambda: h.lee(temperature_c=200), "temperature_c = 200"),
     (lambda: h.drop_render(radius_mm=500), "radius_mm = 500"),
-    (lambda: h.drop_render(size=4), "size = 4"),
+    (lambda: h.drop_render(size=4), "size: 4 is outside the valid range [8, 16384] px"),
     (lambda: h.drop_undistort(np.zeros((8, 8, 3)), (4, 4), 3, fov_deg=200), "fov_deg"),
     (lambda: h.drop_undistort(np.zeros((8, 8, 3)), (4, 4), -3), "drop_radius_px"),
     (lambda: h.rain(np.zeros((64, 64, 3), np.float32), rate_mmh=600), "rate_mmh = 600"),
     (lambda: h.rain(np.zeros((64, 64, 3), np.float32), camera_height_m=-1), "camera_height_m"),
     (lambda: h.rain(np.zeros((64, 64, 3), np.float32), fov_deg=179), "fov_deg = 179"),
     (lambda: h.rain(np.zeros((64, 64), np.float32)), "image"),
-    (lambda: h.rain(np.zeros((8, 8, 3), np.float32)), "width = 8"),
+    (lambda: h.rain(np.zeros((8, 8, 3), np.float32)), "width: 8 is outside the valid range [16, 16384] px"),
     (lambda: h.RainRenderer(64, 64).render(np.zeros((32, 32, 3)), frame_index=0), "image"),
     (lambda: h.RainRenderer(64, 64).render(np.zeros((64, 64, 3)), frame_index=-1), "frame_index"),
 ])
