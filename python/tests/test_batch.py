@@ -43,7 +43,7 @@ def batch_args(frames, out, **kw):
                            depth_scale_m=0.001, video=None, output=None, crf=18, frame_index=10,
                            no_unresolved=False, chunk_frames=3, workers=2, threads_per_worker=1, scheduler=None,
                            quiet=True)
-    for _, name, _, default, _ in batch_rain.OPTIONS:
+    for _, name, _, default, *_ in batch_rain.OPTIONS:
         setattr(a, name, default)
     a.seed, a.rate_mmh, a.wind_mps = 4, 25.0, 2.0
     for k, v in kw.items():
@@ -140,11 +140,13 @@ def test_a_corrupt_frame_is_reported_and_the_others_go_on(frames, cli_out, tmp_p
 def test_usage_errors_are_one_line_exit_2(frames, tmp_path, capfd):
     cases = [
         (["rain", "--input-dir", str(frames), "--output-dir", str(tmp_path / "o"), "--rate-mmh", "600"],
-         "--rate-mmh = 600 is outside [0, 500]"),
+         "--rate-mmh: 600 is outside the valid range [0, 500] mm/h"),
         (["rain", "--input-dir", str(frames), "--output-dir", str(frames)], "is the input folder"),
         (["rain", "--input-dir", str(tmp_path / "none"), "--output-dir", str(tmp_path / "o")], "not a folder"),
         (["rain", "--input-dir", str(frames), "--output-dir", str(tmp_path / "o"), "--workers", "0"],
-         "--workers 0: outside [1, 1024]"),
+         "--workers: 0 is outside the valid range [1, "),
+        (["rain", "--input-dir", str(frames), "--output-dir", str(tmp_path / "o"), "--seed", "1.5"],
+         "--seed: 1.5 is not a whole number; valid range [0, 9007199254740992]"),
         (["lee-atlas", "--spec", str(tmp_path / "none.json"), "--output-dir", str(tmp_path / "o")], "does not exist"),
     ]
     for argv, text in cases:

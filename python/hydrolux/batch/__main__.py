@@ -2,11 +2,10 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 
 from . import lee_atlas, rain
-from ._common import UsageError
+from ._common import WORKER_BYTES, RunFailure, UsageError, printable, usable_cores
 
 
 class _Parser(argparse.ArgumentParser):
@@ -27,26 +26,53 @@ def main(argv=None) -> int:
         s = sub.add_parser(name, help=text, description=(module.__doc__ or text).strip(),
                            formatter_class=argparse.RawDescriptionHelpFormatter)
         module.add_arguments(s)
-        s.add_argument("--workers", type=int, default=os.cpu_count() or 1,
-                       help="Worker processes of the local cluster [this machine's cores]")
-        s.add_argument("--threads-per-worker", type=int, default=1, help="Tasks each worker runs at once [1]")
+        cores = usable_cores()
+        s.add_argument("--workers", default=None,
+                       help=f"Worker processes of the local cluster: at most one task per core at a time, so "
+                            f"workers x --threads-per-worker <= the cores ({cores} here), and each worker takes "
+                            f"about {WORKER_BYTES >> 20} MB plus its tasks' frames (~210 MB at 1080p), within "
+                            f"the memory available; more is refused before any cluster starts [as many as both "
+                            f"allow]")
+        s.add_argument("--threads-per-worker", default=None,
+                       help=f"Tasks each worker of the local cluster runs at once [1] (at most the cores, {cores})")
         s.add_argument("--scheduler", help="Use the Dask cluster at this address (tcp://host:8786) instead of a "
                                            "local one; its workers need hydrolux importable and the folders mounted")
         s.add_argument("-q", "--quiet", action="store_true", help="No progress or summary on stderr")
     a = p.parse_args(argv)
+    prog = f"hydrolux.batch {a.job}"
+    # Every way out is one line on stderr and an exit code, never a traceback: 2 for a bad argument or input
+    # (found before any work), 1 for a failure of the system midway (a full disk: the path and the OS's reason)
+    # or an internal error (with the exception's type), 130 for Ctrl-C.
     try:
-        if not 1 <= a.workers <= 1024:
-            raise UsageError(f"--workers {a.workers}: outside [1, 1024]")
-        if not 1 <= a.threads_per_worker <= 256:
-            raise UsageError(f"--threads-per-worker {a.threads_per_worker}: outside [1, 256]")
         return jobs[a.job][0].run(a)
     except UsageError as e:
-        sys.stderr.write(f"hydrolux.batch {a.job}: {e}\n")
+        _line(f"{prog}: {e}")
         return 2
+    except RunFailure as e:
+        _line(f"{prog}: {e}")
+        return 1
     except KeyboardInterrupt:
-        sys.stderr.write(f"\nhydrolux.batch {a.job}: interrupted; finished outputs are in the manifest, a re-run "
-                         "goes on from there\n")
+        _line(f"\n{prog}: interrupted; finished outputs are in the manifest, a re-run goes on from there")
         return 130
+    except OSError as e:
+        _line(f"{prog}: {e.filename}: {e.strerror}" if e.filename and e.strerror else f"{prog}: {e}")
+        return 1
+    except MemoryError:
+        _line(f"{prog}: out of memory")
+        return 1
+    except Exception as e:  # a bug, or a library's surprise: still one line, with what it was
+        _line(f"{prog}: internal error: {type(e).__name__}: {e}")
+        return 1
+
+
+def _line(text: str) -> None:
+    """One line on stderr (a leading newline ends a progress line first), whatever the text holds."""
+    lead = "\n" if text.startswith("\n") else ""
+    try:
+        sys.stderr.write(lead + printable(text[len(lead):]) + "\n")
+        sys.stderr.flush()
+    except OSError:
+        pass
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ from __future__ import annotations
 import fcntl
 import json
 import logging
+import math
 import os
 import re
 import sys
@@ -27,7 +28,213 @@ class UsageError(Exception):
     """A bad argument: printed as one line, exit code 2."""
 
 
+class RunFailure(Exception):
+    """The system failed midway (a full disk, an I/O error): printed as one line naming the path and the
+    OS's reason, exit code 1."""
+
+
+def printable(text: str) -> str:
+    """``text`` on one line that cannot drive the terminal, as the CLI prints names (docs/safe-io.md):
+    control characters, C1 controls and the direction-changing characters escaped, a backslash doubled."""
+    out = []
+    for ch in str(text):
+        o = ord(ch)
+        if ch == "\\":
+            out.append("\\\\")
+        elif ch == "\n":
+            out.append("\\n")
+        elif ch == "\t":
+            out.append("\\t")
+        elif ch == "\r":
+            out.append("\\r")
+        elif o < 0x20 or o == 0x7F:
+            out.append(f"\\x{o:02x}")
+        elif 0xDC80 <= o <= 0xDCFF:  # a byte that is not UTF-8 (surrogateescape)
+            out.append(f"\\x{o - 0xDC00:02x}")
+        elif 0x80 <= o <= 0x9F or 0x200B <= o <= 0x200F or 0x2028 <= o <= 0x202E or 0x2066 <= o <= 0x2069:
+            out.append("".join(f"\\x{b:02x}" for b in ch.encode("utf-8")))
+        else:
+            out.append(ch)
+    return "".join(out)
+
+
+def os_error_text(e: OSError, path: Optional[str] = None) -> str:
+    """An OSError as "<path>: <the OS's reason>" (hydrolux's own OSErrors already read so)."""
+    path = path if path is not None else e.filename
+    if e.strerror and path is not None:
+        return f"{path}: {e.strerror}"
+    return str(e) or type(e).__name__
+
+
+# ---- numeric flags, parsed as the CLI parses them --------------------------------------------------
+# The library's own strict parsers (hydrolux::parse::number and ::integer, bound as _core.parse_number and
+# _core.parse_integer): the whole text or nothing, no spaces, underscores, "inf" or "nan"; whole numbers also
+# in exponent form ("1e3"). The messages are the CLI's (tools/hydrolux/common.cpp): "--seed: 1.5 is not a
+# whole number; valid range [0, 9007199254740992]".
+
+_DECIMAL = re.compile(r"^-?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?$")
+
+
+def _text(value) -> str:
+    return value if isinstance(value, str) else repr(value)
+
+
+def _core_parse(kind: str, text: str):
+    _core = native("_core")
+    try:  # bytes, so that a word of argv that is not UTF-8 reaches the parser as it is (and fails there)
+        return getattr(_core, kind)(text.encode("utf-8", "surrogateescape"))
+    except (UnicodeError, ValueError, TypeError):
+        return None
+
+
+def _range(lo, hi, unit: str, lo_open: bool = False) -> str:
+    return ("(" if lo_open else "[") + f"{lo:g}, {hi:g}]" + (" " + unit if unit else "")
+
+
+def number_flag(flag: str, value, lo: float, hi: float, unit: str = "", lo_open: bool = False) -> float:
+    """A finite number in [lo, hi] (or (lo, hi]) given to ``flag``, as the CLI's number_in accepts it; text is
+    parsed by the library, a number (the Python API) only range-checked. UsageError otherwise."""
+    range_text = _range(lo, hi, unit, lo_open)
+    if isinstance(value, str):
+        v = _core_parse("parse_number", value)
+        if v is None:
+            beyond = False
+            if _DECIMAL.match(value):  # "1e400", "1e-400": numbers, just not ones a double holds
+                try:
+                    x = float(value)
+                    beyond = math.isinf(x) or (x == 0 and re.search(r"[1-9]", value.split("e")[0].split("E")[0])
+                                               is not None)
+                except ValueError:
+                    pass
+            raise UsageError(f"{flag}: '{value}' is " +
+                             ("beyond what a double holds (about 1e-308 to 1e308 in magnitude)" if beyond
+                              else "not a finite number") + f"; valid range {range_text}")
+    elif isinstance(value, (int, float)) and not isinstance(value, bool):
+        v = float(value)
+    else:
+        raise UsageError(f"{flag}: '{_text(value)}' is not a finite number; valid range {range_text}")
+    if not math.isfinite(v):
+        raise UsageError(f"{flag}: '{_text(value)}' is not a finite number; valid range {range_text}")
+    if (not (v > lo) if lo_open else not (v >= lo)) or not (v <= hi):
+        raise UsageError(f"{flag}: {_text(value) if isinstance(value, str) else f'{v:g}'} is outside "
+                         f"the valid range {range_text}")
+    return v
+
+
+def integer_flag(flag: str, value, lo: int, hi: int, unit: str = "", extra: str = "") -> int:
+    """A whole number in [lo, hi] given to ``flag``, as the CLI's integer_in accepts it ("1e3" is 1000).
+    ``extra`` follows the range in the message (what the bound means)."""
+    range_text = f"[{lo}, {hi}]" + (" " + unit if unit else "") + extra
+    if isinstance(value, str):
+        v = _core_parse("parse_integer", value)
+        if v is None:
+            x = _core_parse("parse_number", value)
+            shown = value
+            if x is not None and x == math.floor(x):
+                raise UsageError(f"{flag}: {shown} is outside the valid range {range_text}")
+            if x is not None:
+                raise UsageError(f"{flag}: {shown} is not a whole number; valid range {range_text}")
+            raise UsageError(f"{flag}: '{shown}' is not a whole number; valid range {range_text}")
+        shown = value
+    elif isinstance(value, int) and not isinstance(value, bool):
+        v, shown = value, str(value)
+    else:
+        raise UsageError(f"{flag}: '{_text(value)}' is not a whole number; valid range {range_text}")
+    if v < lo or v > hi:
+        raise UsageError(f"{flag}: {shown} is outside the valid range {range_text}")
+    return int(v)
+
+
 # ---- the cluster ----------------------------------------------------------------------------------
+
+# What one worker of the local cluster costs, measured (docs/batch.md, "Memory"): a worker process is 62 MB
+# resident once Dask is up and 184 MB once hydrolux and OpenImageIO are imported and a frame rendered, and
+# its nanny adds its own; 32 workers took 6.1 GB for 64 small frames (issue 23), ~190 MB each. A task adds
+# its frame's buffers (the caller's task_bytes).
+WORKER_BYTES = 200 << 20
+
+
+def native(name: str):
+    """hydrolux's compiled module ``name`` (_core, _image, _video) itself: imported by its full name, so that
+    a package attribute of the same name (a helper function of hydrolux/__init__.py) cannot stand in for it."""
+    import importlib
+
+    full = "hydrolux." + name
+    if full in sys.modules:
+        return sys.modules[full]
+    pkg = importlib.import_module("hydrolux")
+    missing = object()
+    before = pkg.__dict__.get(name, missing)
+    module = importlib.import_module(full)
+    if before is not missing and before is not module:
+        setattr(pkg, name, before)  # the import bound the module over the package's own name: put it back
+    return module
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its affinity mask, which a container or taskset narrows)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+def available_memory() -> Optional[int]:
+    """Bytes of memory a new process may still take: the kernel's MemAvailable, less if a cgroup (v2) limit
+    leaves less. None where neither can be read."""
+    avail = None
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    avail = int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        with open("/sys/fs/cgroup/memory.max") as f:
+            limit = f.read().strip()
+        with open("/sys/fs/cgroup/memory.current") as f:
+            current = int(f.read().strip())
+        if limit != "max":
+            left = max(0, int(limit) - current)
+            avail = left if avail is None else min(avail, left)
+    except (OSError, ValueError):
+        pass
+    return avail
+
+
+def _gib(n: int) -> str:
+    return f"{n / (1 << 30):.1f} GiB" if n >= 1 << 30 else f"{n / (1 << 20):.0f} MiB"
+
+
+def local_cluster_size(workers, threads_per_worker, task_bytes: int = 0, scheduler: Optional[str] = None):
+    """--workers and --threads-per-worker checked (the CLI's parsing and message shape) and bounded for a
+    local cluster, before any cluster starts: at most one task per core at a time (each task's render is
+    parallel already, so more only adds memory), and workers x (WORKER_BYTES + threads x task_bytes) within
+    the memory available. ``workers`` None: as many as that allows. Returns (workers, threads_per_worker)."""
+    tpw = integer_flag("--threads-per-worker", 1 if threads_per_worker is None else threads_per_worker, 1, 256)
+    if scheduler:
+        if workers is not None or threads_per_worker is not None:
+            flag = "--workers" if workers is not None else "--threads-per-worker"
+            raise UsageError(f"{flag}: sizes the local cluster; with --scheduler the cluster's own workers run the "
+                             "tasks (dask worker --nworkers, --nthreads)")
+        return 0, 1
+    cores = usable_cores()
+    memory = available_memory()
+    per_worker = WORKER_BYTES + tpw * max(0, task_bytes)
+    by_memory = max(1, memory // per_worker) if memory is not None else None
+    if tpw > cores:
+        raise UsageError(f"--threads-per-worker: {threads_per_worker} is outside the valid range "
+                         f"[1, {cores}] here (a local cluster runs at most one task per core: {cores} cores)")
+    by_cores = cores // tpw
+    bound = min(by_cores, by_memory) if by_memory is not None else by_cores
+    why = (f" here (at most one task per core: {cores} cores / {tpw} thread(s) per worker"
+           + (f"; about {_gib(per_worker)} a worker, {_gib(memory)} of memory available" if memory is not None
+              else "") + "; more workers on other machines with --scheduler)")
+    if workers is None:
+        return bound, tpw
+    return integer_flag("--workers", workers, 1, bound, extra=why), tpw
+
 
 def open_client(scheduler: Optional[str], workers: int, threads_per_worker: int, quiet: bool):
     """A Dask client: on the cluster at ``scheduler`` (tcp://host:8786), or on a LocalCluster of
@@ -40,8 +247,10 @@ def open_client(scheduler: Optional[str], workers: int, threads_per_worker: int,
     if scheduler:
         try:
             client = Client(scheduler, timeout="10s")
-        except OSError as e:
-            raise UsageError(f"--scheduler {scheduler}: cannot connect: {e}") from None
+        except Exception as e:  # OSError, TimeoutError; ValueError or TypeError for an address Dask cannot parse
+            reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+            raise UsageError(f"--scheduler {scheduler}: cannot connect: {reason} (expected "
+                             "an address like tcp://host:8786 of a running dask scheduler)") from None
         return client, None
     # The scheduler's HTTP server (metrics; the dashboard too where bokeh is installed, which Debian 12
     # does not package) on a free port of 127.0.0.1, never a fixed one two runs would compete for.
@@ -125,10 +334,10 @@ class Progress:
                 sys.stderr.flush()
 
     def message(self, text: str) -> None:
-        """A line of its own (an error), not overwritten by the next update."""
+        """A line of its own (an error), not overwritten by the next update; one line whatever a name holds."""
         if self.tty and self.printed:
             sys.stderr.write("\r\033[K")
-        sys.stderr.write(text + "\n")
+        sys.stderr.write(printable(text) + "\n")
         sys.stderr.flush()
         self.last = 0.0
 
@@ -187,20 +396,112 @@ class Manifest:
         return header, records
 
     def _rewrite(self, lines: List[dict]) -> None:
-        from hydrolux import _core  # hydrolux's checked, atomic output path
+        _core = native("_core")  # hydrolux's checked, atomic output path
 
-        _core.write_file(self.path, "".join(json.dumps(line, sort_keys=True) + "\n" for line in lines).encode(),
-                         "manifest")
+        try:
+            _core.write_file(self.path, "".join(json.dumps(line, sort_keys=True) + "\n" for line in lines).encode(),
+                             "manifest")
+        except OSError as e:  # hydrolux's message names the path and the OS's reason
+            raise RunFailure(str(e)) from None
 
     def add(self, record: dict) -> None:
+        """Appends the record whole and syncs it, or leaves the journal as it was and raises RunFailure (a full
+        disk, a file-size limit, an I/O error): what was written of the line is truncated away, so a failed
+        append never leaves a torn line behind."""
         line = (json.dumps(record, sort_keys=True) + "\n").encode()
-        os.write(self._fd, line)
-        os.fsync(self._fd)
+        length = None
+        try:
+            length = os.fstat(self._fd).st_size
+            view = memoryview(line)
+            while view:
+                n = os.write(self._fd, view)
+                if n <= 0:
+                    raise OSError(28, os.strerror(28))  # ENOSPC: a write that writes nothing
+                view = view[n:]
+            os.fsync(self._fd)
+        except OSError as e:
+            if length is not None:
+                try:
+                    os.ftruncate(self._fd, length)
+                    os.fsync(self._fd)
+                except OSError:
+                    pass
+            raise RunFailure(os_error_text(e, self.path)) from None
         self.records[record["output"]] = record
 
     def close(self) -> None:
         os.close(self._fd)
         os.close(self._lock_fd)
+
+
+def check_members(inputs: List[tuple], outputs: List[tuple]) -> None:
+    """"Never over an input, never two outputs on one path", member by member, before any work: ``inputs`` and
+    ``outputs`` are (flag, folder or None, path); an output path that is (through a symbolic or hard link, or
+    as the same resolved path) an input file, or another output, is a UsageError naming both. The folder-level
+    guards (an output folder that is the input folder) come first; this catches a link inside a folder."""
+    def where(flag, folder, path):
+        return f"{flag} {folder}: {os.path.basename(path)}" if folder else f"{flag} {path}"
+
+    by_inode: Dict[tuple, tuple] = {}
+    for flag, folder, path in inputs:
+        try:
+            st = os.stat(path)
+        except OSError:
+            continue  # a missing input is reported where it is read
+        by_inode.setdefault((st.st_dev, st.st_ino), (flag, folder, path))
+    seen_paths: Dict[str, tuple] = {}
+    seen_inodes: Dict[tuple, tuple] = {}
+    for flag, folder, path in outputs:
+        real = os.path.realpath(path)
+        other = seen_paths.get(real)
+        try:
+            st = os.stat(path)
+            key = (st.st_dev, st.st_ino)
+        except OSError:
+            key = None
+        if key is not None and key in by_inode:
+            i = by_inode[key]
+            raise UsageError(f"{where(flag, folder, path)}: is (through a link) the input "
+                             f"{where(*i)}; an output never replaces an input")
+        if other is None and key is not None:
+            other = seen_inodes.get(key)
+        if other is not None:
+            raise UsageError(f"{where(flag, folder, path)}: is (through a link) the output "
+                             f"{where(*other)} too; two outputs never share a file")
+        seen_paths[real] = (flag, folder, path)
+        if key is not None:
+            seen_inodes[key] = (flag, folder, path)
+
+
+def make_folder(flag: str, folder: str) -> None:
+    """Creates an output folder (and its parents): one that cannot be made (read-only, not a folder) is a bad
+    argument, as the CLI's reservation of an output finds it (exit 2), not a traceback."""
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as e:
+        raise UsageError(f"{flag} {folder}: cannot create the folder: {e.strerror or e}") from None
+
+
+def remove_staging(folder: str, pattern: str) -> None:
+    """Removes a staging folder after a failed run: the files this job writes there (names matching
+    ``pattern``, of any run's chunking; the manifest, its lock; their temporaries), then the folder if that
+    left it empty. Nothing else is touched, even if the folder is a link to one that holds other files."""
+    ours = re.compile(r"^(?:\.)?(?:" + pattern + "|" + re.escape(MANIFEST) + "|" + re.escape(LOCK) +
+                      r")(?:\.tmp-\d+-\d+)?$")
+    try:
+        entries = os.listdir(folder)
+    except OSError:
+        return
+    for n in entries:
+        if ours.match(n):
+            try:
+                os.unlink(os.path.join(folder, n))
+            except OSError:
+                pass
+    try:
+        os.rmdir(folder)
+    except OSError:
+        pass
 
 
 def file_stamp(path: str) -> Optional[dict]:

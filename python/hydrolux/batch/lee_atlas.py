@@ -36,7 +36,7 @@ NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]{0,99}$")
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--spec", required=True, help="The atlas: a JSON file of tables (see the module's help)")
     p.add_argument("--output-dir", required=True, help="Folder for the tables (created)")
-    p.add_argument("--threads-per-table", type=int, default=0,
+    p.add_argument("--threads-per-table", default=0,
                    help="Threads of each table's computation (0: the cores / the local workers)")
 
 
@@ -143,21 +143,28 @@ def _is_done(rec, out_dir: str, name: str, args: List[str]) -> bool:
 
 
 def run(a: argparse.Namespace, after_result=None) -> int:
+    a.threads_per_table = _common.integer_flag("--threads-per-table", a.threads_per_table, 0, 1024,
+                                               extra=" (0: the cores / the local workers)")
     tables = expand(a.spec)
-    if a.threads_per_table < 0 or a.threads_per_table > 1024:
-        raise UsageError(f"--threads-per-table {a.threads_per_table}: outside [0, 1024]")
     out_dir = os.path.abspath(a.output_dir)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise UsageError(f"--output-dir {out_dir}: exists and is not a folder")
-    # The cluster first: an unreachable scheduler leaves no output folder behind.
+    # Member by member: no table file, manifest or lock that is (through a link) the spec, nor another output.
+    _common.check_members([("--spec", None, os.path.abspath(a.spec))],
+                          [("--output-dir", out_dir, os.path.join(out_dir, n))
+                           for n in [_common.MANIFEST, _common.LOCK]
+                           + [t["name"] + e for t in tables for e in (".exr", ".png", ".json")]])
+    # The local cluster's size within the cores and the memory, then the cluster: an unreachable scheduler
+    # leaves no output folder behind.
+    a.workers, a.threads_per_worker = _common.local_cluster_size(a.workers, a.threads_per_worker, 0, a.scheduler)
     client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
     manifest = None
     failed: List[str] = []
     try:
-        os.makedirs(out_dir, exist_ok=True)
+        _common.make_folder("--output-dir", out_dir)
         manifest = _common.Manifest(out_dir, "lee-atlas", {})
         todo = [t for t in tables if not _is_done(manifest.records.get(t["name"]), out_dir, t["name"], t["args"])]
-        cores = os.cpu_count() or 1
+        cores = _common.usable_cores()
         threads = a.threads_per_table or (0 if a.scheduler else max(1, cores // max(1, a.workers)))
         progress = _common.Progress("batch lee-atlas", len(todo), "tables", a.quiet)
         if not a.quiet:

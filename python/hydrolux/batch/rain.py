@@ -24,37 +24,71 @@ import sys
 from typing import Any, Dict, List, Optional
 
 from . import _common
-from ._common import UsageError
+from ._common import UsageError, printable
 
+# What a task holds per pixel of its frame, measured on a worker (docs/batch.md, "Memory"): a 1080p frame
+# raised a worker's peak by 208 MB (the frame as float RGB in and out, its mask, the 8-bit copy, the
+# encoded file), ~100 bytes a pixel.
+TASK_BYTES_PER_PIXEL = 100
 FRAME_EXTENSIONS = {".png", ".jpg", ".jpeg", ".exr", ".tif", ".tiff", ".hdr", ".ppm", ".pfm"}
 
-# The rain command's options: (flag, Python name, type, default or None, help).
+# The rain command's options, with the CLI's ranges and units (tools/hydrolux/cmd_rain.cpp):
+# (flag, Python name, type, default or None, help, lo, hi, unit).
 OPTIONS = [
-    ("--rate-mmh", "rate_mmh", float, 25.0, "Rain rate, mm/h [0, 500]"),
-    ("--wind-mps", "wind_mps", float, 0.0, "Horizontal wind speed, m/s [0, 50]"),
-    ("--wind-dir-deg", "wind_dir_deg", float, 90.0, "Where the wind blows to: 0 away from the camera, 90 to its right"),
-    ("--exposure-s", "exposure_s", float, 0.008, "Exposure time, s (at most 1 / fps)"),
-    ("--focal-mm", "focal_mm", float, None, "Focal length, mm [1, 2000] (default 35)"),
-    ("--fov-deg", "fov_deg", float, None, "Horizontal field of view, degrees [1, 170] (instead of --focal-mm)"),
-    ("--sensor-width-mm", "sensor_width_mm", float, None, "Sensor width, mm [1, 100] (default 36)"),
-    ("--pixel-pitch-um", "pixel_pitch_um", float, None, "Pixel pitch, um (instead of --sensor-width-mm)"),
-    ("--f-number", "f_number", float, 0.0, "Aperture f-number for defocus of near drops; 0 = pinhole"),
-    ("--focus-m", "focus_m", float, 10.0, "Focus distance, m (with --f-number)"),
-    ("--fps", "fps", float, None, "Frame rate of --input-dir frames: frame k is exposed from k / fps (default 25)"),
-    ("--camera-height-m", "camera_height_m", float, 1.7, "Camera height above the ground plane, m"),
-    ("--pitch-deg", "pitch_deg", float, 0.0, "Camera pitch above the horizon, degrees [-80, 80]"),
-    ("--near-m", "near_m", float, 0.5, "No drop nearer than this, m"),
-    ("--far-m", "far_m", float, 100.0, "No drop drawn beyond this, m (farther rain is unresolved)"),
-    ("--min-radius-mm", "min_radius_mm", float, 0.1, "Smaller drops count only as unresolved rain, mm"),
-    ("--max-radius-mm", "max_radius_mm", float, 2.9, "Largest drop radius, mm"),
-    ("--min-alpha", "min_alpha", float, 0.01, "A drop is drawn while its streak's peak coverage reaches this"),
-    ("--extent-m", "extent_m", float, 1000.0, "Depth of the rain where the scene has none (sky), m"),
-    ("--backdrop-m", "backdrop_m", float, 100.0, "The ground plane's backdrop distance, m"),
-    ("--oscillation", "oscillation", float, 0.0, "Relative amplitude of the drops' shape oscillation [0, 0.5]"),
-    ("--seed", "seed", int, 1, "Random seed: the same seed gives the same rain, bytes for bytes"),
+    ("--rate-mmh", "rate_mmh", float, 25.0, "Rain rate, mm/h [0, 500]", 0, 500, "mm/h"),
+    ("--wind-mps", "wind_mps", float, 0.0, "Horizontal wind speed, m/s [0, 50]", 0, 50, "m/s"),
+    ("--wind-dir-deg", "wind_dir_deg", float, 90.0, "Where the wind blows to: 0 away from the camera, 90 to its right",
+     -360, 360, "deg"),
+    ("--exposure-s", "exposure_s", float, 0.008, "Exposure time, s (at most 1 / fps)", 1e-6, 1, "s"),
+    ("--focal-mm", "focal_mm", float, None, "Focal length, mm [1, 2000] (default 35)", 1, 2000, "mm"),
+    ("--fov-deg", "fov_deg", float, None, "Horizontal field of view, degrees [1, 170] (instead of --focal-mm)", 1, 170,
+     "deg"),
+    ("--sensor-width-mm", "sensor_width_mm", float, None, "Sensor width, mm [1, 100] (default 36)", 1, 100, "mm"),
+    ("--pixel-pitch-um", "pixel_pitch_um", float, None, "Pixel pitch, um (instead of --sensor-width-mm)", 0.1, 1000,
+     "um"),
+    ("--f-number", "f_number", float, 0.0, "Aperture f-number for defocus of near drops; 0 = pinhole", 0, 64, ""),
+    ("--focus-m", "focus_m", float, 10.0, "Focus distance, m (with --f-number)", 0.01, 1e4, "m"),
+    ("--fps", "fps", float, None, "Frame rate of --input-dir frames: frame k is exposed from k / fps (default 25)",
+     1, 1000, "1/s"),
+    ("--camera-height-m", "camera_height_m", float, 1.7, "Camera height above the ground plane, m", 0, 1000, "m"),
+    ("--pitch-deg", "pitch_deg", float, 0.0, "Camera pitch above the horizon, degrees [-80, 80]", -80, 80, "deg"),
+    ("--near-m", "near_m", float, 0.5, "No drop nearer than this, m", 0.05, 100, "m"),
+    ("--far-m", "far_m", float, 100.0, "No drop drawn beyond this, m (farther rain is unresolved)", 0.1, 1e4, "m"),
+    ("--min-radius-mm", "min_radius_mm", float, 0.1, "Smaller drops count only as unresolved rain, mm", 0.04, 2.9,
+     "mm"),
+    ("--max-radius-mm", "max_radius_mm", float, 2.9, "Largest drop radius, mm", 0.04, 2.9, "mm"),
+    ("--min-alpha", "min_alpha", float, 0.01, "A drop is drawn while its streak's peak coverage reaches this", 1e-5,
+     0.5, ""),
+    ("--extent-m", "extent_m", float, 1000.0, "Depth of the rain where the scene has none (sky), m", 0, 1e5, "m"),
+    ("--backdrop-m", "backdrop_m", float, 100.0, "The ground plane's backdrop distance, m", 1, 1e5, "m"),
+    ("--oscillation", "oscillation", float, 0.0, "Relative amplitude of the drops' shape oscillation [0, 0.5]", 0, 0.5,
+     ""),
+    ("--seed", "seed", int, 1, "Random seed: the same seed gives the same rain, bytes for bytes", 0, None, ""),
 ]
 FLAG_OF = {name: flag for flag, name, *_ in OPTIONS}
 FLAG_OF.update({"camera_height_m": "--camera-height-m", "width": "the frames' width", "height": "the frames' height"})
+
+
+def max_seed() -> int:
+    """The largest seed, hydrolux::rain::kMaxSeed (2^53: every seed a double holds exactly), from the library."""
+    return int(_common.native("_core").kMaxSeed)
+
+
+def parse_numbers(a: argparse.Namespace) -> None:
+    """Every numeric option parsed as the CLI parses it (the library's parsers) and checked against the CLI's
+    range, in place, before any work: one UsageError naming the flag, the value and the range."""
+    for flag, name, typ, _default, _text, lo, hi, unit in OPTIONS:
+        value = getattr(a, name, None)
+        if value is None:
+            continue
+        if typ is int:
+            setattr(a, name, _common.integer_flag(flag, value, lo, max_seed() if hi is None else hi, unit))
+        else:
+            setattr(a, name, _common.number_flag(flag, value, lo, hi, unit))
+    a.frame_index = _common.integer_flag("--frame-index", a.frame_index, 0, 1_000_000_000)
+    a.chunk_frames = _common.integer_flag("--chunk-frames", a.chunk_frames, 0, 100000, extra=" (0: automatic)")
+    a.crf = _common.integer_flag("--crf", a.crf, 0, 51)
+    a.depth_scale_m = _common.number_flag("--depth-scale-m", a.depth_scale_m, 1e-6, 1e3, "m")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -62,18 +96,21 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--output-dir", help="Folder for the rainy frames (created; never the input folder)")
     p.add_argument("--video", help="Input video (MP4, MOV, MKV, ...) instead of --input-dir; frame rate and count kept")
     p.add_argument("-o", "--output", help="Output video with --video (.mp4, .mov or .mkv), H.264")
-    p.add_argument("--crf", type=int, default=18, help="H.264 quality of the output video (0 lossless .. 51) [18]")
+    # Numbers are taken as text and parsed by the library's parsers in run(), as the CLI parses them.
+    p.add_argument("--crf", default=18, help="H.264 quality of the output video (0 lossless .. 51) [18]")
     p.add_argument("--mask-dir", help="Folder for the rain's coverage masks (same names as the frames)")
     p.add_argument("--depth-dir", help="Depth maps for --input-dir: each frame's stem as .exr (metres) or .png "
                                        "(16-bit codes x --depth-scale-m); without, a ground plane")
-    p.add_argument("--depth-scale-m", type=float, default=0.001, help="Metres per code of a PNG depth map [0.001]")
-    for flag, name, typ, default, text in OPTIONS:
-        p.add_argument(flag, dest=name, type=typ, default=default,
-                       help=text + (f" [{default:g}]" if isinstance(default, (int, float)) else ""))
-    p.add_argument("--frame-index", type=int, default=0, help="Index of the first frame in the rain field's time [0]")
+    p.add_argument("--depth-scale-m", default=0.001, help="Metres per code of a PNG depth map [0.001]")
+    for flag, name, typ, default, text, lo, hi, unit in OPTIONS:
+        valid = f"[{lo}, {hi if hi is not None else '2^53'}]" if typ is int else f"[{lo:g}, {hi:g}]"
+        p.add_argument(flag, dest=name, default=default,
+                       help=text + ("" if valid in text else f"; valid {valid}{' ' + unit if unit else ''}")
+                       + (f" [{default:g}]" if isinstance(default, (int, float)) else ""))
+    p.add_argument("--frame-index", default=0, help="Index of the first frame in the rain field's time [0]")
     p.add_argument("--no-unresolved", action="store_true",
                    help="Leave out the unresolved rain's extinction and airlight (streaks only)")
-    p.add_argument("--chunk-frames", type=int, default=0,
+    p.add_argument("--chunk-frames", default=0,
                    help="Frames per task (0: about 4 tasks per worker, at most 32 frames each; 8 for video)")
 
 
@@ -96,14 +133,54 @@ def _flag_error(e: ValueError) -> UsageError:
     return UsageError(text)
 
 
-def list_frames(input_dir: str) -> List[str]:
+def _not_regular(path: str) -> Optional[str]:
+    """What a folder entry is when it is not a regular file (following a symbolic link), else None."""
+    import stat
+
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        return "dangling link" if os.path.islink(path) else "vanished"
+    except OSError as e:
+        return f"unreadable: {e.strerror}"
+    mode = st.st_mode
+    if stat.S_ISREG(mode):
+        return None
+    for test, what in ((stat.S_ISDIR, "folder"), (stat.S_ISFIFO, "FIFO"), (stat.S_ISSOCK, "socket"),
+                       (stat.S_ISCHR, "character device"), (stat.S_ISBLK, "block device")):
+        if test(mode):
+            return what
+    return "not a regular file"
+
+
+def list_frames(input_dir: str, shown_dir: Optional[str] = None) -> List[str]:
+    """The frames of input_dir in name order: its regular files with an image extension (not hidden). An
+    entry with such a name that is not a regular file (a FIFO, a device, a folder, a dangling link) is
+    skipped, and the skipped ones are listed in one warning line on stderr."""
+    shown = shown_dir if shown_dir is not None else input_dir
     if not os.path.isdir(input_dir):
-        raise UsageError(f"--input-dir {input_dir}: not a folder")
-    names = sorted(n for n in os.listdir(input_dir)
-                   if not n.startswith(".") and os.path.splitext(n)[1].lower() in FRAME_EXTENSIONS
-                   and os.path.isfile(os.path.join(input_dir, n)))
+        raise UsageError(f"--input-dir {shown}: not a folder")
+    try:
+        entries = sorted(os.listdir(input_dir))
+    except OSError as e:
+        raise UsageError(f"--input-dir {shown}: {e.strerror}") from None
+    names, skipped = [], []
+    for n in entries:
+        if n.startswith(".") or os.path.splitext(n)[1].lower() not in FRAME_EXTENSIONS:
+            continue
+        what = _not_regular(os.path.join(input_dir, n))
+        if what is None:
+            names.append(n)
+        else:
+            skipped.append(f"{n} ({what})")
+    if skipped:
+        listed = ", ".join(skipped[:10]) + (f" and {len(skipped) - 10} more" if len(skipped) > 10 else "")
+        sys.stderr.write(printable(f"hydrolux.batch rain: warning: --input-dir {shown_dir or input_dir}: skipped "
+                                   f"{len(skipped)} " + ("entry that is not a regular file" if len(skipped) == 1 else
+                                                         "entries that are not regular files") + f": {listed}") + "\n")
+        sys.stderr.flush()
     if not names:
-        raise UsageError(f"--input-dir {input_dir}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)")
+        raise UsageError(f"--input-dir {shown}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)")
     return names
 
 
@@ -161,7 +238,8 @@ def _renderer(job: Dict[str, Any], ground: bool):
 def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
     """A task: renders consecutive frames [(input name, output name, frame index, depth map), ...] and writes
     them. Returns one record per frame; a frame that fails carries "error" and the others go on."""
-    from hydrolux import _core, _image
+    _core = _common.native("_core")
+    _image = _common.native("_image")
 
     renderer = _renderer(job, ground=not job["depth_dir"])
     records = []
@@ -216,10 +294,7 @@ def _is_done(rec: Optional[dict], frame_index: int, input_path: str, output_path
 def run(a: argparse.Namespace, after_result=None) -> int:
     if (a.input_dir is None) == (getattr(a, "video", None) is None):
         raise UsageError("give exactly one of --input-dir and --video")
-    if a.frame_index < 0 or a.frame_index > 1_000_000_000:
-        raise UsageError(f"--frame-index {a.frame_index}: outside [0, 1000000000]")
-    if a.chunk_frames < 0 or a.chunk_frames > 100000:
-        raise UsageError(f"--chunk-frames {a.chunk_frames}: outside [0, 100000] (0: automatic)")
+    parse_numbers(a)
     if getattr(a, "video", None) is not None:
         return run_video(a, after_result)
     if getattr(a, "output", None):
@@ -231,17 +306,15 @@ def run(a: argparse.Namespace, after_result=None) -> int:
 
 def run_folder(a: argparse.Namespace, after_result=None) -> int:
     import hydrolux
-    from hydrolux import _image
+    _image = _common.native("_image")
 
     opts = _options(a)
     in_dir, out_dir = os.path.abspath(a.input_dir), os.path.abspath(a.output_dir)
     mask_dir = os.path.abspath(a.mask_dir) if a.mask_dir else None
-    frames = list_frames(in_dir)
+    frames = list_frames(in_dir, a.input_dir)
     names = output_names(in_dir, frames)
     depth_dir = os.path.abspath(a.depth_dir) if a.depth_dir else None
     depths = depth_maps(depth_dir, frames) if depth_dir else [None] * len(frames)
-    if not 1e-6 <= a.depth_scale_m <= 1e3:
-        raise UsageError(f"--depth-scale-m {a.depth_scale_m:g}: outside [1e-06, 1000] m")
     for flag, d in (("--output-dir", out_dir), ("--mask-dir", mask_dir)):
         if d and os.path.exists(d):
             if not os.path.isdir(d):
@@ -252,6 +325,15 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
                 raise UsageError(f"{flag} {d}: is --depth-dir; the outputs could replace depth maps")
     if mask_dir and os.path.exists(mask_dir) and os.path.exists(out_dir) and os.path.samefile(mask_dir, out_dir):
         raise UsageError(f"--mask-dir {mask_dir}: is --output-dir; masks and frames share names")
+    # Member by member: no output file (a frame, a mask, the manifest or its lock) that is, through a link, an
+    # input frame, a depth map or another output.
+    inputs = [("--input-dir", in_dir, os.path.join(in_dir, f)) for f in frames]
+    if depth_dir:
+        inputs += [("--depth-dir", depth_dir, os.path.join(depth_dir, d)) for d in depths]
+    outputs = [("--output-dir", out_dir, os.path.join(out_dir, n)) for n in names + [_common.MANIFEST, _common.LOCK]]
+    if mask_dir:
+        outputs += [("--mask-dir", mask_dir, os.path.join(mask_dir, n)) for n in names]
+    _common.check_members(inputs, outputs)
     # The sequence's size from its first readable frame (an unreadable one is reported with the rest).
     size = None
     for f in frames:
@@ -268,14 +350,17 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
         field = hydrolux.RainRenderer(size[0], size[1], depth_dir is None, **opts).field_info()
     except ValueError as e:
         raise _flag_error(e) from None
-    # The cluster first: an unreachable scheduler leaves no output folder behind.
+    # The local cluster's size within the cores and the memory (a task holds a frame's buffers), then the
+    # cluster: an unreachable scheduler leaves no output folder behind.
+    a.workers, a.threads_per_worker = _common.local_cluster_size(a.workers, a.threads_per_worker,
+                                                                 TASK_BYTES_PER_PIXEL * size[0] * size[1], a.scheduler)
     client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
     manifest = None
     failed: List[str] = []
     try:
-        for d in (out_dir, mask_dir):
+        for flag, d in (("--output-dir", out_dir), ("--mask-dir", mask_dir)):
             if d:
-                os.makedirs(d, exist_ok=True)
+                _common.make_folder(flag, d)
         params = {"input_dir": in_dir, "mask_dir": mask_dir, "frame_index": a.frame_index, "options": opts,
                   "size": list(size), "depth_dir": depth_dir, "depth_scale_m": a.depth_scale_m if depth_dir else None}
         manifest = _common.Manifest(out_dir, "rain", params)
@@ -293,7 +378,7 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
         workers = max(1, len(client.scheduler_info().get("workers", {})) or a.workers)
         chunk = a.chunk_frames or max(1, min(32, math.ceil(len(todo) / (4 * workers))))
         tasks = [todo[i:i + chunk] for i in range(0, len(todo), chunk)]
-        cores = os.cpu_count() or 1
+        cores = _common.usable_cores()
         job = {"input_dir": in_dir, "output_dir": out_dir, "mask_dir": mask_dir, "width": size[0],
                "height": size[1], "options": opts, "depth_dir": depth_dir, "depth_scale_m": a.depth_scale_m,
                "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker))}
@@ -357,29 +442,36 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
 def render_video_chunk(job: Dict[str, Any], start: int, count: int) -> Dict[str, Any]:
     """A task: frames [start, start + count) of the video (count -1: to its end), rendered and
     written as raw 8-bit RGB into the staging folder."""
-    from hydrolux import _core, _video
+    _core = _common.native("_core")
+    _video = _common.native("_video")
 
-    renderer = _renderer(job, ground=True)
     name = f"chunk_{start:09d}.rgb"
-    reader = _video.VideoReader(job["video"], "--video")
     parts, stats = [], []
-    if reader.skip(start) != start:  # the container promised more frames than it holds
-        count = 0
-    while count < 0 or len(parts) < count:
-        frame = reader.read()
-        if frame is None:
-            break
-        result = renderer.render(frame, None, job["frame_index"] + start + len(parts))
-        parts.append(_video.to_srgb8(result.image).tobytes())
-        stats.append(result.stats)
+    try:  # the video's own problems (truncated, corrupt): a bad input, reported as the CLI reports it
+        renderer = _renderer(job, ground=True)
+        reader = _video.VideoReader(job["video"], job["video_label"])
+        if reader.skip(start) != start:  # the container promised more frames than it holds
+            count = 0
+        while count < 0 or len(parts) < count:
+            frame = reader.read()
+            if frame is None:
+                break
+            result = renderer.render(frame, None, job["frame_index"] + start + len(parts))
+            parts.append(_video.to_srgb8(result.image).tobytes())
+            stats.append(result.stats)
+    except (ValueError, OSError) as e:
+        return {"output": name, "start": start, "error": str(e), "input_error": True}
     data = b"".join(parts)
-    _core.write_file(os.path.join(job["staging"], name), data, "staging")
+    try:  # a full disk in the staging folder: the system failed (exit 1)
+        _core.write_file(os.path.join(job["staging"], name), data, "staging")
+    except OSError as e:
+        return {"output": name, "start": start, "error": str(e), "input_error": False}
     return {"output": name, "start": start, "frames": len(parts), "size": len(data), "stats": stats}
 
 
 def run_video(a: argparse.Namespace, after_result=None) -> int:
     import hydrolux
-    from hydrolux import _video
+    _video = _common.native("_video")
 
     if a.input_dir or a.output_dir or a.mask_dir or a.depth_dir:
         raise UsageError("--video writes one video (-o); --output-dir, --mask-dir and --depth-dir are for "
@@ -388,8 +480,6 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
         raise UsageError("-o: give the output video (.mp4, .mov or .mkv)")
     if os.path.splitext(a.output)[1].lower() not in (".mp4", ".mov", ".mkv"):
         raise UsageError(f"-o {a.output}: expected a .mp4, .mov or .mkv file")
-    if not 0 <= a.crf <= 51:
-        raise UsageError(f"--crf {a.crf}: outside [0, 51]")
     if a.fps is not None:
         raise UsageError("--fps: a video's frame rate is its own")
     video, output = os.path.abspath(a.video), os.path.abspath(a.output)
@@ -400,10 +490,14 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
         raise UsageError(f"-o {a.output}: the folder {out_dir} does not exist")
     if os.path.exists(output) and os.path.samefile(output, video):
         raise UsageError(f"-o {a.output}: is the input video")
+    video_label = "--video"  # the bindings' errors read "--video <path>: <reason>"
     try:
-        info = _video.VideoReader(video, "--video").info()
+        info = _video.VideoReader(video, video_label).info()
     except (ValueError, OSError) as e:
         raise UsageError(str(e)) from None
+    if info["width"] % 2 or info["height"] % 2:  # the encoder's rule, before any frame is rendered
+        raise UsageError(f"-o {a.output}: {info['width']} x {info['height']} pixels: H.264 with 4:2:0 chroma needs "
+                         "an even width and height")
     opts = _options(a)
     opts["fps"] = info["fps"]
     try:
@@ -412,17 +506,35 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
         raise _flag_error(e) from None
     expected = info["frame_count"] if info["frame_count"] > 0 else round(info["duration_s"] * info["fps"])
     if expected <= 0:  # the container says nothing: count them
-        expected = _video.VideoReader(video, "--video").skip(1 << 40)
+        try:
+            expected = _video.VideoReader(video, video_label).skip(1 << 40)
+        except (ValueError, OSError) as e:
+            raise UsageError(str(e)) from None
     staging = os.path.join(out_dir, f".{os.path.basename(output)}.chunks")
+    chunk = a.chunk_frames or 8
+    # Member by member: the output video, the staging folder's chunks, manifest and lock are never the input
+    # video (through a link), nor one another.
+    if os.path.lexists(staging) and not os.path.isdir(staging):
+        raise UsageError(f"-o {a.output}: its staging folder {staging} exists and is not a folder")
+    starts = list(range(0, max(1, expected), chunk))
+    _common.check_members(
+        [("--video", None, video)],
+        [("-o", None, output)] + [("-o", None, os.path.join(staging, n))
+                                  for n in [_common.MANIFEST, _common.LOCK] + [f"chunk_{s:09d}.rgb" for s in starts]])
     stamp = _common.file_stamp(video)
     params = {"video": video, "input_size": stamp["size"], "input_mtime_ns": stamp["mtime_ns"],
-              "frame_index": a.frame_index, "options": opts, "chunk_frames": a.chunk_frames or 8}
-    # The cluster first: an unreachable scheduler leaves no staging folder behind.
+              "frame_index": a.frame_index, "options": opts, "chunk_frames": chunk}
+    # The local cluster's size within the cores and the memory (a task holds its chunk's frames, 3 bytes a
+    # pixel, and one frame's buffers), then the cluster: an unreachable scheduler leaves no staging folder behind.
+    a.workers, a.threads_per_worker = _common.local_cluster_size(
+        a.workers, a.threads_per_worker, (TASK_BYTES_PER_PIXEL + 3 * chunk) * info["width"] * info["height"],
+        a.scheduler)
     client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
     manifest = None
     chunk_names: List[str] = []
+    finished = interrupted = False
     try:
-        os.makedirs(staging, exist_ok=True)
+        _common.make_folder("-o", staging)
         manifest = _common.Manifest(staging, "rain-video", params)
         out_name = os.path.basename(output)
         final = manifest.records.get(out_name)
@@ -430,25 +542,36 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
                 _common.file_stamp(output)["size"] == final.get("size"):
             if not a.quiet:
                 print(f"batch rain: {output} is done (hydrolux-manifest.jsonl in {staging})", file=sys.stderr)
+            finished = True
             return 0
-        return _video_job(a, after_result, client, info, field, expected, staging, manifest, video, output,
-                          out_name, opts, chunk_names)
+        code = _video_job(a, after_result, client, info, field, expected, staging, manifest, video, video_label,
+                          output, out_name, opts, chunk_names)
+        finished = code == 0
+        return code
+    except KeyboardInterrupt:
+        interrupted = True  # the staged chunks stay: a re-run goes on from them
+        raise
     finally:
         _common.close_client(client, cluster)
         if manifest is not None:
             _common.remove_stale_temporaries(staging, chunk_names)
             _common.remove_stale_temporaries(out_dir, [os.path.basename(output)])
             manifest.close()
+            if not finished and not interrupted:
+                # A failed run (a bad video, a full disk) leaves nothing behind: the staging folder goes whole.
+                _common.remove_staging(staging, r"chunk_[0-9]{9}\.rgb")
 
 
-def _video_job(a, after_result, client, info, field, expected, staging, manifest, video, output, out_name, opts,
-               chunk_names) -> int:
-    """Renders the chunks not done yet on the cluster, then encodes them all in order."""
+def _video_job(a, after_result, client, info, field, expected, staging, manifest, video, video_label, output,
+               out_name, opts, chunk_names) -> int:
+    """Renders the chunks not done yet on the cluster, then encodes them all in order. A chunk that fails ends
+    the run with one line: a UsageError for the video's own fault (truncated, corrupt: exit 2, as the CLI),
+    a RunFailure for the system's (a full disk, a worker lost too often: exit 1)."""
     import numpy as np
 
-    from hydrolux import _video
+    _video = _common.native("_video")
 
-    failed: List[str] = []
+    failed: List[tuple] = []
     chunk = a.chunk_frames or 8
     starts = list(range(0, max(1, expected), chunk))
     chunk_names.extend(f"chunk_{s:09d}.rgb" for s in starts)
@@ -458,9 +581,9 @@ def _video_job(a, after_result, client, info, field, expected, staging, manifest
         st = _common.file_stamp(os.path.join(staging, chunk_names[i]))
         return bool(rec) and st is not None and st["size"] == rec["size"]
 
-    cores = os.cpu_count() or 1
-    job = {"video": video, "staging": staging, "width": info["width"], "height": info["height"],
-           "options": opts, "frame_index": a.frame_index,
+    cores = _common.usable_cores()
+    job = {"video": video, "video_label": video_label, "staging": staging, "width": info["width"],
+           "height": info["height"], "options": opts, "frame_index": a.frame_index,
            "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker))}
     tasks = [(job, s, chunk if i + 1 < len(starts) else -1) for i, s in enumerate(starts) if not done_chunk(i)]
     progress = _common.Progress("batch rain", len(tasks), "frames", a.quiet)
@@ -472,31 +595,42 @@ def _video_job(a, after_result, client, info, field, expected, staging, manifest
               + (f"; dashboard {link}" if link else ""), file=sys.stderr)
 
     def on_result(task, rec):
-        if isinstance(rec, Exception):
-            failed.append(f"frames from {task[1]}")
-            progress.message(f"batch rain: the chunk of frames from {task[1]} failed: {type(rec).__name__}: {rec}")
+        if isinstance(rec, Exception):  # the task as a whole: its worker lost too often (KilledWorker)
+            failed.append((task[1], False, f"the chunk of frames from {task[1]}: {type(rec).__name__}: {rec}"))
+        elif "error" in rec:
+            failed.append((task[1], rec["input_error"], rec["error"]))
         else:
             manifest.add(rec)
 
-    _common.run_tasks(client, tasks, render_video_chunk, on_result, progress,
-                      lambda r: 0 if isinstance(r, Exception) else r["frames"], after_result)
+    def count(r):
+        return 0 if isinstance(r, Exception) or "error" in r else r["frames"]
+
+    _common.run_tasks(client, tasks, render_video_chunk, on_result, progress, count, after_result)
     progress.finish()
     if failed:
-        return 1
+        # One line: the video's own fault first (the earliest chunk that saw it), else the system's.
+        failed.sort(key=lambda f: (not f[1], f[0]))
+        start, input_error, text = failed[0]
+        raise (UsageError if input_error else _common.RunFailure)(text)
     # Every chunk in order through the CLI's encoder: the same frames give the same bytes.
     if not a.quiet:
         print(f"batch rain: encoding {output}", file=sys.stderr)
     frame_bytes = info["width"] * info["height"] * 3
-    writer = _video.VideoWriter(output, info, a.crf, "-o")
     frames = 0
-    for name in chunk_names:
-        with open(os.path.join(staging, name), "rb") as f:
-            data = f.read()
-        for k in range(len(data) // frame_bytes):
-            writer.write(np.frombuffer(data, np.uint8, frame_bytes, k * frame_bytes).reshape(
-                info["height"], info["width"], 3))
-            frames += 1
-    writer.finish()
+    try:
+        writer = _video.VideoWriter(output, info, a.crf, "-o")
+        for name in chunk_names:
+            with open(os.path.join(staging, name), "rb") as f:
+                data = f.read()
+            for k in range(len(data) // frame_bytes):
+                writer.write(np.frombuffer(data, np.uint8, frame_bytes, k * frame_bytes).reshape(
+                    info["height"], info["width"], 3))
+                frames += 1
+        writer.finish()
+    except OSError as e:  # a full disk at -o, a staged chunk that cannot be read
+        raise _common.RunFailure(_common.os_error_text(e)) from None
+    except ValueError as e:  # what the encoder refuses (checked before the work; here for its other rules)
+        raise UsageError(str(e)) from None
     manifest.add({"output": out_name, "size": os.path.getsize(output), "crf": a.crf, "frames": frames})
     for name in chunk_names:
         try:
