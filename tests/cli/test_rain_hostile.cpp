@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <filesystem>
@@ -193,6 +194,18 @@ TEST(RainHostile, IgnoredFlagsWrongFlagsAndUnboundedWorkAreRefused) {
   EXPECT_NE(r.err.find("would fit"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(o));
 #endif
+}
+
+// A 0.5 frames/s video (a time lapse) used to be refused as "--fps 0.5", a flag not given and not
+// allowed with --video, so it could not be processed at all: its rate is now in the camera's range.
+TEST(RainHostile, TimeLapseVideoIsProcessed) {
+  const fs::path in = dir() / "slow.mp4", out = dir() / "slow_out.mp4";
+  ASSERT_EQ(std::system(("ffmpeg -loglevel error -y -f lavfi -i testsrc=size=160x90:rate=0.5 -t 6 -c:v libx264 "
+                         "-pix_fmt yuv420p " + in.string()).c_str()),
+            0);
+  const auto r = run("rain -q --video " + in.string() + " -o " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GT(fs::file_size(out), 0u);
 }
 
 }  // namespace
