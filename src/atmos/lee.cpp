@@ -25,7 +25,6 @@ namespace hydrolux::atmos {
 namespace {
 
 constexpr double kPiD = kPi<double>;
-constexpr double kMinRadiusUm = 0.1, kMaxRadiusUm = 5000;
 constexpr int kMaxSide = 16384;
 constexpr double kMaxSpread = 0.5;
 constexpr double kMaxSunDiskDeg = 5;
@@ -261,6 +260,40 @@ LeeSpec profile_spec(LeeTableKind kind, double radius_um, double a0, double a1, 
   return s;
 }
 
+namespace {
+
+// The work arrays' shape: cells per evaluation (the rows, and the sun's disk beyond the ends: span
+// and reach on the rows' axis) and the radius grid's nodes.
+struct WorkShape {
+  double cells = 1, nodes = 1, span = 0, reach = 0;
+};
+WorkShape work_shape(const LeeSpec& s) {
+  WorkShape w;
+  if (s.rows > 1) {
+    const bool cosine = s.axis == AngleAxis::cosine;
+    w.span = cosine ? std::cos(deg_to_rad(s.angle_min_deg)) - std::cos(deg_to_rad(s.angle_max_deg))
+                    : s.angle_max_deg - s.angle_min_deg;
+    w.reach = cosine ? deg_to_rad(s.sun_disk_deg) / 2 : s.sun_disk_deg / 2;  // |d cos| <= |d theta|
+    w.cells = s.rows + 2 * (w.reach / (w.span / (s.rows - 1)) + 2);
+  }
+  const auto air = optics::find_medium(s.surrounding_medium);
+  const double k_max = 2 * kPiD * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
+  w.nodes = s.size_spread == 0 ? double(s.columns) : double(shared_grid(s, k_max).nodes());
+  return w;
+}
+
+}  // namespace
+
+double estimated_bytes(const LeeSpec& s) {
+  const WorkShape w = work_shape(s);
+  const double pixels = double(s.rows) * s.columns;
+  // compute_lee_table: per column and cell 3 doubles (cell_xyz), per node and cell 1 (node_values),
+  // per column and node 1 (column_weight); the table's XYZ (3 doubles a pixel). lee_images: 6 + 3
+  // floats and 2 doubles a pixel. Then the encoders' buffers (EXR, PNG): kLeeEncoderBytesPerPixel.
+  return kLeeFixedBytes + 24 * double(s.columns) * w.cells + 8 * w.nodes * w.cells + 8 * double(s.columns) * w.nodes +
+         (24 + 36 + 16 + kLeeEncoderBytesPerPixel) * pixels;
+}
+
 void validate(const LeeSpec& s) {
   require_in_range("columns", s.columns, 1, kMaxSide);
   require_in_range("rows", s.rows, 1, kMaxSide);
@@ -307,13 +340,11 @@ void validate(const LeeSpec& s) {
                             table_kind_name(s.table)));
   // The work arrays: the cells per evaluation (the rows, and the sun's disk beyond the ends) and
   // the nodes' values and columns' weights.
-  double cells = 1;
+  const WorkShape w = work_shape(s);
+  const double cells = w.cells, nodes = w.nodes;
   if (s.rows > 1) {
     const bool cosine = s.axis == AngleAxis::cosine;
-    const double span = cosine ? std::cos(deg_to_rad(s.angle_min_deg)) - std::cos(deg_to_rad(s.angle_max_deg))
-                               : s.angle_max_deg - s.angle_min_deg;
-    const double reach = cosine ? deg_to_rad(s.sun_disk_deg) / 2 : s.sun_disk_deg / 2;  // |d cos| <= |d theta|
-    cells = s.rows + 2 * (reach / (span / (s.rows - 1)) + 2);
+    const double reach = w.reach;
     if (cells > kMaxCells) {
       const double min_span = 2 * reach * (s.rows - 1) / (kMaxCells - s.rows - 4);
       const double lo = cosine ? rad_to_deg(safe_acos(std::cos(deg_to_rad(s.angle_min_deg)) - min_span)) : s.angle_min_deg + min_span;
@@ -324,14 +355,21 @@ void validate(const LeeSpec& s) {
                                     kMaxCells - s.rows - 4));
     }
   }
-  const double k_max = 2 * kPiD * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
-  const double nodes = s.size_spread == 0 ? double(s.columns) : double(shared_grid(s, k_max).nodes());
   if (nodes * cells > kMaxArrayValues)
     throw DomainError("rows", s.rows, 1, std::floor(kMaxArrayValues / nodes),
                       fmt::format("a table whose radius grid has {:g} nodes (the work arrays are limited to 1 GiB)", nodes));
   if (nodes * s.columns > kMaxArrayValues)
     throw DomainError("columns", s.columns, 1, std::floor(kMaxArrayValues / nodes),
                       fmt::format("a table whose radius grid has {:g} nodes (the work arrays are limited to 1 GiB)", nodes));
+}
+
+double max_radius_um(const LeeSpec& s) {
+  const auto air = optics::find_medium(s.surrounding_medium);
+  const double x_limit = is_wave_theory(s.theory) ? scatter::kMaxSizeParameter : scatter::kMaxGeometricSizeParameter;
+  const double k_max = 2 * kPiD * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
+  // largest_radius_m's tail factor, inverted; floored to a whole micrometre so validate() accepts it.
+  const double r_um = x_limit / k_max / std::exp(kTailSigmas * s.size_spread * 1.01) * 1e6;
+  return std::min(kMaxRadiusUm, std::floor(r_um));
 }
 
 std::vector<double> column_radii_um(const LeeSpec& s) {

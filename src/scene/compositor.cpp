@@ -109,21 +109,45 @@ BowTable bow_table(const atmos::LeeTable& t) {
 }
 
 BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<double> radius_um,
-                   const std::vector<double>& row_values, std::vector<float> rgb) {
+                   const std::vector<double>& row_values, std::vector<float> rgb,
+                   std::optional<atmos::RadiusScale> radius_scale) {
   if (radius_um.empty() || row_values.empty()) throw Error("a Lee table needs at least one radius and one row");
+  for (std::size_t i = 0; i < radius_um.size(); ++i)
+    if (!(radius_um[i] >= atmos::kMinRadiusUm && radius_um[i] <= atmos::kMaxRadiusUm))
+      throw Error(fmt::format("radius {} of the table is {:g} um, outside [{:g}, {:g}] um", i, radius_um[i],
+                              atmos::kMinRadiusUm, atmos::kMaxRadiusUm));
   for (std::size_t i = 1; i < radius_um.size(); ++i)
-    if (!(radius_um[i] > radius_um[i - 1])) throw Error("the table's radii must increase");
-  if (!(radius_um.front() > 0)) throw Error("the table's radii must be positive");
+    if (!(radius_um[i] > radius_um[i - 1]))
+      throw Error(fmt::format("the table's radii must increase strictly (radius {}: {:g} um after {:g})", i,
+                              radius_um[i], radius_um[i - 1]));
+  if (radius_scale && radius_um.size() > 2) {
+    const bool log = *radius_scale == atmos::RadiusScale::log;
+    const auto at = [&](std::size_t i) { return log ? std::log(radius_um[i]) : radius_um[i]; };
+    const std::size_t n = radius_um.size();
+    const double a = at(0), b = at(n - 1);
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      const double expect = a + (b - a) * double(i) / double(n - 1);
+      if (std::abs(at(i) - expect) > 1e-6 * (b - a))
+        throw Error(fmt::format("the table's radii are not uniform on its {} radius scale (radius {}: {:g} um where "
+                                "{:g} was expected)",
+                                atmos::radius_scale_name(*radius_scale), i, radius_um[i],
+                                log ? std::exp(expect) : expect));
+    }
+  }
   if (rgb.size() != radius_um.size() * row_values.size() * 3)
     throw Error(fmt::format("the table holds {} values; {} radii x {} rows x 3 channels need {}", rgb.size(),
                             radius_um.size(), row_values.size(), radius_um.size() * row_values.size() * 3));
   const double first = row_values.front(), last = row_values.back();
   const int n = int(row_values.size());
   const double lo = axis == atmos::AngleAxis::angle ? 0 : -1, hi = axis == atmos::AngleAxis::angle ? 180 : 1;
+  const char* axis_name = axis == atmos::AngleAxis::angle ? "angle_deg" : "cos_angle";
+  if (n > 1 && !(last > first))
+    throw Error(fmt::format("the table's rows must increase strictly downward ({} runs from {:g} to {:g})", axis_name,
+                            first, last));
   for (int i = 0; i < n; ++i) {
     const double v = row_values[std::size_t(i)];
     if (!(v >= lo && v <= hi))
-      throw Error(fmt::format("row {} lies at {}, outside [{}, {}]", i, v, lo, hi));
+      throw Error(fmt::format("row {} lies at {} {:g}, outside [{}, {}]", i, axis_name, v, lo, hi));
     if (n > 1) {
       const double expect = first + (last - first) * i / (n - 1);
       if (std::abs(v - expect) > 1e-6 * std::max(std::abs(last - first), 1e-12))
@@ -131,9 +155,11 @@ BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<
                                 v, expect));
     }
   }
-  if (n > 1 && first == last) throw Error("the table's rows all lie at one angle");
-  for (float v : rgb)
-    if (!std::isfinite(v)) throw Error("the table holds a value that is not a finite number");
+  for (std::size_t i = 0; i < rgb.size(); ++i)
+    if (!(std::isfinite(rgb[i]) && rgb[i] >= 0))
+      throw Error(fmt::format("the table holds {:g} at row {}, column {} (values are radiance per unit irradiance, "
+                              "sr^-1: finite and non-negative)",
+                              rgb[i], i / 3 / radius_um.size(), i / 3 % radius_um.size()));
   BowTable b;
   b.kind = kind;
   b.axis = axis;
@@ -192,7 +218,7 @@ void validate(const SkySettings& s) {
   check("sun_azimuth_deg", s.sun_azimuth_deg, -360, 360);
   check("sun_elevation_deg", s.sun_elevation_deg, 0, 90);
   check("turbidity", s.turbidity, kMinTurbidity, kMaxTurbidity);
-  check("radius_um", s.radius_um, 0.1, 5000);
+  check("radius_um", s.radius_um, atmos::kMinRadiusUm, atmos::kMaxRadiusUm);
   check("rain_rate_mmh", s.rain_rate_mmh, 0, 500);
   check("curtain_near_m", s.curtain_near_m, 0, 1e6);
   check("curtain_far_m", s.curtain_far_m, s.curtain_near_m, 1e6, "the far edge must not be nearer than the near one");
@@ -200,6 +226,14 @@ void validate(const SkySettings& s) {
   check("cube_face_size", s.cube_face_size, 4, 4096);
   check("dome_rings", s.dome_rings, 2, 4096);
   check("dome_segments", s.dome_segments, 3, 8192);
+}
+
+double estimated_bytes(const SkySettings& s) {
+  const double pixels = double(s.camera.width) * double(s.camera.height);
+  const double cube = s.mode == BowMode::cube_map ? double(s.cube_face_size) * s.cube_face_size : 0;
+  // The dome: (rings + 1) x segments float vertices, negligible but counted.
+  const double dome = s.mode == BowMode::half_dome ? double(s.dome_rings + 1) * s.dome_segments * 12 : 0;
+  return kSkyFixedBytes + kSkyBytesPerPixel * pixels + kSkyBytesPerCubeTexel * cube + dome;
 }
 
 float secondary_weight(bool secondary_on, float theta_deg) {

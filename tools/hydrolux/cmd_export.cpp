@@ -37,6 +37,7 @@ struct ExportArgs {
 
 constexpr double kCoronaMaxRadiusUm = 50;
 constexpr double kForwardMaxDeg = 90;
+constexpr int kMaxCoronaRows = 16384;  // atmos::validate's largest side
 
 nlohmann::json sky_parameters(double turbidity) {
   nlohmann::json j;
@@ -120,6 +121,12 @@ int run_export(const ExportArgs& a) {
   }
   bool with_corona = true;
   if (a.radius_um) {
+    // The largest radius depends on the theory (the size parameter's limit): checked here, where it is known.
+    const double rmax = atmos::max_radius_um(rainbow);
+    if (*a.radius_um > rmax)
+      throw Error(fmt::format("--radius-um {:g} is outside the valid range [{:g}, {:g}] um for --theory {} (the "
+                              "largest drops of the 10% spread at 380 nm reach the theory's size parameter limit)",
+                              *a.radius_um, atmos::kMinRadiusUm, rmax, scatter::theory_name(rainbow.theory)));
     rainbow.radius_min_um = rainbow.radius_max_um = *a.radius_um;
     rainbow.columns = 1;
     corona.radius_min_um = corona.radius_max_um = *a.radius_um;
@@ -133,10 +140,17 @@ int run_export(const ExportArgs& a) {
     rainbow.columns = corona.columns = (*wh)[0];
     rainbow.rows = (*wh)[1];
     corona.rows = 2 * (*wh)[1];
+    if (with_corona && corona.rows > kMaxCoronaRows)
+      throw Error(fmt::format("--size {}: the corona table has twice H's rows ({}); H is at most {} (valid range "
+                              "[1, {}] with the corona, which --radius-um above {:g} um leaves out)",
+                              *a.size, corona.rows, kMaxCoronaRows / 2, kMaxCoronaRows / 2, kCoronaMaxRadiusUm));
   }
   rainbow.sampling = corona.sampling = a.sampling;
   atmos::validate(rainbow);
   if (with_corona) atmos::validate(corona);
+  std::vector<const atmos::LeeSpec*> specs = {&rainbow};
+  if (with_corona) specs.push_back(&corona);
+  check_table_memory(specs, a.size ? *a.size : fmt::format("{}x{} (the default)", rainbow.columns, rainbow.rows));
   (void)scene::make_sun_sky(0, a.turbidity);  // checks the turbidity
 
   // The folders are staged beside their destinations and moved into place at the end.
@@ -217,8 +231,14 @@ Command add_export(CLI::App& app) {
       "GLSL and HLSL that evaluate the sky, the bow, the secondary, the corona and the blend; a README for "
       "integrators. The folder appears complete or not at all.");
   sub->add_option("--dir", a->dir, "Output folder (created; files of the same names in it are replaced)")->required();
-  sub->add_option("--radius-um", a->radius_um, "One drop radius in micrometres: one-column tables (a 1D slice)")
-      ->check(number_in(0.1, 5000, "um"));
+  atmos::LeeSpec geometric = atmos::default_lee_spec(atmos::LeeTableKind::rainbow);
+  geometric.theory = scatter::parse_theory("geometric");
+  sub->add_option("--radius-um", a->radius_um,
+                  fmt::format("One drop radius in micrometres: one-column tables (a 1D slice); at most {:g} with Mie "
+                              "or Debye theory, {:g} with geometric (the size parameter's limit at 380 nm)",
+                              atmos::max_radius_um(atmos::default_lee_spec(atmos::LeeTableKind::rainbow)),
+                              atmos::max_radius_um(geometric)))
+      ->check(number_in(atmos::kMinRadiusUm, atmos::kMaxRadiusUm, "um"));
   sub->add_option("--size", a->size, "Table size WxH: W radii, H angles of the rainbow table (the corona table has 2H) [512x1024]")->check(size_validator());
   sub->add_option("--theory", a->theory, "mie, debye:P, airy or geometric[:P] (hydrolux lee --help)")->capture_default_str();
   sub->add_option("--sampling", a->sampling, "Multiplier on the tables' sampling rates")

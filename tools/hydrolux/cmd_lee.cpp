@@ -44,6 +44,8 @@ struct LeeArgs {
   bool json = false;
   std::string output;
   bool quiet = false;
+  // Refused when given where they have no effect (count(), never their defaults).
+  const CLI::Option *limb_darkening_opt = nullptr, *radius_scale_opt = nullptr;
 };
 
 // "A:B" (or one value A, when `single` is allowed), A <= B.
@@ -69,7 +71,8 @@ int run_lee(const LeeArgs& a) {
   }
   bool single = false;
   if (a.radius_um) {
-    const auto r = parse_span(*a.radius_um, "--radius-um", "micrometres", true);
+    const auto r = parse_span(*a.radius_um, "--radius-um",
+                              fmt::format("micrometres in [{:g}, {:g}]", atmos::kMinRadiusUm, atmos::kMaxRadiusUm), true);
     s.radius_min_um = r[0];
     s.radius_max_um = r[1];
     single = r[0] == r[1];
@@ -134,7 +137,23 @@ int run_lee(const LeeArgs& a) {
   s.sampling = a.sampling;
   s.seed = std::uint64_t(a.seed);
   s.threads = a.threads;
+  if (a.limb_darkening_opt && a.limb_darkening_opt->count() > 0 && s.sun_disk_deg == 0)
+    throw Error("--limb-darkening: --sun-disk-deg 0 makes the sun a point, which has no limb to darken");
+  if (a.radius_scale_opt && a.radius_scale_opt->count() > 0 && s.columns == 1)
+    throw Error(fmt::format("--radius-scale {}: a table of one column has no column spacing", a.radius_scale));
+  if (a.radius_um) {
+    // The largest radius depends on the theory, the spread and the shortest wavelength (the size
+    // parameter's limit): stated with them, instead of as a size parameter out of range.
+    const double rmax = atmos::max_radius_um(s);
+    if (s.radius_max_um > rmax && s.radius_max_um <= atmos::kMaxRadiusUm)
+      throw Error(fmt::format("--radius-um {}: {:g} um is outside the valid range [{:g}, {:g}] um for --theory {}, "
+                              "--size-spread {:g} and {:g} nm (the largest drops' size parameter 2 pi r n / lambda "
+                              "must stay within the theory's limit)",
+                              *a.radius_um, s.radius_max_um, atmos::kMinRadiusUm, rmax,
+                              scatter::theory_name(s.theory), s.size_spread, s.wavelength_min_nm));
+  }
   atmos::validate(s);
+  check_table_memory({&s}, a.size ? *a.size : fmt::format("{}x{} (the default)", s.columns, s.rows));
   if (!a.json && a.output.empty()) throw Error("-o is required (a .exr path), unless --json prints a profile");
   if (a.json && !single) throw Error("--json prints one radius's profile: give a single --radius-um R");
 
@@ -219,10 +238,14 @@ Command add_lee(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--theory", args->theory, "mie, debye:P (one Debye order), airy (primary; airy:3 secondary) or geometric[:P] (ray orders 0..P with diffraction)")
       ->capture_default_str();
-  sub->add_option("--radius-um", args->radius_um, "Drop radii A:B in micrometres [0.1, 5000], or one radius R [table's default]");
-  sub->add_option("--radius-scale", args->radius_scale, "Column spacing: log or linear")
-      ->check(CLI::IsMember({"log", "linear"}))
-      ->capture_default_str();
+  sub->add_option("--radius-um", args->radius_um,
+                  fmt::format("Drop radii A:B in micrometres [{:g}, {:g}], or one radius R [table's default]; the "
+                              "size parameter limits the largest: {:g} with Mie, --size-spread 0.1 and 380 nm",
+                              atmos::kMinRadiusUm, atmos::kMaxRadiusUm,
+                              atmos::max_radius_um(atmos::default_lee_spec(atmos::LeeTableKind::rainbow))));
+  args->radius_scale_opt = sub->add_option("--radius-scale", args->radius_scale, "Column spacing: log or linear")
+                               ->check(CLI::IsMember({"log", "linear"}))
+                               ->capture_default_str();
   sub->add_option("--angle-deg", args->angle_deg, "Scattering angles A:B in degrees [0, 180] (0 forward, 180 antisolar) [table's default]");
   sub->add_option("--axis", args->axis, "Rows in scattering angle (angle) or in its cosine (cos)")
       ->check(CLI::IsMember({"angle", "cos"}))
@@ -232,7 +255,8 @@ Command add_lee(CLI::App& app) {
   sub->add_option("--sun-disk-deg", args->sun_disk_deg, "The sun's angular diameter in degrees (0: a point)")
       ->check(number_in(0, 5, "deg"))
       ->capture_default_str();
-  sub->add_flag("--limb-darkening", args->limb_darkening, "Darken the sun's limb (linear law, u = 0.6)");
+  args->limb_darkening_opt =
+      sub->add_flag("--limb-darkening", args->limb_darkening, "Darken the sun's limb (linear law, u = 0.6; not with --sun-disk-deg 0)");
   sub->add_option("--size-spread", args->size_spread,
                   "Relative standard deviation of each column's gamma size distribution (0: one radius; else 0.01-0.5)")
       ->check(number_in(0, 0.5))

@@ -3,12 +3,15 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/memory.hpp"
 #include "hydrolux/version.hpp"
 #include "image_plugin.hpp"
 
@@ -134,12 +137,31 @@ LeeSidecarAxes parse_lee_sidecar(std::string_view json_text) {
     const std::string ax = j.at("axis").get<std::string>();
     if (ax != "angle" && ax != "cos") throw Error(fmt::format("unknown axis '{}'", printable(ax)));
     a.axis = ax == "cos" ? atmos::AngleAxis::cosine : atmos::AngleAxis::angle;
+    const std::string scale = j.at("radius_scale").get<std::string>();
+    if (scale != "log" && scale != "linear") throw Error(fmt::format("unknown radius_scale '{}'", printable(scale)));
+    a.radius_scale = scale == "log" ? atmos::RadiusScale::log : atmos::RadiusScale::linear;
     a.radius_um = j.at("radius_um").get<std::vector<double>>();
     a.rows = j.at(a.axis == atmos::AngleAxis::angle ? "angle_deg" : "cos_angle").get<std::vector<double>>();
   } catch (const nlohmann::json::exception& e) {
     throw Error(fmt::format("the table's axes are missing or malformed ({})", e.what()));
   }
   return a;
+}
+
+void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const std::string& size_text) {
+  const atmos::LeeSpec* worst = nullptr;
+  double need = 0;
+  for (const auto* sp : specs)
+    if (const double b = atmos::estimated_bytes(*sp); b > need) need = b, worst = sp;
+  const double avail = double(available_memory_bytes());
+  if (!worst || need <= avail) return;
+  // The arrays grow with columns x rows: scale both sides alike.
+  const double k = std::sqrt(std::max(0.0, avail - atmos::kLeeFixedBytes) / (need - atmos::kLeeFixedBytes));
+  throw Error(fmt::format("--size {}: the {} table needs about {} of memory and {} is available; about --size "
+                          "{:.0f}x{:.0f} would fit",
+                          size_text, atmos::table_kind_name(worst->table), format_bytes(need), format_bytes(avail),
+                          std::max(1.0, std::floor(specs.front()->columns * k)),
+                          std::max(1.0, std::floor(specs.front()->rows * k))));
 }
 
 scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_path) {
@@ -162,7 +184,17 @@ scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_pat
   auto& rows = axes.rows;
   const auto kind = axes.kind;
   const auto axis = axes.axis;
-  const Image im = read_input_image(flag, exr_path);
+  // The content decides, not the name: a PNG renamed .exr decodes to display values in [0, 1].
+  const std::string bytes = io::read_file(exr_path, io::ImageLimits{}.max_file_bytes, flag);
+  const auto format = io::sniff_image_format(bytes);
+  if (format != io::ImageFormat::exr)
+    throw bad(format ? fmt::format("the file is {} by its content, not OpenEXR (a table holds linear sr^-1 values; "
+                                   "a renamed display image does not)",
+                                   io::format_name(*format))
+                     : std::string("the file is not OpenEXR by its content"));
+  auto decoded = image_api().decode_image(bytes, fmt::format("{} {}", flag, exr_path), io::ImageLimits{});
+  for (const auto& w : decoded.warnings) warn(fmt::format("{} {}: {}", flag, exr_path, w));
+  const Image& im = decoded.image;
   if (im.channels < 3) throw bad("the EXR has fewer than 3 channels");
   if (im.width != int(radii.size()) || im.height != int(rows.size()))
     throw bad(fmt::format("the EXR is {}x{} but its sidecar describes {} radii x {} rows", im.width, im.height,
@@ -171,7 +203,7 @@ scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_pat
   for (std::size_t q = 0; q < std::size_t(im.width) * im.height; ++q)
     for (int c = 0; c < 3; ++c) rgb[q * 3 + c] = im.pixels[q * std::size_t(im.channels) + c];
   try {
-    return scene::bow_table(kind, axis, std::move(radii), rows, std::move(rgb));
+    return scene::bow_table(kind, axis, std::move(radii), rows, std::move(rgb), axes.radius_scale);
   } catch (const Error& e) {
     throw bad(e.what());
   }

@@ -32,12 +32,22 @@ LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& 
 struct LeeSidecarAxes {
   atmos::LeeTableKind kind = atmos::LeeTableKind::rainbow;
   atmos::AngleAxis axis = atmos::AngleAxis::angle;
+  atmos::RadiusScale radius_scale = atmos::RadiusScale::log;
   std::vector<double> radius_um, rows;
 };
 LeeSidecarAxes parse_lee_sidecar(std::string_view json_text);
 
+// Refuses, before the work, tables whose computation would not fit in the memory available
+// (atmos::estimated_bytes, the largest of `specs`, which are computed one after the other): one line
+// naming --size with `size_text` and a size that would fit, in the first spec's terms (the one
+// --size sets; the others scale with it).
+void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const std::string& size_text);
+
 // A table read back for the compositor: `exr_path` and the sidecar beside it (same name, .json).
-// Errors name `flag`, the file and what is wrong with it.
+// The file must be OpenEXR by its content (a PNG renamed .exr holds display values, not sr^-1);
+// the sidecar's axes and the values are checked by scene::bow_table (finite, strictly increasing,
+// uniform on their scale, values non-negative). Errors name `flag`, the file
+// and what is wrong with it.
 scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_path);
 
 }  // namespace hydrolux::cli

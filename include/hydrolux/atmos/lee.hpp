@@ -63,6 +63,10 @@ std::string_view radius_scale_name(RadiusScale s);
 inline constexpr double kSunDiskDeg = 0.53;
 inline constexpr double kLimbDarkeningU = 0.6;
 
+// The radii a table may hold, micrometres. The largest a given spec can compute is usually smaller:
+// see max_radius_um.
+inline constexpr double kMinRadiusUm = 0.1, kMaxRadiusUm = 5000;
+
 struct LeeSpec {
   LeeTableKind table = LeeTableKind::rainbow;
   scatter::Theory theory{scatter::TheoryKind::Mie, 0};
@@ -101,6 +105,24 @@ LeeSpec profile_spec(LeeTableKind kind, double radius_um, double a0, double a1, 
 // "size_parameter", "temperature_c") or Error for a theory that cannot make the table (Airy theory
 // has no corona or glory).
 void validate(const LeeSpec& spec);
+
+// The largest radius (um, a whole number, at most kMaxRadiusUm) that validate() accepts for this
+// spec's theory, size spread, shortest wavelength and surrounding medium: the size parameter
+// 2 pi r n / lambda of the population's largest drop (kTailSigmas spreads above the radius) at the
+// shortest wavelength must stay within the theory's limit (1e5 for Mie and Debye). With the
+// defaults (Mie, spread 0.1, 380 nm) that is 2695 um; with no spread 6048, so kMaxRadiusUm.
+double max_radius_um(const LeeSpec& spec);
+
+// The peak memory, in bytes, of computing the table and writing its files (hydrolux lee, export),
+// so that a table too large for the machine is refused before the work: the arrays
+// compute_lee_table and lee_images allocate, counted from their sizes, plus the encoders' buffers
+// and a fixed part, both measured: the peak resident set (/usr/bin/time -v) of `hydrolux lee
+// --radius-um 1:2 --size-spread 0 --sun-disk-deg 0 --wavelengths-nm 500:600:2 --sampling 0.25` was
+// 270 MB at 1024x1024 and 687 MB at 2048x2048: 135.7 bytes a pixel, of which the arrays account
+// for 116 (these squares have as many nodes and cells as columns and rows), leaving 20 for the
+// encoders; the fixed part is 134 MB (taken as 150). Expects a spec that passes validate().
+inline constexpr double kLeeEncoderBytesPerPixel = 20, kLeeFixedBytes = 150e6;
+double estimated_bytes(const LeeSpec& spec);
 
 // The sample positions: radius_um per column, theta in degrees and its cosine per row.
 std::vector<double> column_radii_um(const LeeSpec& spec);

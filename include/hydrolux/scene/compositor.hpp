@@ -35,10 +35,16 @@ struct BowTable {
 
 // From a computed table (its gamut-mapped RGB).
 BowTable bow_table(const atmos::LeeTable& t);
-// From a table's parts (a read EXR and its sidecar): checks the sizes agree, the radii increase and
-// the rows are uniform on their axis (to 1e-6 of the span). Throws Error naming what is wrong.
+// From a table's parts (a read EXR and its sidecar), none of which is trusted: checks the sizes
+// agree; the radii are finite, strictly increasing and within [atmos::kMinRadiusUm, kMaxRadiusUm],
+// and, when `radius_scale` is given, uniform on it (in ln r for log, in r for linear; to 1e-6 of
+// the span); the rows are finite, within the axis's range ([0, 180] degrees or [-1, 1]), strictly
+// increasing (row 0 the smallest angle or cosine, as hydrolux writes them) and uniform (to 1e-6 of
+// the span); the values are finite and non-negative (the tables' RGB is gamut-mapped, so a negative
+// value is a damaged or forged file). Throws Error naming what is wrong.
 BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<double> radius_um,
-                   const std::vector<double>& row_values, std::vector<float> rgb);
+                   const std::vector<double>& row_values, std::vector<float> rgb,
+                   std::optional<atmos::RadiusScale> radius_scale = std::nullopt);
 
 // One radius's column of a table, interpolated linearly in ln(radius) (the radius clamped to the
 // table's range; `empty` when `outside_is_empty` and the radius lies outside it).
@@ -103,6 +109,18 @@ struct SkySettings {
 };
 // Throws DomainError naming the setting ("fov_deg", "rain_rate_mmh", ...).
 void validate(const SkySettings& s);
+
+// The peak memory, in bytes, of rendering `s` into a frame and writing it out (hydrolux sky), so
+// that a frame too large for the machine is refused before the work. Measured, not guessed: the
+// peak resident set (/usr/bin/time -v) of `hydrolux sky --radius-um 5 --sampling 0.25` grew by
+// 27.1 bytes a pixel for a PNG (the frame, its tone-mapped copy, the encoder's 8-bit rows) and
+// 33.0 for an EXR (the frame and the encoder's buffers) between 2048x2048 (242 / 279 MB) and
+// 4096x4096 (574 / 683 MB); the cube map 72.0 bytes a texel of a face side squared (6 faces x RGB
+// float; 204 / 426 MB at faces of 1024 / 2048); a fixed 131-138 MB besides (the libraries, the
+// tables). The estimate takes the larger per-pixel cost and 160 MB: 16384x16384 is 9.3 GB (its
+// measured peak was 7.2 GB, the PNG path), 1280x720 0.19 GB.
+inline constexpr double kSkyBytesPerPixel = 34, kSkyBytesPerCubeTexel = 72, kSkyFixedBytes = 160e6;
+double estimated_bytes(const SkySettings& s);
 
 // Secondary-bow window (docs/sky.md): 1 with the secondary on; else smoothstep(132, 136, theta).
 float secondary_weight(bool secondary_on, float theta_deg);
