@@ -21,6 +21,7 @@
 #include "hydrolux/atmos/lee.hpp"
 #include "hydrolux/color/cie.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/memory.hpp"
 #include "hydrolux/core/parse.hpp"  // batch: the CLI's number parsers (parse_number, parse_integer)
 #include "hydrolux/drop/render.hpp"
 #include "hydrolux/drop/shape.hpp"
@@ -810,5 +811,21 @@ PYBIND11_MODULE(_core, m) {
   m.def("parse_integer", [](const std::string& text) { return hydrolux::parse::integer(text); }, py::arg("text"));
   // The largest seed every door accepts (rain::kMaxSeed, 2^53).
   m.attr("kMaxSeed") = py::int_(hydrolux::rain::kMaxSeed);
+  // The files of one run declared as the CLI declares them (io::FileSet): each input must be a regular
+  // file; each planned output must not be an input or another output (through links too), a folder or a
+  // device. OSError (the library's IoError) naming both files otherwise. Pairs are (label, path).
+  m.def(
+      "check_files",
+      [](const std::vector<std::pair<std::string, std::string>>& inputs,
+         const std::vector<std::pair<std::string, std::string>>& outputs) {
+        hydrolux::io::FileSet files;
+        for (const auto& [label, path] : inputs) files.input(label, path);
+        for (const auto& [label, path] : outputs) files.planned_output(label, path);
+      },
+      py::arg("inputs"), py::arg("outputs"));
+  // A text as hydrolux prints it in a message: one line that cannot drive the terminal.
+  m.def("printable", [](const std::string& text) { return hydrolux::printable(text); }, py::arg("text"));
+  // The memory this process can still expect to get, in bytes (core/memory.hpp).
+  m.def("available_memory_bytes", [] { return hydrolux::available_memory_bytes(); });
   // ---- end batch ----
 }

@@ -262,27 +262,27 @@ def test_an_output_that_is_an_input_through_a_link_is_refused_before_any_work(fr
     o1 = tmp_path / "o1"
     o1.mkdir()
     (o1 / "f_003.png").symlink_to(src / "f_003.png")
-    cases.append((["--output-dir", o1], f"--output-dir {o1}: f_003.png: is (through a link) the input "
-                                        f"--input-dir {src}: f_003.png"))
+    cases.append((["--output-dir", o1], f"--output-dir {o1}/f_003.png: is the same file as the input "
+                                        f"--input-dir {src}/f_003.png; refusing to overwrite an input"))
     # --mask-dir whose member is a hard link to a depth map.
     o2, m2 = tmp_path / "o2", tmp_path / "m2"
     m2.mkdir()
     os.link(depth / "f_005.png", m2 / "f_005.png")
     cases.append((["--output-dir", o2, "--mask-dir", m2, "--depth-dir", depth],
-                  f"--mask-dir {m2}: f_005.png: is (through a link) the input --depth-dir {depth}: f_005.png"))
+                  f"--mask-dir {m2}/f_005.png: is the same file as the input --depth-dir {depth}/f_005.png"))
     # The manifest, a link to an input frame (its rewrite would replace the frame).
     o3 = tmp_path / "o3"
     o3.mkdir()
     (o3 / _common.MANIFEST).symlink_to(src / "f_000.png")
-    cases.append((["--output-dir", o3], f"--output-dir {o3}: {_common.MANIFEST}: is (through a link) the input"))
+    cases.append((["--output-dir", o3], f"--output-dir {o3}/{_common.MANIFEST}: is the same file as the input"))
     # A mask that is a frame output of the same run (two outputs on one file).
     o4, m4 = tmp_path / "o4", tmp_path / "m4"
     o4.mkdir()
     m4.mkdir()
     (o4 / "f_001.png").write_bytes(b"old")
     (m4 / "f_001.png").symlink_to(o4 / "f_001.png")
-    cases.append((["--output-dir", o4, "--mask-dir", m4], f"--mask-dir {m4}: f_001.png: is (through a link) the "
-                                                          f"output --output-dir {o4}: f_001.png too"))
+    cases.append((["--output-dir", o4, "--mask-dir", m4], f"--mask-dir {m4}/f_001.png: is the same file as the "
+                                                          f"output --output-dir {o4}/f_001.png"))
     for extra, text in cases:
         assert main(["rain", "--input-dir", str(src), *map(str, extra), "--workers", "1", "-q"]) == 2, extra
         assert one_line(capfd.readouterr().err) .startswith("hydrolux.batch rain: " + text)
@@ -305,7 +305,7 @@ def test_a_video_output_that_is_the_input_through_a_link_is_refused(tmp_path, ca
     staging.mkdir()
     os.link(src, staging / "chunk_000000000.rgb")
     assert main(["rain", "--video", str(src), "-o", str(out), "--workers", "1", "-q"]) == 2
-    assert "chunk_000000000.rgb: is (through a link) the input --video" in one_line(capfd.readouterr().err)
+    assert "chunk_000000000.rgb: is the same file as the input --video" in one_line(capfd.readouterr().err)
     assert src.read_bytes() == before and not out.exists()
 
 
@@ -316,7 +316,7 @@ def test_a_lee_atlas_table_that_is_its_spec_is_refused(tmp_path, capfd):
     spec.write_text(json.dumps({"tables": [{"name": "corona", "table": "corona"}]}))
     assert main(["lee-atlas", "--spec", str(spec), "--output-dir", str(out), "--workers", "1", "-q"]) == 2
     assert one_line(capfd.readouterr().err).startswith(
-        f"hydrolux.batch lee-atlas: --output-dir {out}: corona.json: is (through a link) the input --spec")
+        f"hydrolux.batch lee-atlas: --output-dir {out}/corona.json: is the same file as the input --spec")
     assert listing(out) == ["corona.json"]
 
 

@@ -33,6 +33,19 @@ std::uint64_t available_memory_bytes() {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     avail = pages > 0 && page > 0 ? std::uint64_t(pages) * std::uint64_t(page) : UINT64_MAX;
   }
+  // A cgroup v2 memory limit (a container's) less what the group uses already.
+  {
+    std::ifstream max_file("/sys/fs/cgroup/memory.max"), current_file("/sys/fs/cgroup/memory.current");
+    std::string max_text;
+    std::uint64_t current = 0;
+    if (max_file >> max_text && max_text != "max" && current_file >> current) {
+      try {
+        const std::uint64_t limit = std::stoull(max_text);
+        avail = std::min(avail, limit > current ? limit - current : 0);
+      } catch (const std::exception&) {
+      }
+    }
+  }
   rlimit as{};
   if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
     const std::uint64_t mapped = proc_kb_field("/proc/self/status", "VmSize:");

@@ -34,28 +34,9 @@ class RunFailure(Exception):
 
 
 def printable(text: str) -> str:
-    """``text`` on one line that cannot drive the terminal, as the CLI prints names (docs/safe-io.md):
-    control characters, C1 controls and the direction-changing characters escaped, a backslash doubled."""
-    out = []
-    for ch in str(text):
-        o = ord(ch)
-        if ch == "\\":
-            out.append("\\\\")
-        elif ch == "\n":
-            out.append("\\n")
-        elif ch == "\t":
-            out.append("\\t")
-        elif ch == "\r":
-            out.append("\\r")
-        elif o < 0x20 or o == 0x7F:
-            out.append(f"\\x{o:02x}")
-        elif 0xDC80 <= o <= 0xDCFF:  # a byte that is not UTF-8 (surrogateescape)
-            out.append(f"\\x{o - 0xDC00:02x}")
-        elif 0x80 <= o <= 0x9F or 0x200B <= o <= 0x200F or 0x2028 <= o <= 0x202E or 0x2066 <= o <= 0x2069:
-            out.append("".join(f"\\x{b:02x}" for b in ch.encode("utf-8")))
-        else:
-            out.append(ch)
-    return "".join(out)
+    """``text`` on one line that cannot drive the terminal, as the CLI prints names (docs/safe-io.md): the
+    library's own hydrolux::printable (a name that is not UTF-8 reaches it as its bytes)."""
+    return native("_core").printable(str(text).encode("utf-8", "surrogateescape"))
 
 
 def os_error_text(e: OSError, path: Optional[str] = None) -> str:
@@ -180,27 +161,9 @@ def usable_cores() -> int:
 
 
 def available_memory() -> Optional[int]:
-    """Bytes of memory a new process may still take: the kernel's MemAvailable, less if a cgroup (v2) limit
-    leaves less. None where neither can be read."""
-    avail = None
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    avail = int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        with open("/sys/fs/cgroup/memory.max") as f:
-            limit = f.read().strip()
-        with open("/sys/fs/cgroup/memory.current") as f:
-            current = int(f.read().strip())
-        if limit != "max":
-            left = max(0, int(limit) - current)
-            avail = left if avail is None else min(avail, left)
-    except (OSError, ValueError):
-        pass
-    return avail
+    """Bytes of memory a new process may still take: the library's available_memory_bytes (MemAvailable,
+    less where a cgroup v2 limit or ulimit -v leaves less)."""
+    return int(native("_core").available_memory_bytes())
 
 
 def _gib(n: int) -> str:
@@ -435,42 +398,15 @@ class Manifest:
 
 
 def check_members(inputs: List[tuple], outputs: List[tuple]) -> None:
-    """"Never over an input, never two outputs on one path", member by member, before any work: ``inputs`` and
-    ``outputs`` are (flag, folder or None, path); an output path that is (through a symbolic or hard link, or
-    as the same resolved path) an input file, or another output, is a UsageError naming both. The folder-level
-    guards (an output folder that is the input folder) come first; this catches a link inside a folder."""
-    def where(flag, folder, path):
-        return f"{flag} {folder}: {os.path.basename(path)}" if folder else f"{flag} {path}"
-
-    by_inode: Dict[tuple, tuple] = {}
-    for flag, folder, path in inputs:
-        try:
-            st = os.stat(path)
-        except OSError:
-            continue  # a missing input is reported where it is read
-        by_inode.setdefault((st.st_dev, st.st_ino), (flag, folder, path))
-    seen_paths: Dict[str, tuple] = {}
-    seen_inodes: Dict[tuple, tuple] = {}
-    for flag, folder, path in outputs:
-        real = os.path.realpath(path)
-        other = seen_paths.get(real)
-        try:
-            st = os.stat(path)
-            key = (st.st_dev, st.st_ino)
-        except OSError:
-            key = None
-        if key is not None and key in by_inode:
-            i = by_inode[key]
-            raise UsageError(f"{where(flag, folder, path)}: is (through a link) the input "
-                             f"{where(*i)}; an output never replaces an input")
-        if other is None and key is not None:
-            other = seen_inodes.get(key)
-        if other is not None:
-            raise UsageError(f"{where(flag, folder, path)}: is (through a link) the output "
-                             f"{where(*other)} too; two outputs never share a file")
-        seen_paths[real] = (flag, folder, path)
-        if key is not None:
-            seen_inodes[key] = (flag, folder, path)
+    """"Never over an input, never two outputs on one path", member by member, before any work, by the
+    library's own io::FileSet, as the CLI checks its files: ``inputs`` and ``outputs`` are (flag, path). An
+    input must be a regular file; an output must not be (through a symbolic or hard link, or as the same
+    resolved path) an input or another output, nor a folder or a device. A UsageError naming both
+    otherwise. The folder-level guards (an output folder that is the input folder) come first."""
+    try:
+        native("_core").check_files([(f, os.fspath(p)) for f, p in inputs], [(f, os.fspath(p)) for f, p in outputs])
+    except OSError as e:
+        raise UsageError(str(e)) from None
 
 
 def make_folder(flag: str, folder: str) -> None:

@@ -150,8 +150,8 @@ def run(a: argparse.Namespace, after_result=None) -> int:
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise UsageError(f"--output-dir {out_dir}: exists and is not a folder")
     # Member by member: no table file, manifest or lock that is (through a link) the spec, nor another output.
-    _common.check_members([("--spec", None, os.path.abspath(a.spec))],
-                          [("--output-dir", out_dir, os.path.join(out_dir, n))
+    _common.check_members([("--spec", os.path.abspath(a.spec))],
+                          [("--output-dir", os.path.join(out_dir, n))
                            for n in [_common.MANIFEST, _common.LOCK]
                            + [t["name"] + e for t in tables for e in (".exr", ".png", ".json")]])
     # The local cluster's size within the cores and the memory, then the cluster: an unreachable scheduler

@@ -327,12 +327,12 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
         raise UsageError(f"--mask-dir {mask_dir}: is --output-dir; masks and frames share names")
     # Member by member: no output file (a frame, a mask, the manifest or its lock) that is, through a link, an
     # input frame, a depth map or another output.
-    inputs = [("--input-dir", in_dir, os.path.join(in_dir, f)) for f in frames]
+    inputs = [("--input-dir", os.path.join(in_dir, f)) for f in frames]
     if depth_dir:
-        inputs += [("--depth-dir", depth_dir, os.path.join(depth_dir, d)) for d in depths]
-    outputs = [("--output-dir", out_dir, os.path.join(out_dir, n)) for n in names + [_common.MANIFEST, _common.LOCK]]
+        inputs += [("--depth-dir", os.path.join(depth_dir, d)) for d in depths]
+    outputs = [("--output-dir", os.path.join(out_dir, n)) for n in names + [_common.MANIFEST, _common.LOCK]]
     if mask_dir:
-        outputs += [("--mask-dir", mask_dir, os.path.join(mask_dir, n)) for n in names]
+        outputs += [("--mask-dir", os.path.join(mask_dir, n)) for n in names]
     _common.check_members(inputs, outputs)
     # The sequence's size from its first readable frame (an unreadable one is reported with the rest).
     size = None
@@ -518,9 +518,9 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
         raise UsageError(f"-o {a.output}: its staging folder {staging} exists and is not a folder")
     starts = list(range(0, max(1, expected), chunk))
     _common.check_members(
-        [("--video", None, video)],
-        [("-o", None, output)] + [("-o", None, os.path.join(staging, n))
-                                  for n in [_common.MANIFEST, _common.LOCK] + [f"chunk_{s:09d}.rgb" for s in starts]])
+        [("--video", video)],
+        [("-o", output)] + [("-o", os.path.join(staging, n))
+                            for n in [_common.MANIFEST, _common.LOCK] + [f"chunk_{s:09d}.rgb" for s in starts]])
     stamp = _common.file_stamp(video)
     params = {"video": video, "input_size": stamp["size"], "input_mtime_ns": stamp["mtime_ns"],
               "frame_index": a.frame_index, "options": opts, "chunk_frames": chunk}
