@@ -9,9 +9,11 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <system_error>
+#include <unordered_map>
 #include <utility>
 
 #include "hydrolux/core/error.hpp"
@@ -564,25 +566,71 @@ struct FileSet::State {
     std::string label;
     fs::path path;
   };
+  // What same_file() compares, computed once a file: its device and inode where it exists, and its
+  // absolute path with links, "." and ".." resolved. Looked up in hash tables, so that declaring the
+  // thousands of members of a folder run costs O(n), not a same_file() per pair.
+  struct Key {
+    std::optional<std::pair<dev_t, ino_t>> inode;
+    std::string path;  // empty if it cannot be resolved (then only the inode counts)
+  };
+  struct Index {
+    std::map<std::pair<dev_t, ino_t>, std::size_t> by_inode;
+    std::unordered_map<std::string, std::size_t> by_path, by_path_without_inode;
+    void add(const Key& k, std::size_t i) {
+      if (k.inode) by_inode.emplace(*k.inode, i);
+      if (!k.path.empty()) {
+        by_path.emplace(k.path, i);
+        if (!k.inode) by_path_without_inode.emplace(k.path, i);
+      }
+    }
+    // same_file(): the same inode where both exist, else the same resolved path.
+    std::optional<std::size_t> find(const Key& k) const {
+      if (k.inode) {
+        if (const auto it = by_inode.find(*k.inode); it != by_inode.end()) return it->second;
+        if (k.path.empty()) return std::nullopt;
+        if (const auto it = by_path_without_inode.find(k.path); it != by_path_without_inode.end()) return it->second;
+        return std::nullopt;
+      }
+      if (k.path.empty()) return std::nullopt;
+      if (const auto it = by_path.find(k.path); it != by_path.end()) return it->second;
+      return std::nullopt;
+    }
+  };
+  static Key key_of(const fs::path& p) {
+    Key k;
+    struct stat st {};
+    if (::stat(p.c_str(), &st) == 0) k.inode = std::pair{st.st_dev, st.st_ino};
+    std::error_code ec;
+    const auto canonical = fs::weakly_canonical(fs::absolute(p, ec), ec);
+    if (!ec) k.path = canonical.string();
+    return k;
+  }
+
   std::vector<Named> inputs;
   std::vector<Named> output_names;
+  Index input_index, output_index;
   std::vector<std::unique_ptr<OutputFile>> files;
   std::vector<std::unique_ptr<OutputDirectory>> folders;
   std::vector<std::pair<bool /*folder*/, std::size_t>> order;
 
-  void refuse_clash(const std::string& label, const fs::path& path, bool is_output) const {
-    for (const auto& in : inputs)
-      if (same_file(in.path, path)) {
-        if (is_output)
-          throw IoError(fmt::format("{} {}: is the same file as the input {} {}; refusing to overwrite an input",
-                                    label, path.string(), in.label, in.path.string()));
-        throw IoError(fmt::format("{} {}: is the same file as the input {} {}", label, path.string(), in.label,
-                                  in.path.string()));
-      }
-    for (const auto& out : output_names)
-      if (same_file(out.path, path))
-        throw IoError(fmt::format("{} {}: is the same file as the output {} {}", label, path.string(), out.label,
-                                  out.path.string()));
+  // Refuses an output on an input or another output; returns its key for add_output().
+  Key refuse_clash(const std::string& label, const fs::path& path) const {
+    Key k = key_of(path);
+    if (const auto i = input_index.find(k)) {
+      const Named& in = inputs[*i];
+      throw IoError(fmt::format("{} {}: is the same file as the input {} {}; refusing to overwrite an input", label,
+                                path.string(), in.label, in.path.string()));
+    }
+    if (const auto o = output_index.find(k)) {
+      const Named& out = output_names[*o];
+      throw IoError(fmt::format("{} {}: is the same file as the output {} {}", label, path.string(), out.label,
+                                out.path.string()));
+    }
+    return k;
+  }
+  void add_output(const Key& k, std::string label, fs::path path) {
+    output_index.add(k, output_names.size());
+    output_names.push_back({std::move(label), std::move(path)});
   }
 };
 
@@ -591,27 +639,30 @@ FileSet::~FileSet() = default;
 
 std::uint64_t FileSet::input(std::string label, fs::path path) {
   const auto size = check_input_file(path, label);
-  for (const auto& out : s_->output_names)
-    if (same_file(out.path, path))
-      throw IoError(fmt::format("{} {}: is the same file as the output {} {}; refusing to overwrite an input", label,
-                                path.string(), out.label, out.path.string()));
+  const State::Key k = State::key_of(path);
+  if (const auto o = s_->output_index.find(k)) {
+    const State::Named& out = s_->output_names[*o];
+    throw IoError(fmt::format("{} {}: is the same file as the output {} {}; refusing to overwrite an input", label,
+                              path.string(), out.label, out.path.string()));
+  }
+  s_->input_index.add(k, s_->inputs.size());
   s_->inputs.push_back({std::move(label), std::move(path)});
   return size;
 }
 
 OutputFile& FileSet::output(std::string label, fs::path path) {
-  s_->refuse_clash(label, path, true);
+  const State::Key k = s_->refuse_clash(label, path);
   auto out = std::make_unique<OutputFile>(path, label);
-  s_->output_names.push_back({std::move(label), std::move(path)});
+  s_->add_output(k, std::move(label), std::move(path));
   s_->files.push_back(std::move(out));
   s_->order.emplace_back(false, s_->files.size() - 1);
   return *s_->files.back();
 }
 
 void FileSet::planned_output(std::string label, fs::path path) {
-  s_->refuse_clash(label, path, true);
+  const State::Key k = s_->refuse_clash(label, path);
   output_destination(path, describe(label, path));
-  s_->output_names.push_back({std::move(label), std::move(path)});
+  s_->add_output(k, std::move(label), std::move(path));
 }
 
 OutputDirectory& FileSet::output_directory(std::string label, fs::path path) {
@@ -622,7 +673,7 @@ OutputDirectory& FileSet::output_directory(std::string label, fs::path path) {
   std::vector<fs::path> inputs;
   for (const auto& in : s_->inputs) inputs.push_back(in.path);
   out->protect(std::move(inputs));
-  s_->output_names.push_back({std::move(label), std::move(path)});
+  s_->add_output(State::key_of(path), std::move(label), std::move(path));
   s_->folders.push_back(std::move(out));
   s_->order.emplace_back(true, s_->folders.size() - 1);
   return *s_->folders.back();
