@@ -5,10 +5,16 @@
 namespace hydrolux {
 
 namespace {
+// A context that states a relation to another quantity ("beyond near_m", "at most 1 / fps") follows
+// the range in parentheses; one that names what the range belongs to ("water (IAPWS R9-97)") with "of".
+bool is_relation(const std::string& context) {
+  return context.rfind("beyond ", 0) == 0 || context.rfind("at most ", 0) == 0 || context.rfind("at least ", 0) == 0;
+}
+
 std::string message(const std::string& quantity, double value, double lo, double hi,
                     const std::string& context) {
   std::string m = fmt::format("{} = {:g} is outside [{:g}, {:g}]", quantity, value, lo, hi);
-  if (!context.empty()) m += fmt::format(", the valid range of {}", context);
+  if (!context.empty()) m += is_relation(context) ? fmt::format(" ({})", context) : fmt::format(", the valid range of {}", context);
   return m;
 }
 }  // namespace
@@ -33,11 +39,7 @@ std::string DomainError::range_text() const {
     if (suffix == "c") unit = " C";
   }
   std::string m = fmt::format("outside the valid range [{:g}, {:g}]{}", lo_, hi_, unit);
-  // A context that states a relation to another quantity ("beyond near_m", "at most 1 / fps") follows
-  // the range in parentheses; one that names what the range belongs to ("water (IAPWS R9-97)") with "of".
-  const bool relation = context_.rfind("beyond ", 0) == 0 || context_.rfind("at most ", 0) == 0 ||
-                        context_.rfind("at least ", 0) == 0;
-  if (!context_.empty()) m += relation ? fmt::format(" ({})", context_) : fmt::format(" of {}", context_);
+  if (!context_.empty()) m += is_relation(context_) ? fmt::format(" ({})", context_) : fmt::format(" of {}", context_);
   return m;
 }
 

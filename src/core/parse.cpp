@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
+#include <string>
 
 #include "hydrolux/core/error.hpp"
 
@@ -22,19 +24,63 @@ std::optional<double> number(std::string_view s) {
   return v;
 }
 
+namespace {
+
+// The whole number a decimal text ("+12", "1.5e3", "90071992547409920e-1") stands for exactly, or
+// nullopt if it has a fraction, is malformed or does not fit in a long long.
+std::optional<long long> exact_integer(std::string_view s) {
+  bool negative = false;
+  if (!s.empty() && (s.front() == '+' || s.front() == '-')) {
+    negative = s.front() == '-';
+    s.remove_prefix(1);
+  }
+  std::string digits;  // the significand's digits, the point removed
+  long long point = -1, exponent = 0;
+  std::size_t i = 0;
+  for (; i < s.size() && (std::isdigit(static_cast<unsigned char>(s[i])) || s[i] == '.'); ++i) {
+    if (s[i] == '.') {
+      if (point >= 0) return std::nullopt;
+      point = static_cast<long long>(digits.size());
+    } else {
+      digits += s[i];
+    }
+  }
+  if (digits.empty()) return std::nullopt;
+  if (i < s.size()) {
+    if (s[i] != 'e' && s[i] != 'E') return std::nullopt;
+    std::string_view e = s.substr(i + 1);
+    if (!e.empty() && e.front() == '+') e.remove_prefix(1);
+    const auto [ptr, ec] = std::from_chars(e.data(), e.data() + e.size(), exponent);
+    if (e.empty() || ec != std::errc() || ptr != e.data() + e.size() || exponent > 100 || exponent < -100)
+      return std::nullopt;
+  }
+  // The decimal point moved by the exponent: digits before it are the integer, after it must be zeros.
+  const long long int_digits = (point < 0 ? static_cast<long long>(digits.size()) : point) + exponent;
+  if (int_digits < 0) return std::nullopt;
+  for (long long k = int_digits; k < static_cast<long long>(digits.size()); ++k)
+    if (digits[std::size_t(k)] != '0') return std::nullopt;
+  if (int_digits > 19) return std::nullopt;  // beyond any long long
+  std::string whole(negative ? 1 : 0, '-');
+  for (long long k = 0; k < int_digits; ++k) whole.push_back(k < static_cast<long long>(digits.size()) ? digits[std::size_t(k)] : '0');
+  if (int_digits == 0) whole.push_back('0');
+  long long value = 0;
+  const auto [ptr, ec] = std::from_chars(whole.data(), whole.data() + whole.size(), value);
+  if (ec != std::errc() || ptr != whole.data() + whole.size()) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
 std::optional<long long> integer(std::string_view s) {
   const auto v = number(s);
   constexpr double kLimit = 9007199254740992.0;  // 2^53: every whole double below is exact
   if (!v || *v != std::floor(*v) || std::fabs(*v) > kLimit) return std::nullopt;
-  if (std::fabs(*v) == kLimit) {
-    // At 2^53 a decimal may have been rounded onto it ("9007199254740993" reads as 2^53): only the
-    // digits of 2^53 itself, read exactly, are accepted there.
-    std::string_view digits = s;
-    if (!digits.empty() && digits.front() == '+') digits.remove_prefix(1);
-    long long exact = 0;
-    const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), exact);
-    if (ec != std::errc() || ptr != digits.data() + digits.size() || (exact != (1LL << 53) && exact != -(1LL << 53)))
-      return std::nullopt;
+  if (std::fabs(*v) >= kLimit / 2) {
+    // From 2^52 on, doubles are spaced 1 or 2 apart, so a decimal may have been rounded onto a whole
+    // one ("9007199254740993", "4503599627370496.5"): there the text itself must be a whole number.
+    const auto exact = exact_integer(s);
+    if (!exact || *exact > (1LL << 53) || *exact < -(1LL << 53)) return std::nullopt;
+    return *exact;
   }
   return static_cast<long long>(*v);
 }

@@ -44,15 +44,25 @@ double RainCamera::defocus_radius_px(double z_m) const {
   return 0.5 * diameter_m / pixel_pitch_m();
 }
 
+namespace {
+constexpr double kMinFocalMm = 1, kMaxFocalMm = 2000;
+}  // namespace
+
 double focal_mm_from_fov(double fov_deg, double sensor_width_mm) {
-  require_in_range("fov_deg", fov_deg, 1.0, 170.0);
-  return 0.5 * sensor_width_mm / std::tan(deg_to_rad(0.5 * fov_deg));
+  // The field of view is refused in its own terms where the focal length it gives would be: the
+  // fields of view of focal lengths 1-2000 mm on this sensor, within [1, 170] degrees.
+  const auto fov_of = [&](double focal_mm) { return 2 * rad_to_deg(std::atan(0.5 * sensor_width_mm / focal_mm)); };
+  require_in_range("fov_deg", fov_deg, std::max(1.0, fov_of(kMaxFocalMm)), std::min(170.0, fov_of(kMinFocalMm)),
+                   fmt::format("a {:g} mm wide sensor (focal lengths {:g}-{:g} mm)", sensor_width_mm, kMinFocalMm,
+                               kMaxFocalMm));
+  // At the ends of that range the focal length is the bound itself, whatever the rounding.
+  return std::clamp(0.5 * sensor_width_mm / std::tan(deg_to_rad(0.5 * fov_deg)), kMinFocalMm, kMaxFocalMm);
 }
 
 void validate(const RainCamera& c) {
   require_in_range("width", c.width, 16, 16384);
   require_in_range("height", c.height, 16, 16384);
-  require_in_range("focal_mm", c.focal_mm, 1, 2000);
+  require_in_range("focal_mm", c.focal_mm, kMinFocalMm, kMaxFocalMm);
   require_in_range("sensor_width_mm", c.sensor_width_mm, 1, 100);
   if (c.f_number != 0) require_in_range("f_number", c.f_number, 0.7, 64, "0 for a pinhole");
   if (c.f_number != 0) require_in_range("focus_m", c.focus_m, c.focal_mm * 1e-3 * 1.01, 1e4);

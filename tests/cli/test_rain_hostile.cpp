@@ -173,7 +173,8 @@ TEST(RainHostile, IgnoredFlagsWrongFlagsAndUnboundedWorkAreRefused) {
       {img + "--depth " + tiny_depth.string() + " -o " + o, "--depth " + tiny_depth.string() + ": 1x1 is too coarse"},
       {"rain -q --input-dir " + frames.string() + " --output-dir " + (dir() / "x").string() + " --crf 3", "--crf"},
       {img + "--seed 9007199254740993 -o " + o, "--seed: 9007199254740993 is outside the valid range [0, 9007199254740992]"},
-      {img + "--fov-deg 1 -o " + o, "--fov-deg 1: on a 36 mm wide sensor that is a focal length of 2063 mm"},
+      {img + "--fov-deg 1 -o " + o,
+       "--fov-deg 1 is outside the valid range [1.0313, 170] deg of a 36 mm wide sensor (focal lengths 1-2000 mm)"},
       {img + "--near-m 5 --far-m 2 -o " + o, "--far-m 2 is outside the valid range [5.005, 10000] (beyond --near-m)"},
       {img + "--min-radius-mm 1 --max-radius-mm 0.5 -o " + o, "(beyond --min-radius-mm)"},
   };

@@ -27,10 +27,16 @@ TEST(Parse, Integers) {
   EXPECT_EQ(integer("-7"), -7);
   EXPECT_EQ(integer("9007199254740992"), 9007199254740992LL);  // 2^53
   EXPECT_EQ(integer("+9007199254740992"), 9007199254740992LL);
+  EXPECT_EQ(integer("9007199254740991"), 9007199254740991LL);
+  EXPECT_EQ(integer("-4503599627370497"), -4503599627370497LL);
+  EXPECT_EQ(integer("5e15"), 5000000000000000LL);  // exponent forms stay whole numbers above 2^52 too
+  EXPECT_EQ(integer("9.007199254740992e15"), 9007199254740992LL);
+  EXPECT_EQ(integer("90071992547409910e-1"), 9007199254740991LL);
   // Issue 23: 2^53 + 1 and 2^53 + 3 round onto representable doubles (2^53, 2^53 + 4); read as
   // doubles they were accepted as 2^53, a different seed than the one given.
   for (const char* bad : {"1.5", "1e-3", "9007199254740993", "9007199254740994", "9007199254740995",
-                          "-9007199254740993", "9007199254740992.5", "1e30", "abc", "", "nan"})
+                          "-9007199254740993", "9007199254740992.5", "4503599627370496.5", "9007199254740990.5",
+                          "9007199254740993e0", "1e30", "abc", "", "nan"})
     EXPECT_EQ(integer(bad), std::nullopt) << bad;
 }
 

@@ -151,17 +151,7 @@ rain::RainCamera camera_for(const RainArgs& a, int width, int height, std::optio
   c.width = width;
   c.height = height;
   if (a.pixel_pitch_um) c.sensor_width_mm = *a.pixel_pitch_um * 1e-3 * width;
-  if (a.fov_deg) {
-    c.focal_mm = rain::focal_mm_from_fov(*a.fov_deg, c.sensor_width_mm);
-    // The focal length it implies must lie in the camera's range: said in --fov-deg's terms.
-    try {
-      rain::validate(c);
-    } catch (const DomainError& e) {
-      if (e.quantity() == "focal_mm")
-        throw Error(fmt::format("--fov-deg {:g}: on a {:g} mm wide sensor that is a focal length of {:.4g} mm, {}",
-                                *a.fov_deg, c.sensor_width_mm, c.focal_mm, e.range_text()));
-    }
-  }
+  if (a.fov_deg) c.focal_mm = rain::focal_mm_from_fov(*a.fov_deg, c.sensor_width_mm);
   if (fps) c.fps = *fps;
   return c;
 }
@@ -177,7 +167,7 @@ void check_memory(const rain::RainCamera& c, int input_channels, bool with_layer
                           int(std::floor(c.width * scale)), int(std::floor(c.height * scale))));
 }
 
-// One frame rendered: a non-finite input value is bad input naming the frame, negative values a warning.
+// One frame rendered: a non-finite input value is bad input naming the frame.
 void render_frame(rain::RainRenderer& renderer, const Image& frame, const Image* depth, std::int64_t index,
                   bool with_layer, rain::RainFrame& out, const std::string& origin) {
   try {
@@ -185,9 +175,23 @@ void render_frame(rain::RainRenderer& renderer, const Image& frame, const Image*
   } catch (const rain::NonFinitePixel& e) {
     throw Error(fmt::format("{}: {}", origin, e.what()));
   }
-  if (const auto n = out.stats.negative_values_clamped)
-    warn(fmt::format("{}: {} negative value{} read as 0 (light cannot be negative)", origin, n, n == 1 ? "" : "s"));
 }
+
+// The negative input values read as 0 over a run, said once at its end (not a line a frame).
+struct NegativeValues {
+  std::uint64_t values = 0, frames = 0;
+  void add(const rain::RainStats& st) {
+    values += st.negative_values_clamped;
+    frames += st.negative_values_clamped > 0 ? 1 : 0;
+  }
+  void report(const std::string& origin, std::size_t frame_count) const {
+    if (values == 0) return;
+    warn(frame_count > 1 ? fmt::format("{}: {} negative value{} in {} of {} frames read as 0 (light cannot be negative)",
+                                       origin, values, values == 1 ? "" : "s", frames, frame_count)
+                         : fmt::format("{}: {} negative value{} read as 0 (light cannot be negative)", origin,
+                                       values, values == 1 ? "" : "s"));
+  }
+};
 
 void print_summary(const RainArgs& a, const rain::RainField& f, const rain::RainStats& st, std::size_t frames,
                    double seconds) {
@@ -239,8 +243,11 @@ int run_image(const RainArgs& a) {
   s.unresolved = !a.no_unresolved;
   rain::RainRenderer renderer(make_field(s, cam, !depth));
   rain::RainFrame result;
-  render_frame(renderer, frame, depth ? &*depth : nullptr, a.frame_index, layer.has_value(), result,
-               builtin ? std::string("--image builtin") : "--image " + *a.image);
+  const std::string origin = builtin ? std::string("--image builtin") : "--image " + *a.image;
+  render_frame(renderer, frame, depth ? &*depth : nullptr, a.frame_index, layer.has_value(), result, origin);
+  NegativeValues negatives;
+  negatives.add(result.stats);
+  negatives.report(origin, 1);
   // The optional outputs first: a failure (a full disk) is then reported under their own flag.
   if (layer) write_output_image(*layer, result.layer);
   if (mask) mask->file->write(image_api().encode_image(io::coverage_for_encoding(result.alpha, mask->format), mask->format, io::PngOptions{16}));
@@ -381,6 +388,8 @@ int run_folder(const RainArgs& a) {
   rain::RainFrame result;
   nlohmann::json per_frame = nlohmann::json::array();
   std::vector<std::string> failed;
+  std::size_t written = 0;
+  NegativeValues negatives;
   const ImageApi& images = image_api();
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const std::string name = frames[k].string();
@@ -405,8 +414,8 @@ int run_folder(const RainArgs& a) {
     } catch (const IoFailure&) {
       throw;
     } catch (const Error& e) {
-      // Before any frame is rendered nothing is lost by stopping: bad input, exit 2, as before.
-      if (!renderer) throw;
+      // Before any frame is written nothing is lost by stopping: bad input, exit 2, nothing written.
+      if (written == 0) throw;
       bar.clear();
       warn(fmt::format("{} (left out)", e.what()));
       failed.push_back(frames[k].filename().string());
@@ -420,6 +429,8 @@ int run_folder(const RainArgs& a) {
                                                                     io::PngOptions{16}),
                      "--mask-dir");
     }
+    ++written;
+    negatives.add(result.stats);
     if (stats) {
       auto j = stats_json(result.stats);
       j["frame_index"] = a.frame_index + std::int64_t(k);
@@ -429,6 +440,7 @@ int run_folder(const RainArgs& a) {
     bar.update(double(k + 1) / double(frames.size()), fmt::format("frame {}/{}", k + 1, frames.size()));
   }
   bar.finish();
+  negatives.report("--input-dir " + *a.input_dir, frames.size());
   if (stats) {
     auto j = run_json(a, renderer->field());
     j["input"] = *a.input_dir;
@@ -497,6 +509,7 @@ int run_video(const RainArgs& a) {
   Image linear;
   rain::RainFrame result;
   nlohmann::json per_frame = nlohmann::json::array();
+  NegativeValues negatives;
   std::int64_t k = 0;
   // The frame count for the progress: the container's, else the duration times the rate (Matroska).
   const std::int64_t expected = info.frame_count > 0 ? info.frame_count
@@ -505,6 +518,7 @@ int run_video(const RainArgs& a) {
   while (reader->read(in_frame)) {
     tables.to_linear(in_frame, linear);
     render_frame(renderer, linear, nullptr, a.frame_index + k, false, result, "--video " + *a.video);
+    negatives.add(result.stats);
     tables.to_srgb(result.image, out_frame);
     writer->write(out_frame);
     if (stats) {
@@ -518,6 +532,7 @@ int run_video(const RainArgs& a) {
   }
   writer->finish();
   bar.finish();
+  negatives.report("--video " + *a.video, std::size_t(k));
   if (stats) {
     auto j = run_json(a, renderer.field());
     j["input"] = *a.video;
