@@ -230,8 +230,8 @@ TEST(HostileSky, MessagesNameTheFlagTheFileAndTheRealRange) {
     const auto help = run_argv({cmd, "--help"});
     EXPECT_NE(help.out.find(fmt::format("at most {:g}", rmax)), std::string::npos) << help.out;
   }
-  // sky computes its tables with Mie theory only: the absolute 5000 um is not advertised.
-  EXPECT_EQ(run_argv({"sky", "--help"}).out.find("5000"), std::string::npos);
+  // sky computes its tables with Mie theory only: 5000 um only with tables given (--lut).
+  EXPECT_NE(run_argv({"sky", "--help"}).out.find("with --lut up to 5000"), std::string::npos);
   expect_refused({"sky", "-q", "--radius-um", "5000", "-o", out.string()}, "--radius-um", range, out);
   expect_refused({"export", "-q", "--radius-um", "5000", "--dir", (d / "assets").string()}, "--radius-um", range);
   // export --size: the corona table has twice the rows; the message names what the user gave.

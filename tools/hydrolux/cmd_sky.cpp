@@ -121,6 +121,12 @@ int run_sky(SkyArgs a) {
   s.mode = a.mode == "cube-map" ? scene::BowMode::cube_map
                                 : a.mode == "half-dome" ? scene::BowMode::half_dome : scene::BowMode::per_pixel;
   scene::validate(s);
+  // The tables computed here are Mie's, whose size parameter limit caps the radius; given tables
+  // (--lut, e.g. geometric optics up to 5000 um) cover what they cover.
+  if (a.luts.empty() && s.radius_um > max_radius_um())
+    throw Error(fmt::format("--radius-um {:g} is outside the valid range [{:g}, {:g}] um of the tables computed "
+                            "without --lut (Mie's size parameter limit at 380 nm); give tables that cover it with --lut",
+                            s.radius_um, atmos::kMinRadiusUm, max_radius_um()));
   refuse_unused(a.sampling_opt, a.luts.empty(),
                 "sets the sampling of the tables computed without --lut; --lut gives the tables (omit --sampling)");
   refuse_unused(a.environment_scale_opt, a.environment.has_value(),
@@ -148,6 +154,7 @@ int run_sky(SkyArgs a) {
   if (a.moisture) files.input("--moisture", *a.moisture);
   if (a.environment) files.input("--environment", *a.environment);
   const ImageOutput out = declare_output_image(files, "-o", a.output);
+  // The image plugin, loaded now: a missing or broken plugin is reported before the tables are computed.
   (void)image_api();
 
   // The tables: given (--lut), or one radius's profiles computed now.
@@ -251,10 +258,10 @@ Command add_sky(CLI::App& app) {
       ->check(number_in(-360, 360, "deg"))->capture_default_str();
   sub->add_option("--radius-um", s.radius_um,
                   fmt::format("Drop radius in micrometres (the table column; 10% gamma spread): 500 rain, 10-50 fogbow "
-                              "or corona; at most {:g}, where the largest drops of the spread reach Mie theory's size "
-                              "parameter limit (1e5) at 380 nm",
-                              max_radius_um()))
-      ->check(number_in(atmos::kMinRadiusUm, max_radius_um(), "um"))->capture_default_str();
+                              "or corona; without --lut at most {:g}, where the largest drops of the spread reach Mie "
+                              "theory's size parameter limit (1e5) at 380 nm; with --lut up to {:g}, as its tables cover",
+                              max_radius_um(), atmos::kMaxRadiusUm))
+      ->check(number_in(atmos::kMinRadiusUm, atmos::kMaxRadiusUm, "um"))->capture_default_str();
   sub->add_option("--fov-deg", s.camera.fov_deg, "Horizontal field of view, degrees")
       ->check(number_in(1, 170, "deg"))->capture_default_str();
   sub->add_option("--view-azimuth-deg", s.camera.azimuth_deg, "Where the camera looks: azimuth, degrees from north towards east")
