@@ -80,7 +80,10 @@ def _complex(value: Any, name: str) -> complex:
     if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iufc":
         value = value[()]
     if isinstance(value, _REALS + (complex, np.complexfloating)) and not isinstance(value, (bool, np.bool_)):
-        return complex(value)
+        try:
+            return complex(value)
+        except OverflowError:
+            raise ValueError(f"{name}: {_describe(value)} is beyond what a double holds (about 1e308)") from None
     raise TypeError(f"{name}: expected one complex number such as 1.333+1e-8j, got {_describe(value)}")
 
 
@@ -93,6 +96,8 @@ def _reals(value: Any, name: str) -> np.ndarray:
         raise TypeError(f"{name}: expected a number or an array of numbers, got {_describe(value)}")
     try:
         return np.asarray(value, dtype=np.float64)
+    except OverflowError:
+        raise ValueError(f"{name}: holds a number beyond what a double holds (about 1e308)") from None
     except (TypeError, ValueError):
         raise TypeError(f"{name}: expected a number or an array of numbers, got {_describe(value)}") from None
 
@@ -130,6 +135,8 @@ def _array_arg(value: Any, name: str) -> np.ndarray:
         return value
     try:
         return np.asarray(value)
+    except OverflowError:
+        raise ValueError(f"{name}: holds a number beyond what a double holds (about 1e308)") from None
     except (TypeError, ValueError):
         raise TypeError(f"{name}: expected an array (height, width[, channels]), got {_describe(value)}") from None
 

@@ -517,7 +517,7 @@ void check_rain_ranges(const py::dict& kw) {
       {"rate_mmh", 0, 500, "mm/h"},      {"wind_mps", 0, 50, "m/s"},        {"wind_dir_deg", -360, 360, "deg"},
       {"exposure_s", 1e-6, 1, "s"},      {"focal_mm", 1, 2000, "mm"},       {"fov_deg", 1, 170, "deg"},
       {"sensor_width_mm", 1, 100, "mm"}, {"pixel_pitch_um", 0.1, 1000, "um"}, {"f_number", 0, 64, ""},
-      {"focus_m", 0.01, 1e4, "m"},       {"fps", 1, 1000, "1/s"},           {"camera_height_m", 0, 1000, "m"},
+      {"focus_m", 0.01, 1e4, "m"},       {"fps", 0.01, 1000, "1/s"},        {"camera_height_m", 0, 1000, "m"},
       {"pitch_deg", -80, 80, "deg"},     {"near_m", 0.05, 100, "m"},        {"far_m", 0.1, 1e4, "m"},
       {"min_radius_mm", 0.04, 2.9, "mm"}, {"max_radius_mm", 0.04, 2.9, "mm"}, {"min_alpha", 1e-5, 0.5, ""},
       {"extent_m", 0, 1e5, "m"},         {"backdrop_m", 1, 1e5, "m"},       {"oscillation", 0, 0.5, ""}};

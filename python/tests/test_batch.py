@@ -40,7 +40,7 @@ def cli_out(frames, tmp_path_factory, cli):
 
 def batch_args(frames, out, **kw):
     a = argparse.Namespace(input_dir=str(frames), output_dir=str(out), mask_dir=None, depth_dir=None,
-                           depth_scale_m=0.001, video=None, output=None, crf=18, frame_index=10,
+                           depth_scale_m=None, video=None, output=None, crf=None, frame_index=10,
                            no_unresolved=False, chunk_frames=3, workers=2, threads_per_worker=1, scheduler=None,
                            quiet=True)
     for _, name, _, default, *_ in batch_rain.OPTIONS:

@@ -180,6 +180,7 @@ def test_any_unexpected_exception_is_one_line_with_its_type_and_ctrl_c_is_130(fr
 def test_more_workers_than_the_cores_or_the_memory_are_refused_before_any_cluster(frames, tmp_path, monkeypatch,
                                                                                   capfd):
     cores = _common.usable_cores()
+    monkeypatch.setattr(_common, "available_memory", lambda: 1 << 40)  # the cores bound, whatever the memory here
     out = tmp_path / "o"
     argv = ["rain", "--input-dir", str(frames), "--output-dir", str(out), "-q"]
     for extra, text in ((["--workers", "1000"], f"--workers: 1000 is outside the valid range [1, {cores}] here"),
@@ -198,6 +199,11 @@ def test_more_workers_than_the_cores_or_the_memory_are_refused_before_any_cluste
     assert main(argv + ["--workers", "2"]) == 2
     line = one_line(capfd.readouterr().err)
     assert "--workers: 2 is outside the valid range [1, 1] here" in line and "300 MiB of memory available" in line
+    # Not even one worker fits: refused too, not run into the allocator.
+    monkeypatch.setattr(_common, "available_memory", lambda: 100 << 20)
+    assert main(argv) == 2
+    line = one_line(capfd.readouterr().err)
+    assert "--workers: even one worker running 1 task(s) at a time needs about" in line, line
     assert not out.exists()
 
 
@@ -336,3 +342,30 @@ def test_fifos_and_dangling_links_in_the_input_folder_are_listed_and_skipped(fra
     assert one_line(p.stderr) == (f"hydrolux.batch rain: warning: --input-dir {src}: skipped 2 entries that are not "
                                   "regular files: a.png (FIFO), b.png (dangling link)")
     assert sorted(n for n in os.listdir(out) if n.endswith(".png")) == ["f_000.png", "f_001.png", "f_002.png"]
+
+
+# ---- the same words and the same range as the CLI where a setting follows from others -----------
+
+def test_a_setting_out_of_its_derived_range_names_the_flags(frames, tmp_path, capfd):
+    """--fov-deg 1 used to be blamed on --focal-mm (the focal length it implies), and --far-m's range
+    named the library's near_m; and --crf or --depth-scale-m given where nothing uses them was ignored."""
+    out = tmp_path / "o"
+    argv = ["rain", "--input-dir", str(frames), "--output-dir", str(out), "--workers", "1", "-q"]
+    for extra, text in ((["--fov-deg", "1"], "--fov-deg = 1 is outside [1.0313, 170], the valid range of a 36 mm "
+                                             "wide sensor (focal lengths 1-2000 mm)"),
+                        (["--near-m", "5", "--far-m", "2"], "(beyond --near-m)"),
+                        (["--crf", "20"], "--crf: sets the H.264 quality of --video's output"),
+                        (["--depth-scale-m", "0.01"], "--depth-scale-m: scales PNG maps of --depth-dir; none is given")):
+        assert main(argv + extra) == 2, extra
+        line = one_line(capfd.readouterr().err)
+        assert text in line, line
+        assert "focal_mm" not in line and "--focal-mm" not in line and "near_m" not in line, line
+    assert not out.exists()
+
+
+def test_a_time_lapse_video_is_processed(tmp_path, capfd):
+    """A 0.5 frames/s video was refused as "--fps = 0.5", a flag not given: its rate is in the range now."""
+    src, out = tmp_path / "slow.mp4", tmp_path / "slow_out.mp4"
+    ffmpeg("-f", "lavfi", "-i", "testsrc=size=64x36:rate=0.5", "-t", 6, "-pix_fmt", "yuv420p", src)
+    assert main(["rain", "--video", str(src), "-o", str(out), "--workers", "1", "-q"]) == 0, capfd.readouterr().err
+    assert out.stat().st_size > 0

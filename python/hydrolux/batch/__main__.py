@@ -68,8 +68,13 @@ def main(argv=None) -> int:
 def _line(text: str) -> None:
     """One line on stderr (a leading newline ends a progress line first), whatever the text holds."""
     lead = "\n" if text.startswith("\n") else ""
+    body = text[len(lead):]
     try:
-        sys.stderr.write(lead + printable(text[len(lead):]) + "\n")
+        body = printable(body)
+    except Exception:  # the library itself cannot be loaded: every control and non-ASCII character escaped
+        body = body.encode("unicode_escape", "backslashreplace").decode("ascii")
+    try:
+        sys.stderr.write(lead + body + "\n")
         sys.stderr.flush()
     except OSError:
         pass

@@ -185,7 +185,10 @@ def local_cluster_size(workers, threads_per_worker, task_bytes: int = 0, schedul
     cores = usable_cores()
     memory = available_memory()
     per_worker = WORKER_BYTES + tpw * max(0, task_bytes)
-    by_memory = max(1, memory // per_worker) if memory is not None else None
+    by_memory = memory // per_worker if memory is not None else None
+    if by_memory == 0 and not scheduler:
+        raise UsageError(f"--workers: even one worker running {tpw} task(s) at a time needs about {_gib(per_worker)} "
+                         f"for frames of this size, and {_gib(memory)} of memory is available")
     if tpw > cores:
         raise UsageError(f"--threads-per-worker: {threads_per_worker} is outside the valid range "
                          f"[1, {cores}] here (a local cluster runs at most one task per core: {cores} cores)")

@@ -21,6 +21,7 @@ import argparse
 import math
 import os
 import sys
+import warnings
 from typing import Any, Dict, List, Optional
 
 from . import _common
@@ -49,7 +50,7 @@ OPTIONS = [
     ("--f-number", "f_number", float, 0.0, "Aperture f-number for defocus of near drops; 0 = pinhole", 0, 64, ""),
     ("--focus-m", "focus_m", float, 10.0, "Focus distance, m (with --f-number)", 0.01, 1e4, "m"),
     ("--fps", "fps", float, None, "Frame rate of --input-dir frames: frame k is exposed from k / fps (default 25)",
-     1, 1000, "1/s"),
+     0.01, 1000, "1/s"),
     ("--camera-height-m", "camera_height_m", float, 1.7, "Camera height above the ground plane, m", 0, 1000, "m"),
     ("--pitch-deg", "pitch_deg", float, 0.0, "Camera pitch above the horizon, degrees [-80, 80]", -80, 80, "deg"),
     ("--near-m", "near_m", float, 0.5, "No drop nearer than this, m", 0.05, 100, "m"),
@@ -87,8 +88,11 @@ def parse_numbers(a: argparse.Namespace) -> None:
             setattr(a, name, _common.number_flag(flag, value, lo, hi, unit))
     a.frame_index = _common.integer_flag("--frame-index", a.frame_index, 0, 1_000_000_000)
     a.chunk_frames = _common.integer_flag("--chunk-frames", a.chunk_frames, 0, 100000, extra=" (0: automatic)")
-    a.crf = _common.integer_flag("--crf", a.crf, 0, 51)
-    a.depth_scale_m = _common.number_flag("--depth-scale-m", a.depth_scale_m, 1e-6, 1e3, "m")
+    # --crf and --depth-scale-m: given where nothing uses them, refused (as the CLI refuses them), not ignored.
+    a.crf_given, a.depth_scale_given = a.crf is not None, a.depth_scale_m is not None
+    a.crf = _common.integer_flag("--crf", 18 if a.crf is None else a.crf, 0, 51)
+    a.depth_scale_m = _common.number_flag("--depth-scale-m", 0.001 if a.depth_scale_m is None else a.depth_scale_m,
+                                          1e-6, 1e3, "m")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -97,11 +101,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--video", help="Input video (MP4, MOV, MKV, ...) instead of --input-dir; frame rate and count kept")
     p.add_argument("-o", "--output", help="Output video with --video (.mp4, .mov or .mkv), H.264")
     # Numbers are taken as text and parsed by the library's parsers in run(), as the CLI parses them.
-    p.add_argument("--crf", default=18, help="H.264 quality of the output video (0 lossless .. 51) [18]")
+    p.add_argument("--crf", default=None, help="H.264 quality of the output video (0 lossless .. 51; --video only) [18]")
     p.add_argument("--mask-dir", help="Folder for the rain's coverage masks (same names as the frames)")
     p.add_argument("--depth-dir", help="Depth maps for --input-dir: each frame's stem as .exr (metres) or .png "
                                        "(16-bit codes x --depth-scale-m); without, a ground plane")
-    p.add_argument("--depth-scale-m", default=0.001, help="Metres per code of a PNG depth map [0.001]")
+    p.add_argument("--depth-scale-m", default=None, help="Metres per code of a PNG depth map of --depth-dir [0.001]")
     for flag, name, typ, default, text, lo, hi, unit in OPTIONS:
         valid = f"[{lo}, {hi if hi is not None else '2^53'}]" if typ is int else f"[{lo:g}, {hi:g}]"
         p.add_argument(flag, dest=name, default=default,
@@ -126,10 +130,12 @@ def _options(a: argparse.Namespace) -> Dict[str, Any]:
 
 def _flag_error(e: ValueError) -> UsageError:
     """The library's message, with the Python argument named as the batch flag."""
+    import re
+
     text = str(e)
+    # Every setting the message names, the one refused and those its range follows from ("beyond near_m").
     for name in sorted(FLAG_OF, key=len, reverse=True):
-        if text.startswith(name + " ") or text.startswith(name + ":"):
-            return UsageError(FLAG_OF[name] + text[len(name):])
+        text = re.sub(r"(?<![\w-])" + re.escape(name) + r"(?![\w-])", FLAG_OF[name], text)
     return UsageError(text)
 
 
@@ -258,7 +264,9 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
                 depth_stamp = _common.file_stamp(os.path.join(job["depth_dir"], depth_name))
                 depth = _image.read_depth(os.path.join(job["depth_dir"], depth_name), job["depth_scale_m"], w, h,
                                           "--depth-dir")[:, :, 0]
-            result = renderer.render(image, depth, index)
+            with warnings.catch_warnings():  # negative values: counted in the stats, said once by the client
+                warnings.simplefilter("ignore", RuntimeWarning)
+                result = renderer.render(image, depth, index)
             fmt = "exr" if name.endswith(".exr") else "png"
             if job["mask_dir"]:
                 _core.write_file(os.path.join(job["mask_dir"], name), _image.encode(result.mask, fmt, 16, True),
@@ -296,7 +304,13 @@ def run(a: argparse.Namespace, after_result=None) -> int:
         raise UsageError("give exactly one of --input-dir and --video")
     parse_numbers(a)
     if getattr(a, "video", None) is not None:
+        if a.depth_scale_given:
+            raise UsageError("--depth-scale-m: scales PNG depth maps, which are for --input-dir")
         return run_video(a, after_result)
+    if a.crf_given:
+        raise UsageError("--crf: sets the H.264 quality of --video's output; --input-dir writes pictures")
+    if a.depth_scale_given and not a.depth_dir:
+        raise UsageError("--depth-scale-m: scales PNG maps of --depth-dir; none is given")
     if getattr(a, "output", None):
         raise UsageError("-o: with --input-dir the frames go to --output-dir")
     if not a.output_dir:
@@ -315,6 +329,10 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
     names = output_names(in_dir, frames)
     depth_dir = os.path.abspath(a.depth_dir) if a.depth_dir else None
     depths = depth_maps(depth_dir, frames) if depth_dir else [None] * len(frames)
+    exr_depth = next((d for d in depths if d and d.lower().endswith(".exr")), None)
+    if a.depth_scale_given and exr_depth:
+        raise UsageError(f"--depth-scale-m: scales the codes of a PNG depth map; --depth-dir {depth_dir}: {exr_depth} "
+                         "holds metres already")
     for flag, d in (("--output-dir", out_dir), ("--mask-dir", mask_dir)):
         if d and os.path.exists(d):
             if not os.path.isdir(d):
@@ -392,6 +410,7 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
 
         retry: List[tuple] = []
         final_round = False
+        negatives = [0, 0]  # negative input values read as 0, and the frames that had them
 
         def on_result(task, result):
             if isinstance(result, Exception):
@@ -410,6 +429,9 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
                     progress.message(f"batch rain: {rec['input']}: {rec['error']}")
                 else:
                     manifest.add(rec)
+                    n = rec.get("stats", {}).get("negative_values_clamped", 0)
+                    negatives[0] += n
+                    negatives[1] += 1 if n else 0
 
         def count(r):
             return 0 if isinstance(r, Exception) else len(r)
@@ -423,6 +445,10 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
                 _common.run_tasks(client, [(job, [f])], render_frames, on_result, progress, count)
                 progress.update(k + 1, k + 1)
         progress.finish()
+        if negatives[0]:
+            progress.message(f"batch rain: warning: --input-dir {a.input_dir}: {negatives[0]} negative value"
+                             f"{'s' if negatives[0] != 1 else ''} in {negatives[1]} frame(s) read as 0 (light cannot "
+                             "be negative)")
     finally:
         _common.close_client(client, cluster)
         if manifest is not None:
@@ -551,15 +577,22 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
     except KeyboardInterrupt:
         interrupted = True  # the staged chunks stay: a re-run goes on from them
         raise
+    except _common.RunFailure as e:
+        # The system failed (a full disk): the chunks staged so far, this run's and any earlier one's, stay
+        # for a re-run to go on from, as after Ctrl-C.
+        interrupted = manifest is not None
+        raise _common.RunFailure(f"{e}; the chunks staged so far stay in {staging} for a re-run" if interrupted
+                                 else str(e)) from None
     finally:
         _common.close_client(client, cluster)
         if manifest is not None:
             _common.remove_stale_temporaries(staging, chunk_names)
             _common.remove_stale_temporaries(out_dir, [os.path.basename(output)])
             manifest.close()
-            if not finished and not interrupted:
-                # A failed run (a bad video, a full disk) leaves nothing behind: the staging folder goes whole.
-                _common.remove_staging(staging, r"chunk_[0-9]{9}\.rgb")
+        if not finished and not interrupted:
+            # A bad video (truncated, corrupt) leaves nothing behind: the staging folder goes whole (its
+            # chunks cannot be used), and so does one this run made but could not start a manifest in.
+            _common.remove_staging(staging, r"chunk_[0-9]{9}\.rgb")
 
 
 def _video_job(a, after_result, client, info, field, expected, staging, manifest, video, video_label, output,
