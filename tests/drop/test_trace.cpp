@@ -13,21 +13,16 @@
 #include "hydrolux/drop/model.hpp"
 #include "hydrolux/drop/trace.hpp"
 #include "hydrolux/optics/fresnel.hpp"
+#include "support/stats.hpp"
 
 namespace hydrolux::drop {
 namespace {
 
-Vec3 random_unit(Rng& rng) {
-  const double z = 1 - 2 * rng.uniform(), phi = 2 * kPi<> * rng.uniform();
-  const double s = std::sqrt(std::max(0.0, 1 - z * z));
-  return {s * std::cos(phi), s * std::sin(phi), z};
-}
-
 // A ray from a random point on a sphere of radius 3 R around `centre` towards a random point of
 // the ball of radius R there: it may hit or miss the drop.
 Ray random_ray_towards(Rng& rng, const Vec3& centre, double R) {
-  const Vec3 from = centre + 3 * R * random_unit(rng);
-  const Vec3 to = centre + R * std::cbrt(rng.uniform()) * random_unit(rng);
+  const Vec3 from = centre + 3 * R * test::uniform_sphere(rng);
+  const Vec3 to = centre + R * std::cbrt(rng.uniform()) * test::uniform_sphere(rng);
   return {from, glm::normalize(to - from)};
 }
 
@@ -152,12 +147,12 @@ TEST(StarSurface, SphereMatchesAnalytic) {
     switch (k % 3) {
       case 0: ray = random_ray_towards(rng, c, 1.1 * a); break;
       case 1:
-        ray = {c + 0.99 * a * std::cbrt(rng.uniform()) * random_unit(rng), random_unit(rng)};
+        ray = {c + 0.99 * a * std::cbrt(rng.uniform()) * test::uniform_sphere(rng), test::uniform_sphere(rng)};
         break;
       default: {
         // On the surface (as after a refraction), with a small t_min.
-        const Vec3 u = random_unit(rng);
-        ray = {c + a * u, random_unit(rng)};
+        const Vec3 u = test::uniform_sphere(rng);
+        ray = {c + a * u, test::uniform_sphere(rng)};
         t_min = 1e-9;
       }
     }
@@ -207,8 +202,8 @@ TEST(StarSurface, EllipsoidMatchesAnalytic) {
       if (k % 2 == 0) {
         ray = random_ray_towards(rng, e.centre, e.max_axis());
       } else {  // from inside
-        const Vec3 u = random_unit(rng);
-        ray = {e.centre + 0.99 * e.radius(u) * rng.uniform() * u, random_unit(rng)};
+        const Vec3 u = test::uniform_sphere(rng);
+        ray = {e.centre + 0.99 * e.radius(u) * rng.uniform() * u, test::uniform_sphere(rng)};
       }
       const auto h = star.intersect(ray, 0.0);
       const auto t = e.exact_t(ray, 0.0);
@@ -268,11 +263,11 @@ TEST(StarSurface, NonConvexMatchesBruteForce) {
     if (k % 3 == 0) {
       ray = random_ray_towards(rng, c, 1.12 * a);
     } else if (k % 3 == 1) {
-      const Vec3 u = random_unit(rng);
-      ray = {c + 0.98 * r(u) * rng.uniform() * u, random_unit(rng)};
+      const Vec3 u = test::uniform_sphere(rng);
+      ray = {c + 0.98 * r(u) * rng.uniform() * u, test::uniform_sphere(rng)};
     } else {
-      const Vec3 u = random_unit(rng);
-      ray = {c + r(u) * u, random_unit(rng)};
+      const Vec3 u = test::uniform_sphere(rng);
+      ray = {c + r(u) * u, test::uniform_sphere(rng)};
       t_min = 1e-7;
     }
     const auto h = star.intersect(ray, t_min);
@@ -461,7 +456,7 @@ TEST(TracePaths, SphereMatchesTheModel) {
   double worst_dir = 0, worst_gap = 0, worst_weight = 0;
   for (int k = 0; k < 3000; ++k) {
     // A random direction within the sphere's silhouette cone (half angle asin(0.25) = 14.5 deg).
-    const Vec3 target = c + 0.5 * std::cbrt(rng.uniform()) * random_unit(rng);
+    const Vec3 target = c + 0.5 * std::cbrt(rng.uniform()) * test::uniform_sphere(rng);
     const Ray ray{{0, 0, 0}, glm::normalize(target)};
     const auto first = sphere.intersect(ray, 0.0);
     if (!first) continue;

@@ -3,20 +3,15 @@
 
 #include "hydrolux/core/random.hpp"
 #include "hydrolux/optics/snell.hpp"
+#include "support/stats.hpp"
 
 namespace hydrolux::optics {
 namespace {
 
-Vec3 random_unit(Rng& rng) {
-  const double z = 1 - 2 * rng.uniform(), phi = 2 * kPi<> * rng.uniform();
-  const double r = std::sqrt(std::max(0.0, 1 - z * z));
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
 TEST(Snell, ReflectionKeepsAngleAndPlane) {
   Rng rng(1);
   for (int i = 0; i < 1000; ++i) {
-    const Vec3 n = random_unit(rng), wo = random_unit(rng);
+    const Vec3 n = test::uniform_sphere(rng), wo = test::uniform_sphere(rng);
     const Vec3 wr = reflect(wo, n);
     EXPECT_NEAR(glm::length(wr), 1.0, 1e-14);
     EXPECT_NEAR(glm::dot(wr, n), glm::dot(wo, n), 1e-14);              // same angle, same side
@@ -30,7 +25,7 @@ TEST(Snell, VectorFormObeysSnellsLawFromBothSides) {
   Rng rng(2);
   for (double eta : {1.333, 1.5, 1 / 1.333, 2.4}) {
     for (int i = 0; i < 2000; ++i) {
-      const Vec3 n = random_unit(rng), wi = random_unit(rng);
+      const Vec3 n = test::uniform_sphere(rng), wi = test::uniform_sphere(rng);
       const double cos_i = glm::dot(wi, n);
       const double n_i = cos_i >= 0 ? 1.0 : eta, n_t = cos_i >= 0 ? eta : 1.0;
       const double sin_i = std::sqrt(std::max(0.0, 1 - cos_i * cos_i));
@@ -54,7 +49,7 @@ TEST(Snell, VectorFormObeysSnellsLawFromBothSides) {
 TEST(Snell, RefractionIsReversible) {
   Rng rng(3);
   for (int i = 0; i < 1000; ++i) {
-    const Vec3 n{0, 0, 1}, wi = random_unit(rng);
+    const Vec3 n{0, 0, 1}, wi = test::uniform_sphere(rng);
     const auto r = refract(wi, n, 1.333);
     if (!r) continue;
     const auto back = refract(r->wt, n, 1.333);

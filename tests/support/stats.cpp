@@ -341,6 +341,12 @@ Vec3 uniform_sphere(double u1, double u2) {
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
+Vec3 uniform_sphere(Rng& rng) {
+  const double u1 = rng.uniform();
+  const double u2 = rng.uniform();
+  return uniform_sphere(u1, u2);
+}
+
 Estimate integrate_f_cos_uniform(const optics::BxDF& bxdf, const Vec3& wo,
                                  optics::TransportMode mode, std::int64_t n, std::uint64_t seed,
                                  Hemisphere which) {

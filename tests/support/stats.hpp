@@ -141,5 +141,7 @@ Estimate integrate_f_cos_uniform(const optics::BxDF& bxdf, const Vec3& wo,
 
 // Uniform direction on the unit sphere from two uniforms.
 Vec3 uniform_sphere(double u1, double u2);
+// The same from the next two draws of `rng` (u1 first), for tests that need random directions.
+Vec3 uniform_sphere(Rng& rng);
 
 }  // namespace hydrolux::test

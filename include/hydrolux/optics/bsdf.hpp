@@ -2,7 +2,7 @@
 // BSDFs of a plane interface: perfectly smooth (delta) reflection and transmission, and rough
 // microfacet reflection (Torrance-Sparrow) and reflection + transmission (Walter et al. 2007).
 //
-// Conventions, stated once for every BxDF here:
+// Conventions of every BxDF here (the index and Fresnel conventions are fresnel.hpp's):
 // - pbrt-v4 style f(wo, wi) in the local shading frame (normal +z, core/vec.hpp): light ARRIVES
 //   along wi and LEAVES along wo; both are unit vectors pointing away from the surface.
 //   f has units 1/sr; the scattered radiance is L_o(wo) = int f(wo, wi) L_i(wi) |cos theta_i| dwi.

@@ -2,7 +2,7 @@
 // Fresnel equations for a plane interface: dielectric (both sides, total internal reflection
 // included) and absorbing media (conductors) with a complex index. Exact; no Schlick.
 //
-// Conventions, stated once for all of hydrolux:
+// Conventions of the complex index and of the interface (bsdf.hpp and the scattering code use the same):
 // - Complex index n = eta + i k with k >= 0 absorbing (time dependence exp(-i omega t), as in
 //   Bohren & Huffman).
 // - Light arrives in a transparent medium of real index n_i at angle theta_i (cos_i in [0, 1])
