@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -33,16 +34,33 @@ std::uint64_t available_memory_bytes() {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     avail = pages > 0 && page > 0 ? std::uint64_t(pages) * std::uint64_t(page) : UINT64_MAX;
   }
-  // A cgroup v2 memory limit (a container's) less what the group uses already.
+  // A cgroup v2 memory limit (a container's): the limit less what the group uses, not counting the page
+  // cache it could drop (inactive_file), so a group that has read many files does not look full. The
+  // process's own group, from /proc/self/cgroup ("0::/path").
   {
-    std::ifstream max_file("/sys/fs/cgroup/memory.max"), current_file("/sys/fs/cgroup/memory.current");
-    std::string max_text;
-    std::uint64_t current = 0;
-    if (max_file >> max_text && max_text != "max" && current_file >> current) {
-      try {
-        const std::uint64_t limit = std::stoull(max_text);
-        avail = std::min(avail, limit > current ? limit - current : 0);
-      } catch (const std::exception&) {
+    std::ifstream self("/proc/self/cgroup");
+    std::string group;
+    for (std::string line; std::getline(self, line);)
+      if (line.rfind("0::", 0) == 0) group = line.substr(3);
+    if (!group.empty()) {
+      const std::string dir = "/sys/fs/cgroup" + (group == "/" ? std::string() : group);
+      std::ifstream max_file(dir + "/memory.max"), current_file(dir + "/memory.current");
+      std::string max_text;
+      std::uint64_t current = 0;
+      if (max_file >> max_text && max_text != "max" && current_file >> current) {
+        std::uint64_t limit = 0;
+        const auto [ptr, ec] = std::from_chars(max_text.data(), max_text.data() + max_text.size(), limit);
+        if (ec == std::errc() && ptr == max_text.data() + max_text.size()) {
+          std::uint64_t reclaimable = 0;
+          std::ifstream stat(dir + "/memory.stat");
+          for (std::string key; stat >> key;) {
+            std::uint64_t value = 0;
+            if (!(stat >> value)) break;
+            if (key == "inactive_file") reclaimable = value;
+          }
+          const std::uint64_t used = current > reclaimable ? current - reclaimable : 0;
+          avail = std::min(avail, limit > used ? limit - used : 0);
+        }
       }
     }
   }
