@@ -76,10 +76,12 @@ fuzz-smoke: fuzz-build
 sanitize-build: $(SAN_DIR)/build.ninja
 	cmake --build $(SAN_DIR) -j $(JOBS)
 
-# The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer (the CLI it drives too).
+# The test suite under AddressSanitizer and UndefinedBehaviorSanitizer (the CLI it drives too), but for
+# the web demo's browser test (the Release suite runs it; its CLI runs, export and sky, are run under the
+# sanitizers by tests/cli) and with the robustness test's documented subset (tests/cli/test_robustness.cpp).
 test-sanitize: deps
 	@$(MAKE) --no-print-directory sanitize-build
-	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -LE fuzz
+	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -LE "fuzz|web"
 
 # Each fuzz target (or those named in FUZZ_TARGETS, e.g. FUZZ_TARGETS=fuzz_image) for FUZZ_SECONDS
 # on a scratch copy of its seed corpus; findings go to $(SAN_DIR)/fuzz-runs/<target>/findings/.
