@@ -139,13 +139,12 @@ std::uint64_t check_frame_values(const Image& frame) {
   std::vector<std::uint64_t> negatives(std::size_t(H), 0);
   std::atomic<int> first_bad_row{H};
   tbb::parallel_for(0, H, [&](int y) {
-    const float* row = frame.pixels.data() + std::size_t(y) * std::size_t(W) * std::size_t(ch);
+    const float* row = frame.pixels.data() + std::size_t(y) * std::size_t(W) * std::size_t(ch);  // ch >= 3
     std::uint64_t neg = 0;
     bool finite = true;
-    for (std::size_t i = 0; i < std::size_t(W) * std::size_t(ch); ++i) {
-      const float v = row[i];
-      finite &= std::isfinite(v);
-      neg += (v < 0.f && int(i % std::size_t(ch)) < 3) ? 1 : 0;
+    for (int x = 0; x < W; ++x, row += ch) {
+      for (int k = 0; k < 3; ++k) neg += row[k] < 0.f ? 1 : 0;
+      for (int k = 0; k < ch; ++k) finite &= std::isfinite(row[k]);
     }
     negatives[std::size_t(y)] = neg;
     if (!finite) {

@@ -161,7 +161,11 @@ void check_memory(const rain::RainCamera& c, int input_channels, bool with_layer
   const double need = double(rain::estimated_render_bytes(c, input_channels, with_layer));
   const double avail = double(available_memory_bytes());
   if (need <= avail) return;
-  const double scale = std::sqrt(avail / need);
+  // What grows with the pixels scales; the program and the drops do not.
+  rain::RainCamera none = c;
+  none.width = none.height = 0;
+  const double fixed = double(rain::estimated_render_bytes(none, input_channels, with_layer));
+  const double scale = std::sqrt(std::max(0.0, avail - fixed) / (need - fixed));
   throw Error(fmt::format("{}: rain over {}x{} needs about {} of memory and {} is available; about {}x{} would fit",
                           what, c.width, c.height, format_bytes(need), format_bytes(avail),
                           int(std::floor(c.width * scale)), int(std::floor(c.height * scale))));

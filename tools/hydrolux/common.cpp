@@ -142,12 +142,16 @@ ImageOutput declare_output_image(io::FileSet& files, const std::string& flag, co
   return {&files.output(flag, path), format};
 }
 
-Image read_input_image(const std::string& flag, const std::string& path) {
+io::DecodedImage read_input_decoded(const std::string& flag, const std::string& path) {
   const ImageApi& images = image_api();  // before reading: a missing plugin is reported first
   const std::string bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, flag);
   auto decoded = images.decode_image(bytes, fmt::format("{} {}", flag, path), io::ImageLimits{});
   for (const auto& w : decoded.warnings) warn(fmt::format("{} {}: {}", flag, path, w));
-  return std::move(decoded.image);
+  return decoded;
+}
+
+Image read_input_image(const std::string& flag, const std::string& path) {
+  return std::move(read_input_decoded(flag, path).image);
 }
 
 void write_output_image(const ImageOutput& out, const Image& image) {

@@ -108,6 +108,8 @@ ImageOutput declare_output_image(io::FileSet& files, const std::string& flag, co
 // Reads an image declared as an input: the bytes through the library's checked reader, decoded by
 // the image plugin; the codec's warnings become one warning line each.
 Image read_input_image(const std::string& flag, const std::string& path);
+// The same with the format the content was decoded as (for inputs that must be of one format).
+io::DecodedImage read_input_decoded(const std::string& flag, const std::string& path);
 // Encodes an image (the plugin's encoder) into a declared output; committed with the FileSet.
 void write_output_image(const ImageOutput& out, const Image& image);
 

@@ -185,15 +185,11 @@ scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_pat
   const auto kind = axes.kind;
   const auto axis = axes.axis;
   // The content decides, not the name: a PNG renamed .exr decodes to display values in [0, 1].
-  const std::string bytes = io::read_file(exr_path, io::ImageLimits{}.max_file_bytes, flag);
-  const auto format = io::sniff_image_format(bytes);
-  if (format != io::ImageFormat::exr)
-    throw bad(format ? fmt::format("the file is {} by its content, not OpenEXR (a table holds linear sr^-1 values; "
-                                   "a renamed display image does not)",
-                                   io::format_name(*format))
-                     : std::string("the file is not OpenEXR by its content"));
-  auto decoded = image_api().decode_image(bytes, fmt::format("{} {}", flag, exr_path), io::ImageLimits{});
-  for (const auto& w : decoded.warnings) warn(fmt::format("{} {}: {}", flag, exr_path, w));
+  const io::DecodedImage decoded = read_input_decoded(flag, exr_path);
+  if (decoded.format != io::ImageFormat::exr)
+    throw bad(fmt::format("the file is {} by its content, not OpenEXR (a table holds linear sr^-1 values; a renamed "
+                          "display image does not)",
+                          io::format_name(decoded.format)));
   const Image& im = decoded.image;
   if (im.channels < 3) throw bad("the EXR has fewer than 3 channels");
   if (im.width != int(radii.size()) || im.height != int(rows.size()))
