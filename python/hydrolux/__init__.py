@@ -41,19 +41,9 @@ ArrayLike = Union[float, Sequence[float], np.ndarray]
 # one-line TypeError or ValueError naming it, its value (short, never an array's contents) and what
 # is valid.
 
-def _describe(value: Any) -> str:
-    """A value as an error message shows it: short, and never an array's or a container's contents."""
-    if value is None:
-        return "None"
-    if isinstance(value, np.ndarray):
-        return f"an array of shape {value.shape} and dtype {value.dtype}"
-    if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) and \
-            abs(int(value)).bit_length() > 128:
-        return f"a whole number of {int(abs(int(value)).bit_length() * 0.30103) + 1} digits"
-    if isinstance(value, (str, bytes, bool, int, float, complex, np.generic)):
-        r = repr(value) if isinstance(value, (str, bytes)) else str(value)
-        return r if len(r) <= 40 else r[:37] + "..."
-    return f"a {type(value).__name__}"
+# A value as an error message shows it: short, and never an array's or a container's contents (the
+# same words as the bindings' own messages).
+_describe = _core.describe
 
 
 _REALS = (int, float, np.integer, np.floating)

@@ -823,6 +823,8 @@ PYBIND11_MODULE(_core, m) {
         for (const auto& [label, path] : outputs) files.planned_output(label, path);
       },
       py::arg("inputs"), py::arg("outputs"));
+  // A value as an error message shows it (short, never an array's contents): the bindings' own words.
+  m.def("describe", [](py::handle v) { return describe(v); }, py::arg("value"));
   // A text as hydrolux prints it in a message: one line that cannot drive the terminal.
   m.def("printable", [](const std::string& text) { return hydrolux::printable(text); }, py::arg("text"));
   // The memory this process can still expect to get, in bytes (core/memory.hpp).
