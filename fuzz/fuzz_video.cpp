@@ -1,12 +1,13 @@
-// libFuzzer target: video through the CLI's video plugin (tools/hydrolux/plugin/video_plugin.cpp,
-// linked in directly): FFmpeg's demuxers reading the bytes through the plugin's AVIOContext (reads
-// and seeks anywhere, the size asked for), stream selection, the decoder and the conversion to RGB.
+// libFuzzer target: video through hydrolux/io/video.hpp's FFmpeg code (src/io/video_ffmpeg.cpp,
+// the object library hydrolux_video, linked in directly): FFmpeg's demuxers reading the bytes
+// through its AVIOContext (reads and seeks anywhere, the size asked for), stream selection, the
+// decoder and the conversion to RGB.
 // Small limits and at most a few frames keep a run fast. Invariants: a refused input throws
 // hydrolux::Error, nothing else; an accepted one has a frame size within the limits, and every
 // frame is exactly that size.
 //
-// FFmpeg itself is Debian's uninstrumented build: the fuzzer's coverage sees only the plugin, so
-// this is a robustness check of the plugin's handling of FFmpeg's answers (and of FFmpeg under
+// FFmpeg itself is Debian's uninstrumented build: the fuzzer's coverage sees only hydrolux's code,
+// so this is a robustness check of its handling of FFmpeg's answers (and of FFmpeg under
 // AddressSanitizer's allocator) rather than a coverage-guided search inside FFmpeg.
 #include <algorithm>
 #include <cstdint>
@@ -14,9 +15,7 @@
 #include <cstring>
 
 #include "hydrolux/core/error.hpp"
-#include "video_plugin.hpp"
-
-extern "C" const hydrolux::cli::VideoApi* hydrolux_video_api_v1();
+#include "hydrolux/io/video.hpp"
 
 namespace {
 void check(bool ok) {
@@ -33,16 +32,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::memcpy(buffer, data + offset, k);
     return k;
   };
-  cli::VideoLimits limits;
+  io::VideoLimits limits;
   limits.max_side = 512;
   limits.max_pixels = std::int64_t(1) << 18;
   try {
     const auto reader = hydrolux_video_api_v1()->open_reader(read, size, "fuzz", limits);
-    const cli::VideoInfo& info = reader->info();
+    const io::VideoInfo& info = reader->info();
     check(info.width > 0 && info.height > 0 && info.width <= limits.max_side && info.height <= limits.max_side &&
           std::int64_t(info.width) * info.height <= limits.max_pixels);
     check(info.fps_den > 0 && info.fps_num >= 0 && info.duration_s >= 0);
-    cli::VideoFrame frame;
+    io::VideoFrame frame;
     for (int i = 0; i < 4 && reader->read(frame); ++i)
       check(frame.width == info.width && frame.height == info.height &&
             frame.rgb.size() == std::size_t(info.width) * std::size_t(info.height) * 3);

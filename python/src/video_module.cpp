@@ -1,5 +1,5 @@
-// hydrolux._video: video files through the same FFmpeg code as `hydrolux rain --video` (the CLI's
-// video plugin, linked in), read and written through hydrolux's checked inputs and atomic outputs,
+// hydrolux._video: video files through the same FFmpeg code as `hydrolux rain --video`
+// (hydrolux/io/video.hpp, the object library hydrolux_video linked in), read and written through hydrolux's checked inputs and atomic outputs,
 // with the CLI's 8-bit sRGB tables. A module of its own, imported only by the code that needs video.
 #include <fmt/format.h>
 #include <pybind11/stl.h>
@@ -13,14 +13,12 @@
 #include "common.hpp"
 #include "hydrolux/color/srgb.hpp"
 #include "hydrolux/io/files.hpp"
-#include "video_plugin.hpp"
-
-extern "C" const hydrolux::cli::VideoApi* hydrolux_video_api_v1();
+#include "hydrolux/io/video.hpp"
 
 namespace hydrolux::py_bind {
 namespace {
 
-const cli::VideoApi& api() { return *hydrolux_video_api_v1(); }
+const io::VideoApi& api() { return *hydrolux_video_api_v1(); }
 const color::Srgb8Tables& tables() {
   static const color::Srgb8Tables t;
   return t;
@@ -32,7 +30,7 @@ class PyVideoReader {
     py::gil_scoped_release release;
     reader_ = api().open_reader(
         [this](std::uint64_t off, char* buf, std::size_t n) { return input_.read_at(off, buf, n); }, input_.size(),
-        fmt::format("{} {}", label, path), cli::VideoLimits{});
+        fmt::format("{} {}", label, path), io::VideoLimits{});
   }
 
   py::dict info() const {
@@ -66,8 +64,8 @@ class PyVideoReader {
 
  private:
   io::InputFile input_;
-  std::unique_ptr<cli::VideoReader> reader_;
-  cli::VideoFrame frame_;
+  std::unique_ptr<io::VideoReader> reader_;
+  io::VideoFrame frame_;
 };
 
 class PyVideoWriter {
@@ -76,10 +74,10 @@ class PyVideoWriter {
       : out_(path, label) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (std::find(std::begin(cli::kVideoExtensions), std::end(cli::kVideoExtensions), ext) ==
-        std::end(cli::kVideoExtensions))
+    if (std::find(std::begin(io::kVideoExtensions), std::end(io::kVideoExtensions), ext) ==
+        std::end(io::kVideoExtensions))
       throw Error(fmt::format("{} {}: expected a .mp4, .mov or .mkv file", label, path));
-    cli::VideoInfo i;
+    io::VideoInfo i;
     i.width = info["width"].cast<int>(), i.height = info["height"].cast<int>();
     i.fps_num = info["fps_num"].cast<int>(), i.fps_den = info["fps_den"].cast<int>();
     i.frame_count = info["frame_count"].cast<std::int64_t>(), i.duration_s = info["duration_s"].cast<double>();
@@ -116,8 +114,8 @@ class PyVideoWriter {
 
  private:
   io::OutputFile out_;
-  std::unique_ptr<cli::VideoWriter> writer_;
-  cli::VideoFrame frame_;
+  std::unique_ptr<io::VideoWriter> writer_;
+  io::VideoFrame frame_;
 };
 
 // Linear float frames (H, W, >= 3) as the 8-bit sRGB bytes the video encoder is given.

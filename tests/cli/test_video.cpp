@@ -1,4 +1,4 @@
-// The video plugin (tools/hydrolux/video_plugin.hpp) as the CLI uses it: loaded with video_api()
+// The video plugin (hydrolux/io/video.hpp) as the CLI uses it: loaded with video_api()
 // from beside the test executable (build/bin, where the plugin is built), reading through
 // io::InputFile and writing through io::OutputFile::write_at. Test videos are made, and the plugin's
 // output checked, with Debian's ffmpeg and ffprobe (scripts/install-deps installs them).
@@ -20,8 +20,8 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
+#include "hydrolux/io/video.hpp"
 #include "support/cli.hpp"
-#include "video_plugin.hpp"
 
 namespace {
 
@@ -29,12 +29,12 @@ namespace fs = std::filesystem;
 using hydrolux::Error;
 using hydrolux::IoError;
 using hydrolux::IoFailure;
-using hydrolux::cli::video_api;
-using hydrolux::cli::VideoFrame;
-using hydrolux::cli::VideoInfo;
-using hydrolux::cli::VideoLimits;
-using hydrolux::cli::VideoReader;
-using hydrolux::cli::VideoWriter;
+using hydrolux::io::video_api;
+using hydrolux::io::VideoFrame;
+using hydrolux::io::VideoInfo;
+using hydrolux::io::VideoLimits;
+using hydrolux::io::VideoReader;
+using hydrolux::io::VideoWriter;
 
 fs::path temp_dir() { return hydrolux::testing::temp_dir("hydrolux_video"); }
 

@@ -1,13 +1,13 @@
 #include "image_plugin.hpp"
 
-#include "plugin_loader.hpp"
+#include "hydrolux/io/plugin.hpp"
 
 namespace hydrolux::cli {
 
 const ImageApi& image_api() {
   // A failed load throws and is retried on the next call.
   static const ImageApi& api =
-      *reinterpret_cast<const ImageApi* (*)()>(plugin_entry(kImagePluginFile, kImagePluginSymbol, "image"))();
+      *reinterpret_cast<const ImageApi* (*)()>(io::plugin_entry(kImagePluginFile, kImagePluginSymbol, "image"))();
   return api;
 }
 

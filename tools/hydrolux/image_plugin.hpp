@@ -32,8 +32,8 @@ struct ImageApi {
 inline constexpr const char* kImagePluginSymbol = "hydrolux_image_api_v2";
 inline constexpr const char* kImagePluginFile = "libhydrolux_image_plugin.so";
 
-// Loads the plugin (once; thread-safe) from the directory of the running executable. Throws
-// hydrolux::Error naming the file and the loader's reason if it cannot.
+// Loads the plugin (once; thread-safe) from the directory of the running executable
+// (hydrolux/io/plugin.hpp). Throws hydrolux::Error naming the file and the loader's reason if it cannot.
 const ImageApi& image_api();
 
 }  // namespace hydrolux::cli

@@ -1,151 +1,93 @@
-// The files of a Lee table: see lee_files.hpp.
+// The CLI's side of a Lee table's files: see lee_files.hpp.
 #include "lee_files.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <bit>
+#include <array>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
+#include <optional>
 
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/memory.hpp"
-#include "hydrolux/version.hpp"
+#include "hydrolux/core/parse.hpp"
 #include "image_plugin.hpp"
 
 namespace hydrolux::cli {
 
-nlohmann::json to_json(const std::vector<double>& v) {
-  nlohmann::json a = nlohmann::json::array();
-  for (double x : v) a.push_back(x);
-  return a;
+atmos::LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im) {
+  return atmos::encode_lee_files(t, im, image_api().encode_image);
 }
 
-nlohmann::json lee_sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im, const std::string& exr_name,
-                       const std::string& png_name) {
-  const auto& s = t.spec;
-  nlohmann::json j;
-  j["format"] = "hydrolux-lee-table";
-  j["format_version"] = 1;
-  j["hydrolux_version"] = kVersion;
-  j["table"] = atmos::table_kind_name(s.table);
-  j["theory"] = scatter::theory_name(s.theory);
-  j["quantity"] =
-      "T = <dsigma_sca/dOmega> / <pi a^2>: radiance scattered once per unit incident irradiance per unit "
-      "projected-area optical depth of the drops (L = E_sun * tau_geo * T; tau_geo = path * sum pi a^2 n(a), "
-      "= tau_ext / 2 for drops much larger than the wavelength); averaged over the size distribution, the sun's "
-      "disk and the spectrum; not normalised per column";
-  j["units"] = "sr^-1";
-  j["files"] = {{"exr", exr_name}, {"png", png_name}};
-  j["width"] = t.columns();
-  j["height"] = t.rows();
-  j["layout"] = {
-      {"x", "radius: column i holds radius_um[i], increasing to the right"},
-      {"y", s.axis == atmos::AngleAxis::angle ? "scattering angle: row j holds angle_deg[j], increasing downward"
-                                              : "cosine of the scattering angle: row j holds cos_angle[j], increasing "
-                                                "downward (cos_angle = dot(view ray, direction to the sun))"},
-      {"sample", "pixel (i, j) is centred on radius_um[i] and its row's angle (sample texel centres: u = (i + 0.5) "
-                 "/ width, v = (j + 0.5) / height); its value is averaged over the sun's disk and over its row's "
-                 "cell, one row spacing wide along the y axis (a box filter, so fringes finer than the table average "
-                 "out instead of aliasing); each column is one size distribution"},
-      {"scattering_angle", "0 = forward (looking toward the sun through the drops), 180 = the antisolar point"}};
-  j["axis"] = atmos::angle_axis_name(s.axis);
-  j["radius_scale"] = atmos::radius_scale_name(s.radius_scale);
-  j["radius_um"] = to_json(t.radius_um);
-  if (s.axis == atmos::AngleAxis::angle)
-    j["angle_deg"] = to_json(t.angle_deg);
-  else
-    j["cos_angle"] = to_json(t.cos_angle);
-  j["channels"] = {
-      {"exr", {"R", "G", "B", "XYZ.X", "XYZ.Y", "XYZ.Z"}},
-      {"R,G,B", "linear RGB, desaturated into the gamut toward the white point at constant luminance"},
-      {"XYZ", "CIE 1931 X, Y, Z, unmapped, relative to the sun's luminance (Y = luminance in sr^-1)"}};
-  j["color_space"] = {
-      {"rgb", color::rgb_space_name(s.rgb_space)},
-      {"white", "D65"},
-      {"adaptation", "Bradford, from the sun's white (sun_white_xyz) to D65: sunlight itself is RGB (1,1,1) x "
-                     "its luminance"},
-      {"gamut_mapping", "a colour with a negative component becomes Y (1,1,1) + s (rgb - Y (1,1,1)) with the "
-                        "largest s in [0,1] that makes it non-negative (constant luminance Y)"},
-      {"sun_white_xyz", {t.sun_white.X, t.sun_white.Y, t.sun_white.Z}},
-      {"xyz_to_rgb", {{t.xyz_to_rgb[0][0], t.xyz_to_rgb[0][1], t.xyz_to_rgb[0][2]},
-                      {t.xyz_to_rgb[1][0], t.xyz_to_rgb[1][1], t.xyz_to_rgb[1][2]},
-                      {t.xyz_to_rgb[2][0], t.xyz_to_rgb[2][1], t.xyz_to_rgb[2][2]}}}};
-  j["spectrum"] = {{"observer", "CIE 1931 2-degree"},
-                   {"sun", s.sun.name()},
-                   {"wavelength_min_nm", s.wavelength_min_nm},
-                   {"wavelength_max_nm", s.wavelength_max_nm},
-                   {"wavelengths_nm", to_json(t.wavelengths_nm)}};
-  j["sun_disk"] = {{"diameter_deg", s.sun_disk_deg}, {"limb_darkening", s.limb_darkening}};
-  if (s.limb_darkening) j["sun_disk"]["limb_darkening_u"] = atmos::kLimbDarkeningU;
-  j["size_distribution"] = s.size_spread > 0
-                               ? nlohmann::json{{"kind", "gamma"},
-                                                {"radius", "number-weighted mean radius"},
-                                                {"relative_width", s.size_spread}}
-                               : nlohmann::json{{"kind", "monodisperse"}};
-  j["medium"] = {{"drop", s.drop_medium}, {"surrounding", s.surrounding_medium}};
-  if (s.temperature_c) j["medium"]["temperature_c"] = *s.temperature_c;
-  j["sampling"] = {{"multiplier", s.sampling},
-                   {"wavelengths", t.work.wavelengths},
-                   {"radius_nodes", t.work.radius_nodes},
-                   {"angle_cells", t.work.cells},
-                   {"seed", s.seed}};
-  j["work"] = {{"evaluations", t.work.evaluations}, {"terms", t.work.terms}, {"term_angles", t.work.term_angles}};
-  j["png"] = {{"tone_mapping", "Reinhard et al. 2002 photographic operator on luminance, hue kept: exposure = 0.18 / "
-                               "log-average luminance; L' = L (1 + L/white^2) / (1 + L), white = 99.9th percentile "
-                               "of the exposed luminance; clipped to [0,1]; sRGB curve; 8 bits"},
-              {"exposure", im.exposure},
-              {"white", im.white}};
-  return j;
-}
-
-LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im) {
-  static_assert(std::endian::native == std::endian::little, "the .f32 tables are little-endian");
-  LeeFileBytes out;
-  Image lin(t.columns(), t.rows(), 6);
-  lin.pixels.assign(im.linear.begin(), im.linear.end());
-  lin.channel_names = {"R", "G", "B", "XYZ.X", "XYZ.Y", "XYZ.Z"};
-  Image disp(t.columns(), t.rows(), 3);
-  disp.pixels.assign(im.display.begin(), im.display.end());
-  out.exr = image_api().encode_image(lin, io::ImageFormat::exr, {});
-  out.png = image_api().encode_image(disp, io::ImageFormat::png, {});
-  std::vector<float> rgb(std::size_t(t.columns()) * t.rows() * 3);
-  for (std::size_t p = 0; p < std::size_t(t.columns()) * t.rows(); ++p)
-    for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = im.linear[p * 6 + c];
-  out.f32.resize(rgb.size() * sizeof(float));
-  std::memcpy(out.f32.data(), rgb.data(), out.f32.size());
-  return out;
-}
-
-LeeSidecarAxes parse_lee_sidecar(std::string_view json_text) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(json_text);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(fmt::format("not valid JSON ({})", e.what()));
+void set_wavelengths_flag(atmos::LeeSpec& s, const std::string& w) {
+  const auto colons = std::count(w.begin(), w.end(), ':');
+  const auto bad = [&] {
+    return Error(fmt::format("--wavelengths-nm '{}': expected A:B or A:B:N (nanometres in [360, 830], A <= B; N "
+                             "samples in [1, 2000])",
+                             w));
+  };
+  std::optional<std::array<double, 2>> p;
+  if (colons == 2) {
+    const auto last = w.rfind(':');
+    p = parse::pair(w.substr(0, last), ':');
+    const auto n = parse::integer(w.substr(last + 1));
+    if (!n || *n < 1 || *n > 2000) throw bad();
+    s.wavelengths = int(*n);
+  } else if (colons == 1) {
+    p = parse::pair(w, ':');
   }
-  LeeSidecarAxes a;
-  try {
-    if (!j.is_object() || j.value("format", "") != "hydrolux-lee-table") throw Error("not a hydrolux Lee table");
-    const std::string k = j.at("table").get<std::string>();
-    if (k == "rainbow") a.kind = atmos::LeeTableKind::rainbow;
-    else if (k == "corona") a.kind = atmos::LeeTableKind::corona;
-    else if (k == "glory") a.kind = atmos::LeeTableKind::glory;
-    else throw Error(fmt::format("unknown table kind '{}'", printable(k)));
-    const std::string ax = j.at("axis").get<std::string>();
-    if (ax != "angle" && ax != "cos") throw Error(fmt::format("unknown axis '{}'", printable(ax)));
-    a.axis = ax == "cos" ? atmos::AngleAxis::cosine : atmos::AngleAxis::angle;
-    const std::string scale = j.at("radius_scale").get<std::string>();
-    if (scale != "log" && scale != "linear") throw Error(fmt::format("unknown radius_scale '{}'", printable(scale)));
-    a.radius_scale = scale == "log" ? atmos::RadiusScale::log : atmos::RadiusScale::linear;
-    a.radius_um = j.at("radius_um").get<std::vector<double>>();
-    a.rows = j.at(a.axis == atmos::AngleAxis::angle ? "angle_deg" : "cos_angle").get<std::vector<double>>();
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(fmt::format("the table's axes are missing or malformed ({})", e.what()));
-  }
-  return a;
+  if (!p || (*p)[1] < (*p)[0]) throw bad();
+  s.wavelength_min_nm = (*p)[0];
+  s.wavelength_max_nm = (*p)[1];
+}
+
+LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& exr_path) {
+  const std::filesystem::path p(exr_path);
+  if (p.extension() != ".exr")
+    throw Error(fmt::format("-o {}: the table is written as OpenEXR; give a .exr path (the .png and .json go beside "
+                            "it)",
+                            exr_path));
+  LeeOutputs o;
+  o.exr_path = exr_path;
+  o.png_path = std::filesystem::path(p).replace_extension(".png").string();
+  o.json_path = std::filesystem::path(p).replace_extension(".json").string();
+  o.exr = declare_output_image(files, "-o", o.exr_path);
+  o.png = declare_output_image(files, "-o (its .png)", o.png_path);
+  o.sidecar = &files.output("-o (its .json)", o.json_path);
+  (void)image_api();  // image support loads now, not after the work
+  return o;
+}
+
+void LeeOutputs::write(const atmos::LeeTable& t, const atmos::LeeImages& im) const {
+  const atmos::LeeFileBytes bytes = encode_lee_files(t, im);
+  exr.file->write(bytes.exr);
+  png.file->write(bytes.png);
+  sidecar->write(atmos::lee_sidecar(t, im, std::filesystem::path(exr_path).filename().string(),
+                                    std::filesystem::path(png_path).filename().string())
+                     .dump(1) +
+                 "\n");
+}
+
+nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& name, const atmos::LeeTable& t) {
+  const atmos::LeeImages im = atmos::lee_images(t);
+  const atmos::LeeFileBytes bytes = encode_lee_files(t, im);
+  nlohmann::json side = atmos::lee_sidecar(t, im, name + ".exr", name + ".png");
+  side["files"]["f32"] = name + ".f32";
+  side["f32_layout"] =
+      "little-endian float32, rows x columns x 3 (R, G, B as in the EXR), row-major: value (row j, column i, "
+      "channel c) at index (j * width + i) * 3 + c";
+  dir.write(name + ".exr", bytes.exr);
+  dir.write(name + ".png", bytes.png);
+  dir.write(name + ".f32", bytes.f32);
+  dir.write(name + ".json", side.dump(1) + "\n");
+  return {{"kind", atmos::table_kind_name(t.spec.table)},
+          {"columns", t.columns()},
+          {"rows", t.rows()},
+          {"radius_um", {t.radius_um.front(), t.radius_um.back()}},
+          {"angle_deg", {t.angle_deg.front(), t.angle_deg.back()}},
+          {"files", {name + ".exr", name + ".png", name + ".f32", name + ".json"}}};
 }
 
 void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const std::string& size_text) {
@@ -164,6 +106,30 @@ void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const s
                           std::max(1.0, std::floor(specs.front()->rows * k))));
 }
 
+// A frame too large for the memory left is refused before the work, naming what would fit.
+void check_sky_memory(const scene::SkySettings& s, const std::string& size_text) {
+  const double need = scene::estimated_bytes(s), avail = double(available_memory_bytes());
+  if (need <= avail) return;
+  const double cube = s.mode == scene::BowMode::cube_map
+                          ? scene::kSkyBytesPerCubeTexel * double(s.cube_face_size) * s.cube_face_size
+                          : 0;
+  const double frame = need - cube - scene::kSkyFixedBytes;
+  const double room = avail - scene::kSkyFixedBytes;
+  if (cube > frame) {
+    const double fits = std::floor(std::sqrt(std::max(0.0, room - frame) / scene::kSkyBytesPerCubeTexel));
+    throw Error(fmt::format("--cube-face-size {}: the frame and its cube map need about {} of memory and {} is "
+                            "available; faces of at most {:g} texels fit",
+                            s.cube_face_size, format_bytes(need), format_bytes(avail), std::max(0.0, fits)));
+  }
+  const double pixels = double(s.camera.width) * s.camera.height;
+  const double fit_pixels = std::max(0.0, room - cube) / scene::kSkyBytesPerPixel;
+  const double k = std::sqrt(fit_pixels / pixels);
+  throw Error(fmt::format("--size {}: the frame needs about {} of memory and {} is available; at most about {:.0f} "
+                          "megapixels fit (--size {:.0f}x{:.0f} at this aspect)",
+                          size_text, format_bytes(need), format_bytes(avail), fit_pixels / 1e6,
+                          std::floor(s.camera.width * k), std::floor(s.camera.height * k)));
+}
+
 scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_path) {
   const std::filesystem::path p(exr_path);
   const std::string json_path = std::filesystem::path(p).replace_extension(".json").string();
@@ -174,35 +140,50 @@ scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_pat
   };
   if (p.extension() != ".exr") throw bad("expected a .exr file");
   const std::string text = io::read_file(json_path, std::uint64_t(64) << 20, flag + " (its .json sidecar)");
-  LeeSidecarAxes axes;
+  atmos::LeeSidecarAxes axes;
   try {
-    axes = parse_lee_sidecar(text);
+    axes = atmos::parse_lee_sidecar(text);
   } catch (const Error& e) {
     throw bad(fmt::format("its sidecar {}: {}", printable(json_path), e.what()));
   }
-  auto& radii = axes.radius_um;
-  auto& rows = axes.rows;
-  const auto kind = axes.kind;
-  const auto axis = axes.axis;
   // The content decides, not the name: a PNG renamed .exr decodes to display values in [0, 1].
   const io::DecodedImage decoded = read_input_decoded(flag, exr_path);
-  if (decoded.format != io::ImageFormat::exr)
-    throw bad(fmt::format("the file is {} by its content, not OpenEXR (a table holds linear sr^-1 values; a renamed "
-                          "display image does not)",
-                          io::format_name(decoded.format)));
-  const Image& im = decoded.image;
-  if (im.channels < 3) throw bad("the EXR has fewer than 3 channels");
-  if (im.width != int(radii.size()) || im.height != int(rows.size()))
-    throw bad(fmt::format("the EXR is {}x{} but its sidecar describes {} radii x {} rows", im.width, im.height,
-                          radii.size(), rows.size()));
-  std::vector<float> rgb(std::size_t(im.width) * im.height * 3);
-  for (std::size_t q = 0; q < std::size_t(im.width) * im.height; ++q)
-    for (int c = 0; c < 3; ++c) rgb[q * 3 + c] = im.pixels[q * std::size_t(im.channels) + c];
   try {
-    return scene::bow_table(kind, axis, std::move(radii), rows, std::move(rgb), axes.radius_scale);
+    return atmos::lee_bow_table(std::move(axes), decoded);
   } catch (const Error& e) {
     throw bad(e.what());
   }
+}
+
+SkySlices read_sky_luts(const std::vector<std::string>& luts, double radius_um, bool corona) {
+  SkySlices out;
+  bool have_rainbow = false;
+  for (const auto& l : luts) {
+    const scene::BowTable t = read_lee_lut("--lut", l);
+    const double lo = t.radius_um.front(), hi = t.radius_um.back();
+    if (t.kind == atmos::LeeTableKind::rainbow) {
+      if (have_rainbow) throw Error(fmt::format("--lut {}: a second rainbow table (give one per kind)", printable(l)));
+      if (radius_um < lo * 0.999 || radius_um > hi * 1.001)
+        throw Error(fmt::format("--radius-um {:g}: outside the radii of --lut {} [{:g}, {:g}] um", radius_um,
+                                printable(l), lo, hi));
+      out.rainbow = scene::slice_at_radius(t, radius_um);
+      have_rainbow = true;
+    } else if (t.kind == atmos::LeeTableKind::corona) {
+      if (!out.corona.empty())
+        throw Error(fmt::format("--lut {}: a second corona table (give one per kind)", printable(l)));
+      out.corona = scene::slice_at_radius(t, radius_um, /*outside_is_empty=*/true);
+    } else {
+      throw Error(fmt::format("--lut {}: a {} table; the scene takes a rainbow table and optionally a corona table",
+                              printable(l), atmos::table_kind_name(t.kind)));
+    }
+  }
+  if (!have_rainbow)
+    throw Error("--lut: no rainbow table among the tables given (hydrolux lee --table rainbow, or hydrolux export)");
+  if (corona && out.corona.empty())
+    throw Error(fmt::format("--corona: no corona table among --lut covers --radius-um {:g}, so nothing would be drawn "
+                            "(give one: hydrolux lee --table corona, or hydrolux export; or omit --corona)",
+                            radius_um));
+  return out;
 }
 
 }  // namespace hydrolux::cli

@@ -1,41 +1,38 @@
 #pragma once
-// The files of a Lee table, shared by `hydrolux lee` (which writes them), `hydrolux export` (which
-// writes them into an asset folder, with a raw float32 copy for engines) and `hydrolux sky` (which
-// reads them back through --lut): the linear EXR, the display PNG and the JSON sidecar that holds
-// the exact axes.
-#include <nlohmann/json.hpp>
-
+// The CLI's side of the Lee tables (the files' format itself is hydrolux/atmos/lee_files.hpp): the
+// files encoded through the image plugin and written where hydrolux lee and export put them, the
+// memory checks that name --size, and tables read back from disk for `hydrolux sky --lut`.
 #include <string>
-#include <string_view>
 #include <vector>
 
+#include "common.hpp"
 #include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/atmos/lee_files.hpp"
+#include "hydrolux/io/files.hpp"
 #include "hydrolux/scene/compositor.hpp"
 
 namespace hydrolux::cli {
 
-nlohmann::json to_json(const std::vector<double>& v);
+// atmos::encode_lee_files with the image plugin's encoder.
+atmos::LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im);
 
-// The sidecar describing a table, its files named `exr_name` and `png_name`.
-nlohmann::json lee_sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im, const std::string& exr_name,
-                           const std::string& png_name);
+// hydrolux lee's --wavelengths-nm "A:B" or "A:B:N" set on `spec` (the range, and N samples when
+// given); Error naming the flag otherwise.
+void set_wavelengths_flag(atmos::LeeSpec& spec, const std::string& text);
 
-// The bytes of a table's files: EXR (R, G, B, XYZ.X, XYZ.Y, XYZ.Z), PNG, and the raw RGB as
-// little-endian float32 (rows x columns x 3, the EXR's R, G, B).
-struct LeeFileBytes {
-  std::string exr, png, f32;
+// hydrolux lee's files: -o's .exr and the .png and .json beside it, reserved in `files` before the
+// work (the image plugin is loaded then too) and written after it.
+struct LeeOutputs {
+  std::string exr_path, png_path, json_path;
+  ImageOutput exr{}, png{};
+  io::OutputFile* sidecar = nullptr;
+  void write(const atmos::LeeTable& t, const atmos::LeeImages& im) const;
 };
-LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im);
+LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& exr_path);
 
-// The axes a sidecar describes. Throws Error naming what is missing or wrong (not JSON, not a
-// hydrolux Lee table, an unknown kind, axes absent or of the wrong type).
-struct LeeSidecarAxes {
-  atmos::LeeTableKind kind = atmos::LeeTableKind::rainbow;
-  atmos::AngleAxis axis = atmos::AngleAxis::angle;
-  atmos::RadiusScale radius_scale = atmos::RadiusScale::log;
-  std::vector<double> radius_um, rows;
-};
-LeeSidecarAxes parse_lee_sidecar(std::string_view json_text);
+// A computed table's files for an engine, written into `dir` as <name>.exr, .png, .f32 and .json (the
+// sidecar naming the raw copy and its layout): hydrolux export. Returns the table's manifest entry.
+nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& name, const atmos::LeeTable& t);
 
 // Refuses, before the work, tables whose computation would not fit in the memory available
 // (atmos::estimated_bytes, the largest of `specs`, which are computed one after the other): one line
@@ -43,11 +40,23 @@ LeeSidecarAxes parse_lee_sidecar(std::string_view json_text);
 // --size sets; the others scale with it).
 void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const std::string& size_text);
 
-// A table read back for the compositor: `exr_path` and the sidecar beside it (same name, .json).
-// The file must be OpenEXR by its content (a PNG renamed .exr holds display values, not sr^-1);
-// the sidecar's axes and the values are checked by scene::bow_table (finite, strictly increasing,
-// uniform on their scale, values non-negative). Errors name `flag`, the file
-// and what is wrong with it.
+// Refuses, before the work, a hydrolux sky frame that would not fit in the memory available
+// (scene::estimated_bytes): one line naming --cube-face-size when the cube map is most of it, else
+// --size with `size_text`, and what would fit.
+void check_sky_memory(const scene::SkySettings& s, const std::string& size_text);
+
+// A table read back for the compositor: `exr_path` and the sidecar beside it (same name, .json),
+// through atmos::parse_lee_sidecar and atmos::lee_bow_table. Errors name `flag`, the file and what is
+// wrong with it.
 scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_path);
+
+// The scene's tables from hydrolux sky's --lut files, read one by one in the order given (each
+// checked before the next is read): one rainbow table whose radii cover `radius_um` and optionally
+// a corona table, each sliced at that radius (the corona's empty outside its radii). Errors name
+// --lut, --radius-um and, when `corona` is on and no corona table covers the radius, --corona.
+struct SkySlices {
+  scene::BowSlice rainbow, corona;
+};
+SkySlices read_sky_luts(const std::vector<std::string>& luts, double radius_um, bool corona);
 
 }  // namespace hydrolux::cli

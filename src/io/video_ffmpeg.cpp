@@ -1,12 +1,14 @@
-// The CLI's video plugin (see ../video_plugin.hpp): FFmpeg's demuxers and decoders, libx264 and the
-// muxers, and libswscale's colour conversion behind one symbol. FFmpeg's types stay in this file.
+// Video files through FFmpeg (see hydrolux/io/video.hpp): FFmpeg's demuxers and decoders, libx264
+// and the muxers, and libswscale's colour conversion behind one symbol, hydrolux_video_api_v1. Built
+// as the object library hydrolux_video: the CLI's plugin libhydrolux_video_plugin.so, the Python
+// module hydrolux._video and fuzz/fuzz_video link it. FFmpeg's types stay in this file.
 //
 // Bytes move only through the caller's ReadAt / WriteAt, wrapped in custom AVIOContexts. FFmpeg is
 // C: an exception thrown by a callback must not unwind through it, so the callbacks catch it, hand
 // FFmpeg an I/O error, and the exception is rethrown unchanged once FFmpeg has returned (an
 // IoFailure for a full disk stays an IoFailure).
 //
-// FFmpeg prints its diagnostics to stderr; the tool's contract is one line per error. The plugin
+// FFmpeg prints its diagnostics to stderr; hydrolux's contract is one line per error. This code
 // installs a log callback that prints nothing and keeps the last error-level line logged on the
 // calling thread, which then becomes the detail of our IoError ("moov atom not found").
 extern "C" {
@@ -39,18 +41,18 @@ extern "C" {
 #include <utility>
 #include <vector>
 
-#include "../video_plugin.hpp"
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/io/video.hpp"
 
 namespace {
 
 using hydrolux::Error;
 using hydrolux::IoError;
-using hydrolux::cli::ReadAt;
-using hydrolux::cli::VideoFrame;
-using hydrolux::cli::VideoInfo;
-using hydrolux::cli::VideoLimits;
-using hydrolux::cli::WriteAt;
+using hydrolux::io::ReadAt;
+using hydrolux::io::VideoFrame;
+using hydrolux::io::VideoInfo;
+using hydrolux::io::VideoLimits;
+using hydrolux::io::WriteAt;
 
 // An AVIOContext seek over bytes of which `size` exist (the input's size, or the end written so
 // far): AVSEEK_SIZE answers the size; SEEK_SET / CUR / END move `position` (AVERROR(EINVAL) for a
@@ -248,7 +250,7 @@ bool full_range(AVPixelFormat format, AVColorRange range) {
 
 // The demuxer, format and codec contexts are freed in reverse order of members: the format context
 // before the AVIOContext it reads through.
-class Reader final : public hydrolux::cli::VideoReader {
+class Reader final : public hydrolux::io::VideoReader {
  public:
   Reader(ReadAt read, std::uint64_t size, std::string origin, const VideoLimits& limits)
       : read_(std::move(read)), size_(size), origin_(std::move(origin)), limits_(limits) {
@@ -549,7 +551,7 @@ const char* muxer_for(std::string extension) {
   return nullptr;
 }
 
-class Writer final : public hydrolux::cli::VideoWriter {
+class Writer final : public hydrolux::io::VideoWriter {
  public:
   Writer(WriteAt write, const std::string& extension, const VideoInfo& info, int crf, std::string origin)
       : write_(std::move(write)), origin_(std::move(origin)) {
@@ -772,19 +774,19 @@ class Writer final : public hydrolux::cli::VideoWriter {
   bool finished_ = false, failed_ = false;
 };
 
-std::unique_ptr<hydrolux::cli::VideoReader> open_reader(ReadAt read, std::uint64_t size, std::string origin,
+std::unique_ptr<hydrolux::io::VideoReader> open_reader(ReadAt read, std::uint64_t size, std::string origin,
                                                         const VideoLimits& limits) {
   return std::make_unique<Reader>(std::move(read), size, std::move(origin), limits);
 }
 
-std::unique_ptr<hydrolux::cli::VideoWriter> open_writer(WriteAt write, std::string extension, const VideoInfo& info,
+std::unique_ptr<hydrolux::io::VideoWriter> open_writer(WriteAt write, std::string extension, const VideoInfo& info,
                                                         int crf, std::string origin) {
   return std::make_unique<Writer>(std::move(write), extension, info, crf, std::move(origin));
 }
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const hydrolux::cli::VideoApi* hydrolux_video_api_v1() {
-  static const hydrolux::cli::VideoApi api{&open_reader, &open_writer};
+extern "C" __attribute__((visibility("default"))) const hydrolux::io::VideoApi* hydrolux_video_api_v1() {
+  static const hydrolux::io::VideoApi api{&open_reader, &open_writer};
   return &api;
 }

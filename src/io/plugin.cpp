@@ -1,4 +1,4 @@
-#include "plugin_loader.hpp"
+#include "hydrolux/io/plugin.hpp"
 
 #include <dlfcn.h>
 #include <fmt/format.h>
@@ -8,7 +8,7 @@
 
 #include "hydrolux/core/error.hpp"
 
-namespace hydrolux::cli {
+namespace hydrolux::io {
 
 void* plugin_entry(const char* file_name, const char* symbol, const char* what) {
   std::error_code ec;
@@ -24,4 +24,4 @@ void* plugin_entry(const char* file_name, const char* symbol, const char* what) 
   return entry;
 }
 
-}  // namespace hydrolux::cli
+}  // namespace hydrolux::io

@@ -1,12 +1,15 @@
 #pragma once
-// Video files for the CLI (`hydrolux rain --video`), through FFmpeg's libraries (libavformat,
-// libavcodec, libswscale, libavutil from Debian) in a plugin loaded on first use, as the image
-// plugin is (image_plugin.hpp): only the commands that touch video pay for loading FFmpeg.
+// Video files (`hydrolux rain --video`, hydrolux._video), through FFmpeg's libraries (libavformat,
+// libavcodec, libswscale, libavutil from Debian). The implementation (src/io/video_ffmpeg.cpp, the
+// object library hydrolux_video) is reached two ways: the CLI loads it on first use from the plugin
+// libhydrolux_video_plugin.so beside its executable (video_api() below), as it does its image plugin,
+// so that only the commands that touch video pay for loading FFmpeg; the Python module and the fuzz
+// target link it directly and call hydrolux_video_api_v1().
 //
-// The plugin never opens a file. The tool reads and writes the bytes through io/files.hpp
-// (io::InputFile, io::OutputFile::write_at), so an input is checked as every input is, an output
-// appears whole or not at all, and the tool's Ctrl-C handler removes a pending output; the plugin
-// sees only the two callbacks below.
+// The implementation never opens a file. The caller reads and writes the bytes through
+// io/files.hpp (io::InputFile, io::OutputFile::write_at), so an input is checked as every input is,
+// an output appears whole or not at all, and the CLI's Ctrl-C handler removes a pending output; the
+// implementation sees only the two callbacks below.
 //
 // Frames are 8-bit RGB, interleaved, row 0 at the top, taken as sRGB-encoded: the decoder converts
 // whatever the stream holds (YUV 4:2:0, 10-bit, ...) to RGB24 with the stream's colour matrix, range
@@ -20,7 +23,7 @@
 #include <string_view>
 #include <vector>
 
-namespace hydrolux::cli {
+namespace hydrolux::io {
 
 struct VideoInfo {
   int width = 0, height = 0;
@@ -86,15 +89,20 @@ struct VideoApi {
                                               int crf, std::string origin);
 };
 
-// The plugin's entry point, `extern "C"` so that its name is not mangled.
+// The plugin's entry point, `extern "C"` so that its name is not mangled (hydrolux_video_api_v1
+// below).
 inline constexpr const char* kVideoPluginSymbol = "hydrolux_video_api_v1";
 inline constexpr const char* kVideoPluginFile = "libhydrolux_video_plugin.so";
 
-// Loads the plugin (once; thread-safe) from the directory of the running executable. Throws
-// hydrolux::Error naming the file and the loader's reason if it cannot.
+// Loads the plugin (once; thread-safe) from the directory of the running executable (io/plugin.hpp).
+// Throws hydrolux::Error naming the file and the loader's reason if it cannot.
 const VideoApi& video_api();
 
 // The container extensions open_writer accepts, lower case with the dot.
 inline constexpr std::string_view kVideoExtensions[] = {".mp4", ".mov", ".mkv"};
 
-}  // namespace hydrolux::cli
+}  // namespace hydrolux::io
+
+// The implementation itself, for code that links the object library hydrolux_video instead of
+// loading the plugin.
+extern "C" const hydrolux::io::VideoApi* hydrolux_video_api_v1();

@@ -1,0 +1,60 @@
+#pragma once
+// The files of a Lee table (atmos/lee.hpp): the linear EXR, the display PNG, a raw float32 copy for
+// engines, and the JSON sidecar that holds the exact axes. `hydrolux lee` and `hydrolux export`
+// write them, `hydrolux sky --lut` reads them back.
+//
+// Nothing here opens a file or links an image codec: the caller passes the encoder in
+// (encode_lee_files) and the decoded EXR and the sidecar's text in (parse_lee_sidecar,
+// lee_bow_table), so the CLI can keep OpenImageIO in its plugin.
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/core/image.hpp"
+#include "hydrolux/io/image_io.hpp"
+#include "hydrolux/scene/compositor.hpp"
+
+namespace hydrolux::atmos {
+
+nlohmann::json to_json(const std::vector<double>& v);
+
+// The sidecar describing a table, its files named `exr_name` and `png_name`.
+nlohmann::json lee_sidecar(const LeeTable& t, const LeeImages& im, const std::string& exr_name,
+                           const std::string& png_name);
+
+// One column's profile (hydrolux lee --json): its radius, the theory, the units, the colour space,
+// and per row the angle, the RGB, the luminance and the XYZ.
+nlohmann::json lee_profile_json(const LeeTable& t);
+
+// The bytes of a table's files: EXR (R, G, B, XYZ.X, XYZ.Y, XYZ.Z), PNG, and the raw RGB as
+// little-endian float32 (rows x columns x 3, the EXR's R, G, B).
+struct LeeFileBytes {
+  std::string exr, png, f32;
+};
+// Encodes an image in a file format (io::encode_image's signature; the CLI passes its image
+// plugin's).
+using LeeImageEncoder = std::function<std::string(const Image& image, io::ImageFormat format, io::PngOptions png)>;
+LeeFileBytes encode_lee_files(const LeeTable& t, const LeeImages& im, const LeeImageEncoder& encode);
+
+// The axes a sidecar describes. Throws Error naming what is missing or wrong (not JSON, not a
+// hydrolux Lee table, an unknown kind, axes absent or of the wrong type).
+struct LeeSidecarAxes {
+  LeeTableKind kind = LeeTableKind::rainbow;
+  AngleAxis axis = AngleAxis::angle;
+  RadiusScale radius_scale = RadiusScale::log;
+  std::vector<double> radius_um, rows;
+};
+LeeSidecarAxes parse_lee_sidecar(std::string_view json_text);
+
+// A table read back for the compositor from its sidecar's axes and its decoded EXR. The image must
+// be OpenEXR by its content (a PNG renamed .exr holds display values, not sr^-1), with at least 3
+// channels and one pixel per radius x row; the axes and the values are checked by scene::bow_table
+// (finite, strictly increasing, uniform on their scale, values non-negative). Throws Error saying
+// what is wrong (without naming the file: the caller does).
+scene::BowTable lee_bow_table(LeeSidecarAxes axes, const io::DecodedImage& decoded);
+
+}  // namespace hydrolux::atmos

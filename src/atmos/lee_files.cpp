@@ -1,0 +1,185 @@
+// The files of a Lee table: see hydrolux/atmos/lee_files.hpp.
+#include "hydrolux/atmos/lee_files.hpp"
+
+#include <fmt/format.h>
+
+#include <bit>
+#include <cstring>
+#include <utility>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/version.hpp"
+
+namespace hydrolux::atmos {
+
+nlohmann::json to_json(const std::vector<double>& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (double x : v) a.push_back(x);
+  return a;
+}
+
+nlohmann::json lee_profile_json(const LeeTable& t) {
+  nlohmann::json j;
+  j["radius_um"] = t.radius_um.front();
+  j["theory"] = scatter::theory_name(t.spec.theory);
+  j["units"] = "sr^-1";
+  j["color_space"] = color::rgb_space_name(t.spec.rgb_space);
+  j["angle_deg"] = to_json(t.angle_deg);
+  nlohmann::json rgb = nlohmann::json::array(), lum = nlohmann::json::array(), xyz = nlohmann::json::array();
+  for (int r = 0; r < t.rows(); ++r) {
+    const auto v = t.rgb(r, 0);
+    rgb.push_back({v[0], v[1], v[2]});
+    const auto c = t.at(r, 0);
+    xyz.push_back({c.X, c.Y, c.Z});
+    lum.push_back(c.Y);
+  }
+  j["rgb"] = rgb;
+  j["luminance"] = lum;
+  j["xyz"] = xyz;
+  return j;
+}
+
+nlohmann::json lee_sidecar(const LeeTable& t, const LeeImages& im, const std::string& exr_name,
+                           const std::string& png_name) {
+  const auto& s = t.spec;
+  nlohmann::json j;
+  j["format"] = "hydrolux-lee-table";
+  j["format_version"] = 1;
+  j["hydrolux_version"] = kVersion;
+  j["table"] = atmos::table_kind_name(s.table);
+  j["theory"] = scatter::theory_name(s.theory);
+  j["quantity"] =
+      "T = <dsigma_sca/dOmega> / <pi a^2>: radiance scattered once per unit incident irradiance per unit "
+      "projected-area optical depth of the drops (L = E_sun * tau_geo * T; tau_geo = path * sum pi a^2 n(a), "
+      "= tau_ext / 2 for drops much larger than the wavelength); averaged over the size distribution, the sun's "
+      "disk and the spectrum; not normalised per column";
+  j["units"] = "sr^-1";
+  j["files"] = {{"exr", exr_name}, {"png", png_name}};
+  j["width"] = t.columns();
+  j["height"] = t.rows();
+  j["layout"] = {
+      {"x", "radius: column i holds radius_um[i], increasing to the right"},
+      {"y", s.axis == atmos::AngleAxis::angle ? "scattering angle: row j holds angle_deg[j], increasing downward"
+                                              : "cosine of the scattering angle: row j holds cos_angle[j], increasing "
+                                                "downward (cos_angle = dot(view ray, direction to the sun))"},
+      {"sample", "pixel (i, j) is centred on radius_um[i] and its row's angle (sample texel centres: u = (i + 0.5) "
+                 "/ width, v = (j + 0.5) / height); its value is averaged over the sun's disk and over its row's "
+                 "cell, one row spacing wide along the y axis (a box filter, so fringes finer than the table average "
+                 "out instead of aliasing); each column is one size distribution"},
+      {"scattering_angle", "0 = forward (looking toward the sun through the drops), 180 = the antisolar point"}};
+  j["axis"] = atmos::angle_axis_name(s.axis);
+  j["radius_scale"] = atmos::radius_scale_name(s.radius_scale);
+  j["radius_um"] = to_json(t.radius_um);
+  if (s.axis == atmos::AngleAxis::angle)
+    j["angle_deg"] = to_json(t.angle_deg);
+  else
+    j["cos_angle"] = to_json(t.cos_angle);
+  j["channels"] = {
+      {"exr", {"R", "G", "B", "XYZ.X", "XYZ.Y", "XYZ.Z"}},
+      {"R,G,B", "linear RGB, desaturated into the gamut toward the white point at constant luminance"},
+      {"XYZ", "CIE 1931 X, Y, Z, unmapped, relative to the sun's luminance (Y = luminance in sr^-1)"}};
+  j["color_space"] = {
+      {"rgb", color::rgb_space_name(s.rgb_space)},
+      {"white", "D65"},
+      {"adaptation", "Bradford, from the sun's white (sun_white_xyz) to D65: sunlight itself is RGB (1,1,1) x "
+                     "its luminance"},
+      {"gamut_mapping", "a colour with a negative component becomes Y (1,1,1) + s (rgb - Y (1,1,1)) with the "
+                        "largest s in [0,1] that makes it non-negative (constant luminance Y)"},
+      {"sun_white_xyz", {t.sun_white.X, t.sun_white.Y, t.sun_white.Z}},
+      {"xyz_to_rgb", {{t.xyz_to_rgb[0][0], t.xyz_to_rgb[0][1], t.xyz_to_rgb[0][2]},
+                      {t.xyz_to_rgb[1][0], t.xyz_to_rgb[1][1], t.xyz_to_rgb[1][2]},
+                      {t.xyz_to_rgb[2][0], t.xyz_to_rgb[2][1], t.xyz_to_rgb[2][2]}}}};
+  j["spectrum"] = {{"observer", "CIE 1931 2-degree"},
+                   {"sun", s.sun.name()},
+                   {"wavelength_min_nm", s.wavelength_min_nm},
+                   {"wavelength_max_nm", s.wavelength_max_nm},
+                   {"wavelengths_nm", to_json(t.wavelengths_nm)}};
+  j["sun_disk"] = {{"diameter_deg", s.sun_disk_deg}, {"limb_darkening", s.limb_darkening}};
+  if (s.limb_darkening) j["sun_disk"]["limb_darkening_u"] = atmos::kLimbDarkeningU;
+  j["size_distribution"] = s.size_spread > 0
+                               ? nlohmann::json{{"kind", "gamma"},
+                                                {"radius", "number-weighted mean radius"},
+                                                {"relative_width", s.size_spread}}
+                               : nlohmann::json{{"kind", "monodisperse"}};
+  j["medium"] = {{"drop", s.drop_medium}, {"surrounding", s.surrounding_medium}};
+  if (s.temperature_c) j["medium"]["temperature_c"] = *s.temperature_c;
+  j["sampling"] = {{"multiplier", s.sampling},
+                   {"wavelengths", t.work.wavelengths},
+                   {"radius_nodes", t.work.radius_nodes},
+                   {"angle_cells", t.work.cells},
+                   {"seed", s.seed}};
+  j["work"] = {{"evaluations", t.work.evaluations}, {"terms", t.work.terms}, {"term_angles", t.work.term_angles}};
+  j["png"] = {{"tone_mapping", "Reinhard et al. 2002 photographic operator on luminance, hue kept: exposure = 0.18 / "
+                               "log-average luminance; L' = L (1 + L/white^2) / (1 + L), white = 99.9th percentile "
+                               "of the exposed luminance; clipped to [0,1]; sRGB curve; 8 bits"},
+              {"exposure", im.exposure},
+              {"white", im.white}};
+  return j;
+}
+
+LeeFileBytes encode_lee_files(const LeeTable& t, const LeeImages& im, const LeeImageEncoder& encode) {
+  static_assert(std::endian::native == std::endian::little, "the .f32 tables are little-endian");
+  LeeFileBytes out;
+  Image lin(t.columns(), t.rows(), 6);
+  lin.pixels.assign(im.linear.begin(), im.linear.end());
+  lin.channel_names = {"R", "G", "B", "XYZ.X", "XYZ.Y", "XYZ.Z"};
+  Image disp(t.columns(), t.rows(), 3);
+  disp.pixels.assign(im.display.begin(), im.display.end());
+  out.exr = encode(lin, io::ImageFormat::exr, {});
+  out.png = encode(disp, io::ImageFormat::png, {});
+  std::vector<float> rgb(std::size_t(t.columns()) * t.rows() * 3);
+  for (std::size_t p = 0; p < std::size_t(t.columns()) * t.rows(); ++p)
+    for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = im.linear[p * 6 + c];
+  out.f32.resize(rgb.size() * sizeof(float));
+  std::memcpy(out.f32.data(), rgb.data(), out.f32.size());
+  return out;
+}
+
+LeeSidecarAxes parse_lee_sidecar(std::string_view json_text) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(json_text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("not valid JSON ({})", e.what()));
+  }
+  LeeSidecarAxes a;
+  try {
+    if (!j.is_object() || j.value("format", "") != "hydrolux-lee-table") throw Error("not a hydrolux Lee table");
+    const std::string k = j.at("table").get<std::string>();
+    if (k == "rainbow") a.kind = atmos::LeeTableKind::rainbow;
+    else if (k == "corona") a.kind = atmos::LeeTableKind::corona;
+    else if (k == "glory") a.kind = atmos::LeeTableKind::glory;
+    else throw Error(fmt::format("unknown table kind '{}'", printable(k)));
+    const std::string ax = j.at("axis").get<std::string>();
+    if (ax != "angle" && ax != "cos") throw Error(fmt::format("unknown axis '{}'", printable(ax)));
+    a.axis = ax == "cos" ? atmos::AngleAxis::cosine : atmos::AngleAxis::angle;
+    const std::string scale = j.at("radius_scale").get<std::string>();
+    if (scale != "log" && scale != "linear") throw Error(fmt::format("unknown radius_scale '{}'", printable(scale)));
+    a.radius_scale = scale == "log" ? atmos::RadiusScale::log : atmos::RadiusScale::linear;
+    a.radius_um = j.at("radius_um").get<std::vector<double>>();
+    a.rows = j.at(a.axis == atmos::AngleAxis::angle ? "angle_deg" : "cos_angle").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("the table's axes are missing or malformed ({})", e.what()));
+  }
+  return a;
+}
+
+scene::BowTable lee_bow_table(LeeSidecarAxes axes, const io::DecodedImage& decoded) {
+  auto& radii = axes.radius_um;
+  auto& rows = axes.rows;
+  if (decoded.format != io::ImageFormat::exr)
+    throw Error(fmt::format("the file is {} by its content, not OpenEXR (a table holds linear sr^-1 values; a "
+                            "renamed display image does not)",
+                            io::format_name(decoded.format)));
+  const Image& im = decoded.image;
+  if (im.channels < 3) throw Error("the EXR has fewer than 3 channels");
+  if (im.width != int(radii.size()) || im.height != int(rows.size()))
+    throw Error(fmt::format("the EXR is {}x{} but its sidecar describes {} radii x {} rows", im.width, im.height,
+                            radii.size(), rows.size()));
+  std::vector<float> rgb(std::size_t(im.width) * im.height * 3);
+  for (std::size_t q = 0; q < std::size_t(im.width) * im.height; ++q)
+    for (int c = 0; c < 3; ++c) rgb[q * 3 + c] = im.pixels[q * std::size_t(im.channels) + c];
+  return scene::bow_table(axes.kind, axes.axis, std::move(radii), rows, std::move(rgb), axes.radius_scale);
+}
+
+}  // namespace hydrolux::atmos
