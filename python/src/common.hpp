@@ -219,6 +219,10 @@ inline bool flag_arg(py::handle v, const char* arg) {
 template <class T>
 using CArray = py::array_t<T, py::array::c_style | py::array::forcecast>;
 using FloatArray = CArray<float>;
+using DoubleArray = CArray<double>;
+using ComplexArray = py::array_t<std::complex<double>>;
+
+inline std::vector<py::ssize_t> shape_of(const py::array& a) { return {a.shape(), a.shape() + a.ndim()}; }
 
 // obj as a C-contiguous array of T, copied (converted) when it is not one already. Not
 // array_t::ensure, which returns a null array and drops Python's error when the copy fails (the

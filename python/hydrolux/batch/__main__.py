@@ -15,6 +15,16 @@ class _Parser(argparse.ArgumentParser):
 
 
 def main(argv=None) -> int:
+    """``python3 -m hydrolux.batch`` with the arguments ``argv`` (None: the command line's): the job's
+    exit code, 0 when done, 2 for a bad argument or input (one line on stderr, before any work), 1 for
+    a failure midway, 130 for Ctrl-C.
+
+    Example:
+
+    >>> from hydrolux.batch.__main__ import main
+    >>> main(["rain", "--input-dir", "no-such-folder", "--output-dir", "rainy", "-q"])   # says why on stderr
+    2
+    """
     p = _Parser(prog="python3 -m hydrolux.batch",
                 description="hydrolux's batch jobs on Dask distributed: a LocalCluster on this machine by default, "
                             "or an existing cluster with --scheduler. Outputs are written atomically and recorded "

@@ -1,0 +1,116 @@
+// hydrolux._core: the Lee tables (atmos/lee.hpp): rainbow, corona and glory.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "bindings.hpp"
+#include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/atmos/lee_params.hpp"
+#include "hydrolux/color/cie.hpp"
+#include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/theories.hpp"
+#include "params.hpp"
+
+namespace hydrolux::py_bind {
+namespace {
+
+// ---- Lee tables -----------------------------------------------------------------------------
+
+py::dict lee(const std::string& table, const std::string& theory, std::optional<std::pair<double, double>> radius_um,
+             std::optional<std::pair<double, double>> angle_deg,
+             std::optional<std::pair<py::object, py::object>> size_arg, const std::string& radius_scale,
+             const std::string& axis, std::pair<double, double> wavelengths_nm, py::handle wavelengths_arg,
+             const std::string& medium, const std::string& sun, const std::string& color_space, const py::dict& options) {
+  // The table's named values (atmos::LeeRequest), whose rules and errors the CLI shares
+  // (atmos::make_lee_spec); the whole numbers first, as the CLI's flags (--size's [1, 16384]), then
+  // the declared values (atmos/lee_params.hpp): seed and threads in the table's ranges; the reals'
+  // ranges checked by atmos::validate (which reads them from the table) and the temperature's by the
+  // medium, below. None is a value only where the parameter has no default (temperature_c).
+  atmos::LeeRequest req;
+  if (size_arg)
+    req.size = {int(whole_arg(size_arg->first, "size[0] (columns)", 1, 16384)),
+                int(whole_arg(size_arg->second, "size[1] (rows)", 1, 16384))};
+  const int wavelengths = int(whole_arg(wavelengths_arg, "wavelengths", 0, 2000));
+  for (const auto& f : atmos::lee_params())
+    if (const py::str key(std::string(f.param.name)); options.contains(key) && options[key].is_none() &&
+                                                        !std::isnan(f.get(atmos::LeeRequest{})))
+      (void)param_value(f.param, options[key]);  // "seed: expected a whole number in [0, 2^53], got None"
+  apply_kwargs(req, options, atmos::lee_params(), RealRanges::by_library);
+  req.table = atmos::parse_table_kind(table);
+  req.theory = scatter::parse_theory(theory);  // its errors name the theory and its value, and list the valid ones
+  if (radius_um) {
+    if (radius_um->second < radius_um->first) throw Error("radius_um: expected (A, B) with A <= B, micrometres");
+    req.radius_um = {radius_um->first, radius_um->second};
+  }
+  if (angle_deg) {
+    if (angle_deg->second < angle_deg->first) throw Error("angle_deg: expected (A, B) with A <= B, degrees");
+    req.angle_deg = {angle_deg->first, angle_deg->second};
+  }
+  req.radius_scale = radius_scale, req.axis = axis;
+  atmos::LeeSpec s = atmos::make_lee_spec(req);
+  if (wavelengths_nm.second < wavelengths_nm.first) throw Error("wavelengths_nm: expected (A, B) with A <= B");
+  s.wavelength_min_nm = wavelengths_nm.first, s.wavelength_max_nm = wavelengths_nm.second;
+  s.wavelengths = wavelengths;
+  s.drop_medium = medium;
+  const auto drop = medium_arg("medium", medium);
+  if (const auto& t = req.temperature_c; t && drop->info().temperature_dependent)
+    require_arg("temperature_c", *t, drop->info().temperature_min_c, drop->info().temperature_max_c, "C");
+  else if (t)
+    throw Error(fmt::format("temperature_c {:g}: {} has no temperature model; leave it None", *t, drop->info().name));
+  try {
+    s.sun = color::Illuminant::parse(sun);
+  } catch (const DomainError& e) {
+    throw Error(fmt::format("sun '{}': {:g} K is {}", sun, e.value(), e.range_text()));
+  } catch (const Error& e) {
+    throw Error(fmt::format("sun: {}", e.what()));
+  }
+  try {
+    s.rgb_space = color::parse_rgb_space(color_space);
+  } catch (const Error& e) {
+    throw Error(fmt::format("color_space: {}", e.what()));
+  }
+  try {
+    atmos::validate(s);
+  } catch (const DomainError& e) {
+    rethrow_named(e, {{"radius_um", {"radius_um"}}, {"angle_deg", {"angle_deg"}}, {"columns", {"size[0] (columns)"}},
+                      {"rows", {"size[1] (rows)"}}, {"wavelength_nm", {"wavelengths_nm"}}});
+  }
+  const atmos::LeeTable t = run_cancellable([&](const ProgressFn& p) { return atmos::compute_lee_table(s, p); });
+  const atmos::LeeImages im = atmos::lee_images(t);
+  const py::ssize_t rows = t.rows(), cols = t.columns();
+  py::array_t<double> xyz({rows, cols, py::ssize_t(3)}), rgb({rows, cols, py::ssize_t(3)});
+  std::memcpy(xyz.mutable_data(), t.xyz.data(), t.xyz.size() * sizeof(double));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const auto v = t.rgb(r, c);
+      for (int k = 0; k < 3; ++k) rgb.mutable_data()[(std::size_t(r) * cols + c) * 3 + k] = v[std::size_t(k)];
+    }
+  py::array_t<float> display({rows, cols, py::ssize_t(3)});
+  std::memcpy(display.mutable_data(), im.display.data(), im.display.size() * sizeof(float));
+  py::dict d;
+  d["rgb"] = rgb, d["xyz"] = xyz, d["display"] = display;
+  d["radius_um"] = py::array_t<double>(py::ssize_t(t.radius_um.size()), t.radius_um.data());
+  d["angle_deg"] = py::array_t<double>(py::ssize_t(t.angle_deg.size()), t.angle_deg.data());
+  d["cos_angle"] = py::array_t<double>(py::ssize_t(t.cos_angle.size()), t.cos_angle.data());
+  d["wavelengths_nm"] = py::array_t<double>(py::ssize_t(t.wavelengths_nm.size()), t.wavelengths_nm.data());
+  d["theory"] = scatter::theory_name(s.theory);
+  d["color_space"] = std::string(color::rgb_space_name(s.rgb_space));
+  d["exposure"] = im.exposure, d["white"] = im.white;
+  d["evaluations"] = t.work.evaluations;
+  return d;
+}
+
+}  // namespace
+
+void bind_atmos(py::module_& m) {
+  m.def("lee", &lee, py::arg("table"), py::arg("theory"), py::arg("radius_um"), py::arg("angle_deg"), py::arg("size"),
+        py::arg("radius_scale"), py::arg("axis"), py::arg("wavelengths_nm"), py::arg("wavelengths"),
+        py::arg("medium"), py::arg("sun"), py::arg("color_space"), py::arg("options"));
+}
+
+}  // namespace hydrolux::py_bind

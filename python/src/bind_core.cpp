@@ -1,0 +1,125 @@
+// hydrolux._core: the process and the batch helpers: threads, files (io/files.hpp), memory
+// (core/memory.hpp), the CLI's number parsers (core/parse.hpp) and its message helpers.
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bindings.hpp"
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/memory.hpp"
+#include "hydrolux/core/params.hpp"
+#include "hydrolux/core/parse.hpp"  // batch: the CLI's number parsers (parse_number, parse_integer)
+#include "hydrolux/io/files.hpp"
+#include "hydrolux/io/frames.hpp"
+#include "hydrolux/jobs.hpp"
+#include "hydrolux/rain/rain.hpp"
+
+namespace hydrolux::py_bind {
+namespace {
+
+// ---- files ----------------------------------------------------------------------------------
+
+// At most n threads for every parallel loop of this process from now on (0: every core again).
+void set_threads(py::handle threads) {
+  const int n = int(whole_arg(threads, "threads", 0, kMaxThreads));
+  static std::unique_ptr<tbb::global_control> limit;
+  limit.reset();
+  if (n > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(n));
+}
+
+void write_file(const std::string& path, const py::bytes& data, const std::string& label) {
+  std::string bytes = data;
+  py::gil_scoped_release release;
+  io::write_file(path, bytes, label);
+}
+
+}  // namespace
+
+void bind_core(py::module_& m) {
+  m.def("set_threads", &set_threads, py::arg("threads"));
+  m.def("write_file", &write_file, py::arg("path"), py::arg("data"), py::arg("label"));
+  // ---- batch: the CLI's own number parsers (python/hydrolux/batch parses every numeric flag with them) ----
+  // parse_number: a finite decimal number, the whole text or None; parse_integer: a whole number
+  // within +-2^53, also in exponent form ("1e3"), or None. Exactly what the CLI's flags accept.
+  m.def("parse_number", [](const std::string& text) { return hydrolux::parse::number(text); }, py::arg("text"));
+  m.def("parse_integer", [](const std::string& text) { return hydrolux::parse::integer(text); }, py::arg("text"));
+  // The largest seed every door accepts (rain::kMaxSeed, 2^53).
+  m.attr("kMaxSeed") = py::int_(hydrolux::rain::kMaxSeed);
+  // The files of one run declared as the CLI declares them (io::FileSet): each input must be a regular
+  // file; each planned output must not be an input or another output (through links too), a folder or a
+  // device. OSError (the library's IoError) naming both files otherwise. Pairs are (label, path).
+  m.def(
+      "check_files",
+      [](const std::vector<std::pair<std::string, std::string>>& inputs,
+         const std::vector<std::pair<std::string, std::string>>& outputs) {
+        hydrolux::io::FileSet files;
+        for (const auto& [label, path] : inputs) files.input(label, path);
+        for (const auto& [label, path] : outputs) files.planned_output(label, path);
+      },
+      py::arg("inputs"), py::arg("outputs"));
+  // A value as an error message shows it (short, never an array's contents): the bindings' own words.
+  m.def("describe", [](py::handle v) { return describe(v); }, py::arg("value"));
+  // A text as hydrolux prints it in a message: one line that cannot drive the terminal.
+  m.def("printable", [](const std::string& text) { return hydrolux::printable(text); }, py::arg("text"));
+  // The memory this process can still expect to get, in bytes (core/memory.hpp).
+  m.def("available_memory_bytes", [] { return hydrolux::available_memory_bytes(); });
+  // ---- end batch ----
+
+  // A job's declared parameters (hydrolux/jobs.hpp), the one table every door reads: the Python
+  // functions' keywords and signatures, the batch jobs' argparse options, the docs' reference.
+  m.def(
+      "params",
+      [](const std::string& job) {
+        py::list out;
+        for (const auto& info : hydrolux::job_spec(job).params) {
+          const Param& p = *info.param;
+          py::dict d;
+          d["name"] = std::string(p.name), d["flag"] = std::string(p.flag), d["group"] = std::string(p.group);
+          d["kind"] = p.kind == ParamKind::real ? "real" : p.kind == ParamKind::integer ? "integer" : "flag";
+          d["unit"] = std::string(p.unit), d["lo"] = p.lo, d["hi"] = p.hi;
+          d["range"] = p.range_text(), d["help"] = std::string(p.help), d["excludes"] = std::string(p.excludes);
+          d["default_text"] = info.default_text();
+          if (std::isnan(info.default_value)) d["default"] = py::none();
+          else if (p.kind == ParamKind::real) d["default"] = info.default_value;
+          else if (p.kind == ParamKind::integer) d["default"] = (long long)info.default_value;
+          else d["default"] = info.default_value != 0;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("job"));
+  // A folder of frames as a sequence (io/frames.hpp): the frames, their outputs and depth maps, the
+  // entries skipped, the folders checked; one definition with hydrolux rain --input-dir.
+  m.def(
+      "plan_frame_folder",
+      [](const std::string& input_dir, const std::string& output_dir, std::optional<std::string> mask_dir,
+         std::optional<std::string> depth_dir) {
+        const auto plan = hydrolux::io::plan_frame_folder({input_dir, output_dir, mask_dir, depth_dir});
+        const auto names = [](const std::vector<std::filesystem::path>& v) {
+          py::list out;
+          for (const auto& p : v) out.append(p.filename().string());
+          return out;
+        };
+        py::dict d;
+        d["frames"] = names(plan.frames), d["outputs"] = names(plan.outputs), d["depth_maps"] = names(plan.depth_maps);
+        d["skipped"] = plan.skipped;
+        d["skipped_warning"] = plan.skipped_warning(input_dir);
+        return d;
+      },
+      py::arg("input_dir"), py::arg("output_dir"), py::arg("mask_dir") = py::none(),
+      py::arg("depth_dir") = py::none());
+  m.def("jobs", [] {
+    py::list out;
+    for (const auto& j : hydrolux::job_specs()) out.append(std::string(j.name));
+    return out;
+  });
+}
+
+}  // namespace hydrolux::py_bind

@@ -1,0 +1,144 @@
+// hydrolux._core: rain (rain/rain.hpp): the RainRenderer of one rain for one camera, and the
+// built-in scene.
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "bindings.hpp"
+#include "hydrolux/io/rain_report.hpp"
+#include "hydrolux/rain/params.hpp"
+#include "hydrolux/rain/rain.hpp"
+#include "params.hpp"
+
+namespace hydrolux::py_bind {
+namespace {
+
+// ---- rain -----------------------------------------------------------------------------------
+
+// The options as hydrolux rain takes its flags: the declared parameters (rain/params.hpp).
+rain::RainOptions rain_options(const py::dict& kw) {
+  rain::RainOptions o;
+  apply_kwargs(o, kw, rain::rain_params());
+  return o;
+}
+
+// The camera for a frame of width x height, as hydrolux rain makes it from its flags.
+rain::RainCamera rain_camera(const rain::RainOptions& o, int width, int height) {
+  const rain::RainCamera c = rain::camera_for(o, width, height);
+  try {
+    rain::validate(c);
+  } catch (const DomainError& e) {
+    if (e.quantity() == "sensor_width_mm" && o.pixel_pitch_um)
+      throw Error(fmt::format("pixel_pitch_um = {:g}: x {} px gives a sensor {:g} mm wide, outside [{:g}, {:g}] mm",
+                              *o.pixel_pitch_um, width, e.value(), e.lo(), e.hi()));
+    throw;
+  }
+  return c;
+}
+
+py::object stats_dict(const rain::RainStats& s) {
+  return py::module_::import("json").attr("loads")(io::rain_stats_json(s).dump());
+}
+
+// One rain for one camera: a sequence's frames go through one renderer (its field is built once).
+class PyRainRenderer {
+ public:
+  PyRainRenderer(py::handle width_arg, py::handle height_arg, bool ground_plane, const py::dict& kw) {
+    const int width = int(whole_arg(width_arg, "width", rain::kMinFrameSide, rain::kMaxFrameSide, "px"));
+    const int height = int(whole_arg(height_arg, "height", rain::kMinFrameSide, rain::kMaxFrameSide, "px"));
+    const rain::RainOptions o = rain_options(kw);
+    const rain::RainSettings& s = o.settings;
+    rain::validate(s);
+    const rain::RainCamera c = rain_camera(o, width, height);
+    py::gil_scoped_release release;
+    try {
+      renderer_ = std::make_unique<rain::RainRenderer>(rain::RainField(s, c, ground_plane));
+    } catch (const rain::TooManyDrops& e) {
+      throw Error(fmt::format("min_alpha {:g}: the rain field would hold {:.3g} drops, more than the limit of {:.3g}; "
+                              "raise min_alpha, near_m or min_radius_mm, or lower far_m or rate_mmh",
+                              s.min_alpha, e.drops(), double(rain::RainField::kMaxDrops)));
+    }
+  }
+
+  py::dict render(const py::array& image, std::optional<py::array> depth, py::handle frame_arg, bool with_layer) {
+    const Param& fi = rain::rain_param("frame_index");
+    const long long frame_index = whole_arg(frame_arg, "frame_index", (long long)fi.lo, (long long)fi.hi);
+    const auto& cam = renderer_->field().camera();
+    Image frame = to_image(image, "image");
+    if (frame.width != cam.width || frame.height != cam.height || frame.channels < 3)
+      throw Error(fmt::format("image: {}x{} with {} channels; this rain was made for {}x{} RGB frames", frame.width,
+                              frame.height, frame.channels, cam.width, cam.height));
+    std::optional<Image> z;
+    if (depth) {
+      z = to_image(*depth, "depth");
+      if (z->width != cam.width || z->height != cam.height || z->channels != 1)
+        throw Error(fmt::format("depth: expected ({}, {}) metres, got {}x{} with {} channels", cam.height, cam.width,
+                                z->width, z->height, z->channels));
+    }
+    py::dict d;
+    {
+      // The renderer and its result buffers are one sequence's: one render at a time, and the
+      // result copied out before the next may start. Waiting for the lock without the GIL, and
+      // taking the GIL back under it, cannot deadlock: no thread waits for the lock holding the GIL.
+      py::gil_scoped_release release;
+      std::lock_guard<std::mutex> lock(mutex_);
+      try {
+        renderer_->render_into(frame, z ? &*z : nullptr, frame_index, with_layer, result_);
+      } catch (const rain::NonFinitePixel& e) {
+        throw Error(fmt::format("image: {}", e.what()));  // the library's text names the pixel and its value
+      }
+      py::gil_scoped_acquire gil;
+      d["image"] = to_array(result_.image);
+      d["mask"] = to_array(result_.alpha);
+      d["layer"] = with_layer ? py::object(to_array(result_.layer)) : py::object(py::none());
+      d["stats"] = stats_dict(result_.stats);
+    }
+    return d;
+  }
+
+  py::dict field_info() const {
+    const auto& f = renderer_->field();
+    py::dict d;
+    d["drops"] = f.drop_count();
+    d["beta_total_per_m"] = f.beta_total_per_m();
+    d["width"] = f.camera().width, d["height"] = f.camera().height;
+    d["focal_px"] = f.camera().focal_px();
+    return d;
+  }
+
+ private:
+  std::unique_ptr<rain::RainRenderer> renderer_;
+  rain::RainFrame result_;
+  std::mutex mutex_;
+};
+
+py::array_t<float> builtin_scene(py::handle width_arg, py::handle height_arg, const py::dict& kw) {
+  const int width = int(whole_arg(width_arg, "width", rain::kMinFrameSide, rain::kMaxFrameSide, "px"));
+  const int height = int(whole_arg(height_arg, "height", rain::kMinFrameSide, rain::kMaxFrameSide, "px"));
+  const rain::RainCamera c = rain_camera(rain_options(kw), width, height);
+  Image img;
+  {
+    py::gil_scoped_release release;
+    img = rain::builtin_scene(c);
+  }
+  return to_array(img);
+}
+
+}  // namespace
+
+void bind_rain(py::module_& m) {
+  py::class_<PyRainRenderer>(m, "RainRenderer")
+      .def(py::init<py::handle, py::handle, bool, const py::dict&>(), py::arg("width"), py::arg("height"),
+           py::arg("ground_plane"), py::arg("options"))
+      .def("render", &PyRainRenderer::render, py::arg("image"), py::arg("depth"), py::arg("frame_index"),
+           py::arg("with_layer"))
+      .def("field_info", &PyRainRenderer::field_info);
+  m.def("builtin_scene", &builtin_scene, py::arg("width"), py::arg("height"), py::arg("options"));
+}
+
+}  // namespace hydrolux::py_bind

@@ -1,0 +1,249 @@
+// hydrolux._core: Mie scattering (scatter/mie.hpp, amplitudes.hpp), spheres in a medium
+// (scatter/sphere.hpp), size distributions and bulk optics (scatter/size_distribution.hpp).
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bindings.hpp"
+#include "hydrolux/core/math.hpp"
+#include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/amplitudes.hpp"
+#include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/params.hpp"
+#include "hydrolux/scatter/size_distribution.hpp"
+#include "hydrolux/scatter/sphere.hpp"
+#include "params.hpp"
+
+namespace hydrolux::py_bind {
+namespace {
+
+// Runs f with at most `threads` threads (0: every core).
+template <class F>
+auto with_threads(int threads, F&& f) {
+  if (threads <= 0) return f();
+  tbb::task_arena arena(threads);
+  return arena.execute(std::forward<F>(f));
+}
+
+// m and x of spheres of the given radii (um) in a medium at one wavelength.
+py::tuple sphere_problem(py::handle radius_arg, double wavelength_nm, const std::string& medium,
+                         const std::string& surrounding, std::optional<double> temperature_c) {
+  const DoubleArray radius_um = c_array<double>(radius_arg, "radius_um");
+  const auto sphere = medium_arg("medium", medium);
+  const auto outside = medium_arg("surrounding", surrounding);
+  if (temperature_c && !sphere->info().temperature_dependent && !outside->info().temperature_dependent)
+    throw Error(fmt::format("temperature_c {:g}: neither {} nor {} has a temperature model; leave it None",
+                            *temperature_c, sphere->info().name, outside->info().name));
+  DoubleArray x(shape_of(radius_um));
+  std::complex<double> m;
+  const double* r = radius_um.data();
+  for (py::ssize_t i = 0; i < radius_um.size(); ++i) {
+    require_arg("radius_um", r[i], 1e-300, 1e6, "um");
+    const auto p = scatter::sphere_problem(r[i], wavelength_nm, *sphere, *outside, temperature_c);
+    m = p.m;
+    x.mutable_data()[i] = p.x;
+  }
+  if (radius_um.size() == 0)  // m alone, from any radius
+    m = scatter::sphere_problem(1.0, wavelength_nm, *sphere, *outside, temperature_c).m;
+  return py::make_tuple(m, x);
+}
+
+// ---- Mie --------------------------------------------------------------------------------------
+
+// Work of `work` units: inline with the GIL released when small (a thread start would cost more than
+// the call), on run_cancellable's thread, stoppable by Ctrl-C, when larger than `cancellable_from`.
+template <class Body>
+void run_sized(double work, double cancellable_from, Body&& body) {
+  if (work > cancellable_from) {
+    run_cancellable(body);
+  } else {
+    py::gil_scoped_release release;
+    body(ProgressFn{});
+  }
+}
+
+void check_mie_args(std::complex<double> m, const double* x, py::ssize_t n) {
+  const Param& x_param = scatter::mie_param("x");  // hydrolux mie --x's range
+  for (py::ssize_t i = 0; i < n; ++i) x_param.check(x[i]);
+  // m's domain by the library's own check (named m_real / m_imag), once, before any work.
+  scatter::MieCoefficients probe;
+  try {
+    scatter::mie_coefficients(m, 1.0, probe, 1);
+  } catch (const DomainError& e) {
+    throw Error(fmt::format("m = ({:g}{:+g}j): {} {:g} is {}", m.real(), m.imag(), e.quantity(), e.value(),
+                            e.range_text()));
+  }
+}
+
+py::dict mie(std::complex<double> m, py::handle x_arg, py::handle angles_arg, py::handle threads_arg) {
+  // threads and x as hydrolux mie takes --threads and --x: the declared parameters (scatter/params.hpp).
+  const int threads = int(param_value(scatter::mie_param("threads"), threads_arg));
+  const DoubleArray x = c_array<double>(x_arg, "x");
+  std::optional<DoubleArray> angles_deg;
+  if (!angles_arg.is_none()) angles_deg = c_array<double>(angles_arg, "angles_deg");
+  const double* xs = x.data();
+  const py::ssize_t n = x.size();
+  check_mie_args(m, xs, n);
+  const auto shape = shape_of(x);
+  DoubleArray qext(shape), qsca(shape), qabs(shape), qback(shape), g(shape);
+  py::array_t<std::int32_t> terms(shape);
+  py::dict d;
+  // Per size, filled without the GIL, copied into the arrays after.
+  std::vector<scatter::MieEfficiencies> q(static_cast<std::size_t>(n));
+  std::vector<int> nt(static_cast<std::size_t>(n));
+  if (!angles_deg) {
+    // Efficiencies alone: the fast path, sizes in parallel (each size's result is independent of
+    // the thread that computes it).
+    double work = 0;
+    for (py::ssize_t i = 0; i < n; ++i) work += xs[i];
+    const auto body = [&](const ProgressFn& progress) {
+      with_threads(threads, [&] {
+        tbb::parallel_for(py::ssize_t(0), n, [&](py::ssize_t i) {
+          if (progress) progress(0, {});
+          q[std::size_t(i)] = scatter::mie_efficiencies(m, xs[i]);
+          nt[std::size_t(i)] = scatter::mie_terms(xs[i]);
+        });
+        return 0;
+      });
+      return 0;
+    };
+    run_sized(work, 1e6, body);
+  } else {
+    const DoubleArray& ang = *angles_deg;
+    if (ang.ndim() != 1) throw Error("angles_deg: expected a 1-D array of angles in degrees");
+    const py::ssize_t na = ang.size();
+    if (na > 1000000) throw Error(fmt::format("angles_deg: {} angles, more than the limit of 1000000", na));
+    std::vector<double> mu(static_cast<std::size_t>(na));
+    for (py::ssize_t j = 0; j < na; ++j) {
+      require_arg("angles_deg", ang.data()[j], 0, 180, "deg");
+      mu[std::size_t(j)] = std::cos(deg_to_rad(ang.data()[j]));
+    }
+    auto s_shape = shape;
+    s_shape.push_back(na);
+    ComplexArray s1(s_shape), s2(s_shape);
+    std::complex<double>* p1 = s1.mutable_data();
+    std::complex<double>* p2 = s2.mutable_data();
+    double work = 0;
+    for (py::ssize_t i = 0; i < n; ++i) work += (xs[i] + 10) * double(na + 1);
+    const auto body = [&](const ProgressFn& progress) {
+      scatter::MieCoefficients c;
+      for (py::ssize_t i = 0; i < n; ++i) {
+        if (progress) progress(double(i) / double(n), {});
+        scatter::mie_coefficients(m, xs[i], c);
+        q[std::size_t(i)] = scatter::mie_efficiencies(c);
+        nt[std::size_t(i)] = c.terms();
+        scatter::mie_amplitudes(c, mu, {p1 + i * na, std::size_t(na)}, {p2 + i * na, std::size_t(na)}, threads,
+                                progress);
+      }
+      return 0;
+    };
+    run_sized(work, 2e7, body);
+    d["s1"] = s1, d["s2"] = s2;
+  }
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const auto& e = q[std::size_t(i)];
+    qext.mutable_data()[i] = e.qext, qsca.mutable_data()[i] = e.qsca, qabs.mutable_data()[i] = e.qabs;
+    qback.mutable_data()[i] = e.qback, g.mutable_data()[i] = e.g, terms.mutable_data()[i] = nt[std::size_t(i)];
+  }
+  d["qext"] = qext, d["qsca"] = qsca, d["qabs"] = qabs, d["qback"] = qback, d["g"] = g, d["n_terms"] = terms;
+  return d;
+}
+
+py::dict bulk_optics(std::complex<double> m, double wavenumber_per_m, py::handle radius_arg, py::handle weight_arg,
+                     py::handle threads_arg) {
+  const int threads = int(param_value(scatter::mie_param("threads"), threads_arg));
+  require_arg("wavenumber_per_m", wavenumber_per_m, 1e-300, 1e300);
+  const DoubleArray radius_m = c_array<double>(radius_arg, "radius_m"), weight = c_array<double>(weight_arg, "weight");
+  if (radius_m.ndim() != 1 || weight.ndim() != 1 || radius_m.size() != weight.size())
+    throw Error("radius_m, weight: expected two 1-D arrays of the same length");
+  scatter::RadiusQuadrature q;
+  q.radius_m.assign(radius_m.data(), radius_m.data() + radius_m.size());
+  q.weight.assign(weight.data(), weight.data() + weight.size());
+  scatter::MieBulkOptics b;
+  {
+    py::gil_scoped_release release;
+    b = scatter::mie_bulk_optics(m, wavenumber_per_m, q, threads);
+  }
+  py::dict d;
+  d["extinction_per_m"] = b.extinction_per_m, d["scattering_per_m"] = b.scattering_per_m;
+  d["absorption_per_m"] = b.absorption_per_m, d["backscatter_per_m"] = b.backscatter_per_m, d["g"] = b.g;
+  return d;
+}
+
+}  // namespace
+
+void bind_scatter(py::module_& m) {
+  namespace sc = hydrolux::scatter;
+  m.def("simd_target", &sc::simd_target);
+  m.def("sphere_problem", &sphere_problem, py::arg("radius_um"), py::arg("wavelength_nm"), py::arg("medium"),
+        py::arg("surrounding"), py::arg("temperature_c"));
+  m.def("mie", &mie, py::arg("m"), py::arg("x"), py::arg("angles_deg"), py::arg("threads"));
+  m.def("mie_terms", [](double x) {
+    sc::mie_param("x").check(x);
+    return sc::mie_terms(x);
+  });
+  m.def("bulk_optics", &bulk_optics, py::arg("m"), py::arg("wavenumber_per_m"), py::arg("radius_m"), py::arg("weight"),
+        py::arg("threads"));
+
+  py::class_<sc::SizeDistribution>(m, "SizeDistribution")
+      .def_static("monodisperse", &sc::SizeDistribution::monodisperse, py::arg("radius_m"), py::arg("number_per_m3"))
+      .def_static("gamma", &sc::SizeDistribution::gamma, py::arg("mean_radius_m"), py::arg("relative_width"),
+                  py::arg("number_per_m3"))
+      .def_static("log_normal", &sc::SizeDistribution::log_normal, py::arg("mean_radius_m"), py::arg("relative_width"),
+                  py::arg("number_per_m3"))
+      .def_static("marshall_palmer", &sc::SizeDistribution::marshall_palmer, py::arg("rain_rate_mm_per_h"),
+                  py::arg("n0_per_m4"))
+      .def_property_readonly("kind",
+                             [](const sc::SizeDistribution& d) {
+                               switch (d.kind()) {
+                                 case sc::SizeDistributionKind::monodisperse: return "monodisperse";
+                                 case sc::SizeDistributionKind::gamma: return "gamma";
+                                 case sc::SizeDistributionKind::log_normal: return "log_normal";
+                                 default: return "marshall_palmer";
+                               }
+                             })
+      .def("number_density",
+           [](const sc::SizeDistribution& d, py::handle r_arg) {
+             const DoubleArray r = c_array<double>(r_arg, "radius_m");
+             DoubleArray out(shape_of(r));
+             for (py::ssize_t i = 0; i < r.size(); ++i) out.mutable_data()[i] = d.number_density(r.data()[i]);
+             return out;
+           })
+      .def("moment", &sc::SizeDistribution::moment)
+      .def_property_readonly("number_concentration", &sc::SizeDistribution::number_concentration)
+      .def_property_readonly("mean_radius", &sc::SizeDistribution::mean_radius)
+      .def_property_readonly("radius_variance", &sc::SizeDistribution::radius_variance)
+      .def_property_readonly("effective_radius", &sc::SizeDistribution::effective_radius)
+      .def_property_readonly("parameters",
+                             [](const sc::SizeDistribution& d) {
+                               py::dict p;
+                               p["alpha"] = d.alpha(), p["beta"] = d.beta(), p["mu"] = d.mu(), p["sigma"] = d.sigma();
+                               p["lambda"] = d.lambda(), p["n0"] = d.n0(), p["radius"] = d.radius();
+                               return p;
+                             })
+      .def("quadrature",
+           [](const sc::SizeDistribution& d, py::handle nodes_arg, std::optional<double> r_min,
+              std::optional<double> r_max, bool log_spaced) {
+             const int nodes = int(whole_arg(nodes_arg, "nodes", 1, sc::kMaxQuadratureNodes));
+             sc::RadiusQuadrature q;
+             if (r_min || r_max) {
+               if (!r_min || !r_max) throw hydrolux::Error("r_min_m, r_max_m: give both or neither");
+               q = d.quadrature(nodes, *r_min, *r_max, log_spaced);
+             } else {
+               q = d.quadrature(nodes);
+             }
+             return py::make_tuple(py::array_t<double>(py::ssize_t(q.size()), q.radius_m.data()),
+                                   py::array_t<double>(py::ssize_t(q.size()), q.weight.data()));
+           },
+           py::arg("nodes"), py::arg("r_min_m"), py::arg("r_max_m"), py::arg("log_spaced"));
+}
+
+}  // namespace hydrolux::py_bind

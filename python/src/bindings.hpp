@@ -1,0 +1,29 @@
+#pragma once
+// Private to hydrolux._core: one bind_* per library module, each in its own bind_<module>.cpp, called
+// by core_module.cpp's PYBIND11_MODULE. Every file includes this header, so that each sees the same
+// type casters (pybind11/stl.h, complex.h) for the types they share.
+#include <pybind11/complex.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <string>
+
+#include "common.hpp"
+
+namespace hydrolux::optics {
+class Medium;
+}
+
+namespace hydrolux::py_bind {
+
+void bind_core(py::module_& m);     // bind_core.cpp: threads, files, memory, the batch helpers
+void bind_optics(py::module_& m);   // bind_optics.cpp: fresnel, media, refractive_index
+void bind_scatter(py::module_& m);  // bind_scatter.cpp: mie, sphere_problem, SizeDistribution, bulk_optics
+void bind_atmos(py::module_& m);    // bind_atmos.cpp: lee
+void bind_drop(py::module_& m);     // bind_drop.cpp: drop_render, drop_undistort
+void bind_rain(py::module_& m);     // bind_rain.cpp: RainRenderer, builtin_scene
+
+// A medium by name (optics::find_medium), its errors naming the argument `arg` (bind_optics.cpp).
+std::shared_ptr<const optics::Medium> medium_arg(const char* arg, const std::string& name);
+
+}  // namespace hydrolux::py_bind
