@@ -86,11 +86,11 @@ def main():
             from hydrolux.batch import rain as br
             t0 = time.perf_counter()
             ns = argparse.Namespace(input_dir=frames, output_dir=out, mask_dir=None, depth_dir=None,
-                                    depth_scale_m=0.001, frame_index=0,
-                                    no_unresolved=False, chunk_frames=4, workers=workers, threads_per_worker=1,
-                                    scheduler=None, quiet=True, video=None, output=None, crf=18)
-            for _, name, _, default, _ in br.OPTIONS:
-                setattr(ns, name, default)
+                                    depth_scale_m=None, frame_index=0, chunk_frames=4, workers=workers,
+                                    threads_per_worker=1, scheduler=None, quiet=True, video=None, output=None, crf=None)
+            for p in br.params():  # every other declared parameter as the batch's parser leaves it
+                if not hasattr(ns, p["name"]):
+                    setattr(ns, p["name"], br.parser_default(p))
             ns.seed = 4
             br.run(ns, after_result=hook)
             wall = time.perf_counter() - t0

@@ -16,6 +16,8 @@ linear light, float32. Batch jobs on Dask: ``python3 -m hydrolux.batch --help``.
 """
 from __future__ import annotations
 
+import functools
+import inspect
 import math
 import os
 import warnings
@@ -135,12 +137,27 @@ _MEDIUM = "a name from media() or 'const:1.49'"
 
 
 def simd_target() -> str:
-    """The SIMD instruction set the Mie kernels run on this CPU (e.g. "AVX2", "AVX3")."""
+    """The SIMD instruction set the Mie kernels run on this CPU (e.g. "AVX2", "AVX3").
+
+    Example:
+
+    >>> import hydrolux
+    >>> target = hydrolux.simd_target()   # Highway's name for it: "AVX3" is AVX-512
+    >>> isinstance(target, str) and len(target) > 0
+    True
+    """
     return _core.simd_target()
 
 
 def set_threads(threads: int) -> None:
-    """Use at most ``threads`` threads for every parallel loop of this process (0: every core)."""
+    """Use at most ``threads`` threads for every parallel loop of this process (0: every core).
+
+    Example:
+
+    >>> import hydrolux
+    >>> hydrolux.set_threads(2)   # two threads from now on
+    >>> hydrolux.set_threads(0)   # every core again
+    """
     _core.set_threads(threads)
 
 
@@ -154,12 +171,33 @@ def fresnel(theta_deg: ArrayLike, n1: float = 1.0, n2: float = 1.333, k2: float 
     shape). Returns a dict of float64 arrays of that shape: ``rs``, ``rp``, ``r`` (unpolarised),
     ``t`` (NaN for an absorbing medium), ``theta_t_deg`` (NaN under total internal reflection or for
     an absorbing medium), and ``tir`` (bool). Indices in [1e-3, 1000], k2 in [0, 1000].
+
+    Example:
+
+    >>> import hydrolux
+    >>> f = hydrolux.fresnel([0, 45, 89])   # air into water
+    >>> print(f["r"].round(4), f["t"].round(4), f["theta_t_deg"].round(2))
+    [0.0204 0.0279 0.8963] [0.9796 0.9721 0.1037] [ 0.   32.04 48.6 ]
+    >>> bool(hydrolux.fresnel(60, n1=1.333, n2=1.0)["tir"])   # water into air, past the critical angle
+    True
+    >>> print(hydrolux.fresnel(45, n2=0.18, k2=3.4)["r"].round(3))   # an absorbing medium: a metal
+    0.943
     """
     return _core.fresnel(_reals(theta_deg, "theta_deg"), _real(n1, "n1"), _real(n2, "n2"), _real(k2, "k2"))
 
 
 def media() -> list:
-    """The built-in media with their valid wavelength and temperature ranges and sources (``hydrolux ior --list``)."""
+    """The built-in media with their valid wavelength and temperature ranges and sources (``hydrolux ior --list``).
+
+    Example:
+
+    >>> import hydrolux
+    >>> [m["medium"] for m in hydrolux.media()][:4]
+    ['water', 'ice', 'pmma', 'bk7']
+    >>> water = hydrolux.media()[0]
+    >>> water["wavelength_nm"], water["temperature_c"], water["temperature_dependent"]
+    ((200.0, 1100.0), (0.0, 100.0), True)
+    """
     return _core.media()
 
 
@@ -169,6 +207,17 @@ def refractive_index(medium: str, wavelength_nm: ArrayLike, temperature_c: Optio
     ``medium``: a name from :func:`media` or ``"const:1.49"``. ``temperature_c``: for media with a
     temperature model (water: 0 to 100 C); None takes the medium's default. Returns complex128 of
     the shape of ``wavelength_nm``.
+
+    Example:
+
+    >>> import hydrolux
+    >>> n = hydrolux.refractive_index("water", [450, 550, 650])
+    >>> print(n.real.round(4))
+    [1.3396 1.3347 1.3317]
+    >>> print(hydrolux.refractive_index("water", 550, temperature_c=80).real.round(4))
+    1.3247
+    >>> print(hydrolux.refractive_index("const:1.49", 550))
+    (1.49+0j)
     """
     return _core.refractive_index(_text(medium, "medium", _MEDIUM), _reals(wavelength_nm, "wavelength_nm"),
                                   _opt_real(temperature_c, "temperature_c"))
@@ -181,6 +230,16 @@ class MieResult(NamedTuple):
 
     qext, qsca, qabs, qback, g: float64 arrays of x's shape; n_terms: int32, the partial waves summed;
     s1, s2: complex128 of shape x.shape + (angles,), or None when no angles were asked for.
+
+    Example:
+
+    >>> import hydrolux
+    >>> r = hydrolux.mie(1.333, [1.0, 10.0], angles_deg=[0, 90, 180])
+    >>> isinstance(r, hydrolux.MieResult), r.s1.shape, r.s1.dtype
+    (True, (2, 3), dtype('complex128'))
+    >>> qext, qsca, qabs, qback, g, *_ = r   # a named tuple: by name or in order
+    >>> print(qext.round(4), g.round(4))
+    [0.0957 2.1577] [0.1847 0.7059]
     """
     qext: np.ndarray
     qsca: np.ndarray
@@ -193,10 +252,12 @@ class MieResult(NamedTuple):
 
 
 _DEFAULT_ANGLES = "0:180:181"
+# Mie's declared defaults (scatter/params.hpp): the same as hydrolux mie's flags.
+_MIE = {p["name"]: p["default"] for p in _core.params("mie")}
 
 
 def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEFAULT_ANGLES,
-        threads: int = 0) -> MieResult:
+        threads: int = _MIE["threads"]) -> MieResult:
     """Lorenz-Mie scattering by homogeneous spheres (``hydrolux mie``), vectorised over sizes.
 
     ``m``: relative complex index n + ik (k >= 0 absorbs; n, k up to 1000, |m| >= 1e-3), e.g.
@@ -204,6 +265,19 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
     ``angles_deg``: scattering angles in [0, 180] degrees (0 = forward) for S1 and S2: an array, or
     ``"A:B:N"`` for N angles from A to B; the default is the CLI's 0:180:181. ``None`` computes the
     efficiencies alone (the fast path for size sweeps, ``--no-angles``). ``threads``: 0 = all cores.
+
+    Example:
+
+    >>> import hydrolux
+    >>> import numpy as np
+    >>> r = hydrolux.mie(1.333 + 1e-8j, [1.0, 10.0, 100.0])
+    >>> print(r.qext.round(4), r.n_terms, r.s1.shape)   # S1, S2 at 0:180:181 degrees
+    [0.0957 2.1577 2.12  ] [ 10  27 134] (3, 181)
+    >>> sweep = hydrolux.mie(1.333, np.linspace(1, 1000, 1000), angles_deg=None)   # efficiencies only
+    >>> print(sweep.qext.shape, sweep.qext[-1].round(3), sweep.s1)
+    (1000,) 2.023 None
+    >>> print(hydrolux.mie(1.333, 10.0, angles_deg="0:180:3").s1.shape)   # the CLI's A:B:N
+    (3,)
     """
     m = _complex(m, "m")
     x_arr = _reals(x, "x")
@@ -232,7 +306,14 @@ def _parse_angles(text: str) -> np.ndarray:
 
 
 def mie_terms(x: float) -> int:
-    """The number of partial waves hydrolux sums for size parameter x: max(3, x + 7 x^(1/3) + 2)."""
+    """The number of partial waves hydrolux sums for size parameter x: max(3, x + 7 x^(1/3) + 2).
+
+    Example:
+
+    >>> import hydrolux
+    >>> hydrolux.mie_terms(1.0), hydrolux.mie_terms(100.0)
+    (10, 134)
+    """
     return _core.mie_terms(_real(x, "x"))
 
 
@@ -240,7 +321,17 @@ def sphere(radius_um: ArrayLike, wavelength_nm: float, medium: str = "water", su
            temperature_c: Optional[float] = None) -> Tuple[complex, np.ndarray]:
     """The relative index m and size parameters x of spheres of ``radius_um`` (micrometres) of
     ``medium`` in ``surrounding`` at vacuum wavelength ``wavelength_nm`` (``hydrolux mie --radius-um``).
-    Returns (m, x) with x of the shape of ``radius_um``."""
+    Returns (m, x) with x of the shape of ``radius_um``.
+
+    Example:
+
+    >>> import hydrolux
+    >>> m, x = hydrolux.sphere([1.0, 10.0], 550)   # water drops of 1 and 10 um in air, green light
+    >>> print(round(m.real, 4), x.round(2))
+    1.3343 [ 11.43 114.27]
+    >>> print(hydrolux.mie(m, x, angles_deg=None).qext.round(3))
+    [1.828 2.043]
+    """
     return _core.sphere_problem(_reals(radius_um, "radius_um"), _real(wavelength_nm, "wavelength_nm"),
                                 _text(medium, "medium", _MEDIUM), _text(surrounding, "surrounding", _MEDIUM),
                                 _opt_real(temperature_c, "temperature_c"))
@@ -251,7 +342,18 @@ def bulk_optics(m: complex, wavelength_nm: float, distribution: "SizeDistributio
     """Extinction, scattering, absorption and backscatter coefficients (m^-1) and the asymmetry
     parameter g of a population of spheres of index ``m`` (relative to the surrounding medium of
     real index ``medium_index``) at vacuum ``wavelength_nm``, by ``nodes``-point quadrature of the
-    distribution (``scatter::mie_bulk_optics``)."""
+    distribution (``scatter::mie_bulk_optics``).
+
+    Example:
+
+    >>> import hydrolux
+    >>> fog = hydrolux.SizeDistribution.gamma(10e-6, 0.2, number_per_m3=1e8)   # 100 drops per cm^3
+    >>> b = hydrolux.bulk_optics(1.333, 550, fog, nodes=32)
+    >>> print(round(b["extinction_per_m"], 4), round(b["g"], 3))
+    0.068 0.867
+    >>> print(f"visibility {3.912 / b['extinction_per_m']:.0f} m")   # Koschmieder
+    visibility 58 m
+    """
     m = _complex(m, "m")
     wavelength_nm = _real(wavelength_nm, "wavelength_nm")
     medium_index = _real(medium_index, "medium_index")
@@ -272,6 +374,15 @@ class SizeDistribution:
     Make one with :meth:`monodisperse`, :meth:`gamma`, :meth:`log_normal` or :meth:`marshall_palmer`.
     Radii in metres in (0, 1]; relative widths sigma_r / <r> in [1e-4, 1]; number concentrations
     in (0, 1e30] m^-3; rain rates in (0, 1000] mm/h.
+
+    Example:
+
+    >>> import hydrolux
+    >>> d = hydrolux.SizeDistribution.gamma(10e-6, 0.2, number_per_m3=1e8)
+    >>> d
+    SizeDistribution.gamma(mean_radius=1e-05 m, N=1e+08 m^-3)
+    >>> print(f"{d.effective_radius * 1e6:.2f} um", d.kind)
+    10.80 um gamma
     """
 
     def __init__(self, native: Any):
@@ -279,11 +390,30 @@ class SizeDistribution:
 
     @classmethod
     def monodisperse(cls, radius_m: float, number_per_m3: float = 1.0) -> "SizeDistribution":
+        """Every drop of radius ``radius_m``, ``number_per_m3`` of them.
+
+        Example:
+
+        >>> import hydrolux
+        >>> d = hydrolux.SizeDistribution.monodisperse(1e-3, number_per_m3=100)
+        >>> d.kind, d.mean_radius, d.number_concentration
+        ('monodisperse', 0.001, 100.0)
+        """
         return cls(_core.SizeDistribution.monodisperse(_real(radius_m, "radius_m"),
                                                        _real(number_per_m3, "number_per_m3")))
 
     @classmethod
     def gamma(cls, mean_radius_m: float, relative_width: float, number_per_m3: float = 1.0) -> "SizeDistribution":
+        """A gamma distribution of mean radius ``mean_radius_m`` and standard deviation
+        ``relative_width`` x the mean (clouds and fog).
+
+        Example:
+
+        >>> import hydrolux
+        >>> d = hydrolux.SizeDistribution.gamma(10e-6, 0.2)
+        >>> print(f"{d.mean_radius * 1e6:.1f} um, sigma {d.radius_variance ** 0.5 * 1e6:.1f} um")
+        10.0 um, sigma 2.0 um
+        """
         return cls(_core.SizeDistribution.gamma(_real(mean_radius_m, "mean_radius_m"),
                                                 _real(relative_width, "relative_width"),
                                                 _real(number_per_m3, "number_per_m3")))
@@ -291,13 +421,31 @@ class SizeDistribution:
     @classmethod
     def log_normal(cls, mean_radius_m: float, relative_width: float,
                    number_per_m3: float = 1.0) -> "SizeDistribution":
+        """A log-normal distribution of mean radius ``mean_radius_m`` and standard deviation
+        ``relative_width`` x the mean.
+
+        Example:
+
+        >>> import hydrolux
+        >>> d = hydrolux.SizeDistribution.log_normal(5e-6, 0.3, number_per_m3=1e9)
+        >>> print(d.kind, f"{d.mean_radius * 1e6:.1f} um", f"{d.radius_variance ** 0.5 * 1e6:.1f} um")
+        log_normal 5.0 um 1.5 um
+        """
         return cls(_core.SizeDistribution.log_normal(_real(mean_radius_m, "mean_radius_m"),
                                                      _real(relative_width, "relative_width"),
                                                      _real(number_per_m3, "number_per_m3")))
 
     @classmethod
     def marshall_palmer(cls, rain_rate_mm_per_h: float, n0_per_m4: float = 8e6) -> "SizeDistribution":
-        """Marshall & Palmer (1948): n(r) = N0' exp(-Lambda r), N0 = 8e6 m^-4 per metre of diameter."""
+        """Marshall & Palmer (1948): n(r) = N0' exp(-Lambda r), N0 = 8e6 m^-4 per metre of diameter.
+
+        Example:
+
+        >>> import hydrolux
+        >>> d = hydrolux.SizeDistribution.marshall_palmer(5.0)   # 5 mm/h
+        >>> print(f"{d.number_concentration:.0f} drops per m^3, mean radius {d.mean_radius * 1e3:.3f} mm")
+        1368 drops per m^3, mean radius 0.171 mm
+        """
         return cls(_core.SizeDistribution.marshall_palmer(_real(rain_rate_mm_per_h, "rain_rate_mm_per_h"),
                                                           _real(n0_per_m4, "n0_per_m4")))
 
@@ -306,11 +454,27 @@ class SizeDistribution:
         return self._d.kind
 
     def number_density(self, radius_m: ArrayLike) -> np.ndarray:
-        """n(r) in m^-4 at the given radii (m); float64 of their shape."""
+        """n(r) in m^-4 at the given radii (m); float64 of their shape.
+
+        Example:
+
+        >>> import hydrolux
+        >>> d = hydrolux.SizeDistribution.gamma(10e-6, 0.2, number_per_m3=1e8)
+        >>> [f"{n:.3g}" for n in d.number_density([5e-6, 10e-6, 20e-6])]
+        ['3.18e+11', '1.99e+13', '4.63e+09']
+        """
         return self._d.number_density(_reals(radius_m, "radius_m"))
 
     def moment(self, k: float) -> float:
-        """M_k = integral of r^k n(r) dr (m^(k-3))."""
+        """M_k = integral of r^k n(r) dr (m^(k-3)).
+
+        Example:
+
+        >>> import hydrolux
+        >>> d = hydrolux.SizeDistribution.monodisperse(1e-3, number_per_m3=100)
+        >>> print(f"{d.moment(0):g} m^-3, liquid water {4 / 3 * 3.14159265 * d.moment(3) * 1e6:.3f} g/m^3")
+        100 m^-3, liquid water 0.419 g/m^3
+        """
         return self._d.moment(_real(k, "k"))
 
     @property
@@ -338,7 +502,19 @@ class SizeDistribution:
                    log_spaced: bool = False) -> Tuple[np.ndarray, np.ndarray]:
         """Gauss quadrature of the distribution: (radius_m, weight) float64 arrays, the weights in
         drops per m^3, so that sum(w f(r)) approximates the integral of f(r) n(r) dr. With r_min_m and
-        r_max_m: over that range (log_spaced: Gauss-Legendre in ln r)."""
+        r_max_m: over that range (log_spaced: Gauss-Legendre in ln r).
+
+        Example:
+
+        >>> import hydrolux
+        >>> d = hydrolux.SizeDistribution.gamma(10e-6, 0.2, number_per_m3=1e8)
+        >>> r, w = d.quadrature(8)
+        >>> r.shape, f"{w.sum():.4g}", f"{(w * r).sum() / w.sum():.4g}"   # N and the mean radius
+        ((8,), '1e+08', '1e-05')
+        >>> r, w = d.quadrature(24, r_min_m=1e-6, r_max_m=50e-6, log_spaced=True)
+        >>> print(f"{w.sum():.3g}")
+        1e+08
+        """
         return self._d.quadrature(nodes, _opt_real(r_min_m, "r_min_m"), _opt_real(r_max_m, "r_max_m"),
                                   _flag(log_spaced, "log_spaced"))
 
@@ -355,6 +531,15 @@ class LeeTable(NamedTuple):
     xyz: (rows, columns, 3) float64, CIE XYZ (unmapped); display: (rows, columns, 3) float32, the
     tone-mapped display values in [0, 1] (linear; apply the sRGB curve to show them);
     radius_um: (columns,), angle_deg and cos_angle: (rows,), wavelengths_nm: (K,).
+
+    Example:
+
+    >>> import hydrolux
+    >>> t = hydrolux.lee(table="corona", size=(4, 8), wavelengths=4)
+    >>> isinstance(t, hydrolux.LeeTable), t.display.dtype, t.wavelengths_nm
+    (True, dtype('float32'), array([430., 530., 630., 730.]))
+    >>> print(t.radius_um.round(2), t.angle_deg[[0, -1]])
+    [ 1.    3.68 13.57 50.  ] [ 0. 20.]
     """
     rgb: np.ndarray
     xyz: np.ndarray
@@ -385,12 +570,19 @@ def _span(value, name):
     return (v, v)
 
 
+# The Lee table's declared parameters (the library's one table, src/atmos/lee_params.cpp): lee()'s
+# defaults below, their ranges and checks (in _core, as the CLI's flags).
+_LEE = {p["name"]: p for p in _core.params("lee")}
+
+
 def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=None,
         size: Optional[Tuple[int, int]] = None, radius_scale: str = "log", axis: str = "angle",
-        sun_disk_deg: float = 0.53, limb_darkening: bool = False, size_spread: float = 0.1,
-        wavelengths_nm: Tuple[float, float] = (380.0, 780.0), wavelengths: int = 0,
-        temperature_c: Optional[float] = None, medium: str = "water", sun: str = "astm-g173-direct",
-        color_space: str = "rec709", sampling: float = 1.0, seed: int = 1, threads: int = 0) -> LeeTable:
+        sun_disk_deg: float = _LEE["sun_disk_deg"]["default"], limb_darkening: bool = _LEE["limb_darkening"]["default"],
+        size_spread: float = _LEE["size_spread"]["default"], wavelengths_nm: Tuple[float, float] = (380.0, 780.0),
+        wavelengths: int = 0, temperature_c: Optional[float] = _LEE["temperature_c"]["default"],
+        medium: str = "water", sun: str = "astm-g173-direct", color_space: str = "rec709",
+        sampling: float = _LEE["sampling"]["default"], seed: int = _LEE["seed"]["default"],
+        threads: int = _LEE["threads"]["default"]) -> LeeTable:
     """A Lee diagram, corona or glory table, computed spectrally (``hydrolux lee``; docs/lee.md).
 
     ``table``: "rainbow" (90-180 deg, 5-800 um), "corona" (0-20 deg, 1-50 um) or "glory"
@@ -399,18 +591,33 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     [0, 180]; ``size``: (columns, rows), default (512, 1024), (1, rows) for one radius.
     ``wavelengths``: samples over ``wavelengths_nm`` (0: one every 10 nm / sampling). Other
     arguments as the CLI's flags of the same names. Long: the GIL is released and Ctrl-C stops it.
+
+    Example:
+
+    >>> import hydrolux
+    >>> t = hydrolux.lee(size=(4, 8), wavelengths=4)   # radii 5-800 um (columns), 90-180 degrees (rows)
+    >>> t.rgb.shape, t.radius_um.shape, t.angle_deg.shape, t.info["theory"]
+    ((8, 4, 3), (4,), (8,), 'mie')
+    >>> bow = hydrolux.lee(theory="airy", radius_um=500, angle_deg=(135, 145), size=(1, 11), wavelengths=8)
+    >>> bow.rgb.shape   # one radius: one column
+    (11, 1, 3)
     """
-    d = _core.lee(_text(table, "table", "rainbow, corona or glory"),
-                  _text(theory, "theory", "mie, debye:P, airy, airy:3 or geometric[:P]"),
-                  _span(radius_um, "radius_um"), _span(angle_deg, "angle_deg"),
-                  None if size is None else _pair(size, "size", "(columns, rows), two whole numbers"),
-                  _text(radius_scale, "radius_scale", "log or linear"), _text(axis, "axis", "angle or cos"),
-                  _real(sun_disk_deg, "sun_disk_deg"), _flag(limb_darkening, "limb_darkening"),
-                  _real(size_spread, "size_spread"), _span(wavelengths_nm, "wavelengths_nm"), wavelengths,
-                  _opt_real(temperature_c, "temperature_c"), _text(medium, "medium", _MEDIUM),
-                  _text(sun, "sun", "a spectrum name as the CLI's --sun"),
-                  _text(color_space, "color_space", "an RGB space as the CLI's --color-space"),
-                  _real(sampling, "sampling"), seed, threads)
+    # Each argument's type is checked in the signature's order; the declared ones go to _core by name.
+    table = _text(table, "table", "rainbow, corona or glory")
+    theory = _text(theory, "theory", "mie, debye:P, airy, airy:3 or geometric[:P]")
+    radius_um, angle_deg = _span(radius_um, "radius_um"), _span(angle_deg, "angle_deg")
+    size = None if size is None else _pair(size, "size", "(columns, rows), two whole numbers")
+    radius_scale, axis = _text(radius_scale, "radius_scale", "log or linear"), _text(axis, "axis", "angle or cos")
+    options = {"sun_disk_deg": _real(sun_disk_deg, "sun_disk_deg"),
+               "limb_darkening": _flag(limb_darkening, "limb_darkening"),
+               "size_spread": _real(size_spread, "size_spread")}
+    wavelengths_nm = _span(wavelengths_nm, "wavelengths_nm")
+    options["temperature_c"] = _opt_real(temperature_c, "temperature_c")
+    medium, sun = _text(medium, "medium", _MEDIUM), _text(sun, "sun", "a spectrum name as the CLI's --sun")
+    color_space = _text(color_space, "color_space", "an RGB space as the CLI's --color-space")
+    options.update(sampling=_real(sampling, "sampling"), seed=seed, threads=threads)
+    d = _core.lee(table, theory, radius_um, angle_deg, size, radius_scale, axis, wavelengths_nm, wavelengths, medium,
+                  sun, color_space, options)
     info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations")}
     return LeeTable(d["rgb"], d["xyz"], d["display"], d["radius_um"], d["angle_deg"], d["cos_angle"],
                     d["wavelengths_nm"], info)
@@ -418,12 +625,19 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
 
 # ---- the drop -------------------------------------------------------------------------------------
 
-def drop_render(env: Optional[np.ndarray] = None, radius_mm: float = 1.0, distance_m: float = 2.0,
-                focal_mm: float = 50.0, f_number: float = 2.8, frame_mm: Optional[float] = None, size: int = 512,
-                samples: int = 4, internal: int = 2, medium: str = "water", temperature_c: Optional[float] = None,
-                wavelength_nm: float = 589.3, dispersion: bool = False, background_blur: bool = False,
-                background: bool = True, exposure_ev: float = 0.0, method: str = "model", shape: str = "sphere",
-                depth: int = 8) -> np.ndarray:
+# The drop render's declared defaults (drop/params.hpp): the same as hydrolux drop render's flags.
+_DROP = {p["name"]: p["default"] for p in _core.params("drop_render")}
+
+
+def drop_render(env: Optional[np.ndarray] = None, radius_mm: float = _DROP["radius_mm"],
+                distance_m: float = _DROP["distance_m"], focal_mm: float = _DROP["focal_mm"],
+                f_number: float = _DROP["f_number"], frame_mm: Optional[float] = _DROP["frame_mm"],
+                size: int = _DROP["size"], samples: int = _DROP["samples"], internal: int = _DROP["internal"],
+                medium: str = "water", temperature_c: Optional[float] = _DROP["temperature_c"],
+                wavelength_nm: float = _DROP["wavelength_nm"], dispersion: bool = _DROP["dispersion"],
+                background_blur: bool = _DROP["background_blur"], background: bool = _DROP["background"],
+                exposure_ev: float = _DROP["exposure_ev"], method: str = "model", shape: str = "sphere",
+                depth: int = _DROP["depth"]) -> np.ndarray:
     """A rain drop rendered from an environment (``hydrolux drop render``; Garg & Nayar's Figure 8).
 
     ``env``: an equirectangular environment map (H, W, 3) linear float, or None for the built-in
@@ -431,15 +645,29 @@ def drop_render(env: Optional[np.ndarray] = None, radius_mm: float = 1.0, distan
     (Garg & Nayar eq. 19) or "exact" (the Fresnel-split ray tracer to ``depth`` interactions;
     ``shape`` "sphere" or "beard-chuang"). ``background=False``: black background with the drop's
     coverage in alpha. Returns (size, size, 4) float32, linear RGBA.
+
+    Example:
+
+    >>> import hydrolux
+    >>> img = hydrolux.drop_render(size=32, samples=1)   # the built-in sky through a 1 mm drop, 2 m away
+    >>> img.shape, img.dtype, float(img[16, 16, 3])   # alpha 1: the drop covers the centre
+    ((32, 32, 4), dtype('float32'), 1.0)
+    >>> exact = hydrolux.drop_render(size=16, samples=1, method="exact", shape="beard-chuang", radius_mm=2.0)
+    >>> exact.shape
+    (16, 16, 4)
     """
-    return _core.drop_render(None if env is None else _array_arg(env, "env"), _real(radius_mm, "radius_mm"),
-                             _real(distance_m, "distance_m"), _real(focal_mm, "focal_mm"),
-                             _real(f_number, "f_number"), _opt_real(frame_mm, "frame_mm"), size, samples, internal,
-                             _text(medium, "medium", _MEDIUM), _opt_real(temperature_c, "temperature_c"),
-                             _real(wavelength_nm, "wavelength_nm"), _flag(dispersion, "dispersion"),
-                             _flag(background_blur, "background_blur"), _flag(background, "background"),
-                             _real(exposure_ev, "exposure_ev"), _text(method, "method", "model or exact"),
-                             _text(shape, "shape", "sphere or beard-chuang"), depth)
+    env = None if env is None else _array_arg(env, "env")
+    options = dict(radius_mm=_real(radius_mm, "radius_mm"), distance_m=_real(distance_m, "distance_m"),
+                   focal_mm=_real(focal_mm, "focal_mm"), f_number=_real(f_number, "f_number"),
+                   frame_mm=_opt_real(frame_mm, "frame_mm"), size=size, samples=samples, internal=internal)
+    medium = _text(medium, "medium", _MEDIUM)
+    options.update(temperature_c=_opt_real(temperature_c, "temperature_c"),
+                   wavelength_nm=_real(wavelength_nm, "wavelength_nm"), dispersion=_flag(dispersion, "dispersion"),
+                   background_blur=_flag(background_blur, "background_blur"),
+                   background=_flag(background, "background"), exposure_ev=_real(exposure_ev, "exposure_ev"),
+                   depth=depth)
+    return _core.drop_render(env, medium, _text(method, "method", "model or exact"),
+                             _text(shape, "shape", "sphere or beard-chuang"), options)
 
 
 def drop_undistort(image: np.ndarray, drop_center: Tuple[float, float], drop_radius_px: float,
@@ -449,7 +677,16 @@ def drop_undistort(image: np.ndarray, drop_center: Tuple[float, float], drop_rad
     view (``size`` = (width, height), ``fov_deg`` horizontal, turned by ``yaw_deg``/``pitch_deg``) of a
     pinhole camera at the drop whose image, centred at ``drop_center`` (x, y pixels) with radius
     ``drop_radius_px``, is in ``image`` (linear). Returns (height, width, 4) float32 RGBA, alpha = 1
-    where the drop resolves the direction."""
+    where the drop resolves the direction.
+
+    Example:
+
+    >>> import hydrolux
+    >>> drop = hydrolux.drop_render(size=64, samples=1)   # the drop fills 2/5 of the frame: radius 12.8 px
+    >>> view = hydrolux.drop_undistort(drop, drop_center=(32, 32), drop_radius_px=12.8, size=(32, 16))
+    >>> view.shape, float(view[8, 16, 3])   # (height, width, RGBA); the centre is resolved
+    ((16, 32, 4), 1.0)
+    """
     cx, cy = _pair(drop_center, "drop_center", "(x, y) in pixels")
     return _core.drop_undistort(_array_arg(image, "image"),
                                 (_real(cx, "drop_center[0]"), _real(cy, "drop_center[1]")),
@@ -464,28 +701,86 @@ def drop_undistort(image: np.ndarray, drop_center: Tuple[float, float], drop_rad
 class RainResult(NamedTuple):
     """A rainy frame: image (H, W, C) float32 linear; mask (H, W, 1) float32, the rain's coverage
     (image = clear (1 - mask) + layer); layer (H, W, 4) premultiplied RGBA or None; stats: a dict
-    as ``hydrolux rain --stats-json`` writes per frame."""
+    as ``hydrolux rain --stats-json`` writes per frame.
+
+    Example:
+
+    >>> import hydrolux
+    >>> import numpy as np
+    >>> clear = hydrolux.builtin_scene(64, 48)
+    >>> r = hydrolux.rain(clear, seed=4, with_layer=True)
+    >>> isinstance(r, hydrolux.RainResult), r.mask.shape, r.layer.shape
+    (True, (48, 64, 1), (48, 64, 4))
+    >>> bool(np.allclose(r.image, clear * (1 - r.mask) + r.layer[..., :3], atol=1e-5))
+    True
+    """
     image: np.ndarray
     mask: np.ndarray
     layer: Optional[np.ndarray]
     stats: dict
 
 
-_RAIN_OPTIONS = ("rate_mmh", "wind_mps", "wind_dir_deg", "exposure_s", "focal_mm", "fov_deg", "sensor_width_mm",
-                 "pixel_pitch_um", "f_number", "focus_m", "fps", "camera_height_m", "pitch_deg", "near_m", "far_m",
-                 "min_radius_mm", "max_radius_mm", "min_alpha", "extent_m", "backdrop_m", "oscillation", "seed",
-                 "unresolved")
+def _declared(job: str, *groups: str) -> list:
+    """A job's declared parameters (the library's one table, hydrolux/jobs.hpp) of the given groups."""
+    return [p for p in _core.params(job) if p["group"] in groups]
+
+
+_RAIN_PARAMS = _declared("rain", "rain", "camera")
+_RAIN_OPTIONS = tuple(p["name"] for p in _RAIN_PARAMS)
+_CAMERA_OPTIONS = tuple(p["name"] for p in _RAIN_PARAMS if p["group"] == "camera")
 
 
 def _rain_options(kw: dict) -> dict:
     for k in kw:
         if k not in _RAIN_OPTIONS:
             raise TypeError(f"unknown rain option '{k}' (options: {', '.join(_RAIN_OPTIONS)})")
-    if kw.get("fov_deg") is not None and kw.get("focal_mm") is not None:
-        raise ValueError("fov_deg: give focal_mm or fov_deg, not both")
-    if kw.get("pixel_pitch_um") is not None and kw.get("sensor_width_mm") is not None:
-        raise ValueError("pixel_pitch_um: give sensor_width_mm or pixel_pitch_um, not both")
     return {k: v for k, v in kw.items() if v is not None}
+
+
+def _options_doc(params: list) -> str:
+    """The options' reference for a docstring, from the declared table: name, range, default, help."""
+    lines = []
+    for p in params:
+        valid = "True or False" if p["kind"] == "flag" else p["range"]
+        default = f"; default {p['default']!r}" if p["default"] is not None else ""
+        # A switch's help is its CLI flag's, which turns the default around (--no-unresolved).
+        what = f"{not p['default']}: {p['help']}" if p["kind"] == "flag" else p["help"]
+        lines.append(f"    ``{p['name']}`` ({valid}{default}): {what}")
+    return "\n".join(lines)
+
+
+def _with_options(params: list, keep: int, positional: bool = False):
+    """Gives a function taking ``**options`` the declared options as parameters in its signature
+    (help(), IDEs and inspect show them) and their reference at the end of its docstring. The
+    options are keyword-only, or with ``positional`` may also be given by position after the first
+    ``keep`` parameters (for functions whose options always could be); either way the function
+    receives only the options given, and the library fills in the rest from the same table."""
+    def wrap(fn):
+        sig = inspect.signature(fn)
+        head = [q for q in sig.parameters.values() if q.kind != q.VAR_KEYWORD][:keep]
+        # A parameter another replaces (focal_mm by fov_deg) shows None: either may be given.
+        replaced = {p["excludes"] for p in params if p["excludes"]}
+        kind = inspect.Parameter.POSITIONAL_OR_KEYWORD if positional else inspect.Parameter.KEYWORD_ONLY
+        opts = [inspect.Parameter(p["name"], kind, default=None if p["name"] in replaced else p["default"],
+                                  annotation={"real": float, "integer": int, "flag": bool}[p["kind"]])
+                for p in params]
+        full = sig.replace(parameters=head + opts)
+        doc = (fn.__doc__ or "").rstrip() + "\n\n    Options (the CLI's flags of the same names):\n\n" + \
+            _options_doc(params) + "\n"
+        if not positional:
+            fn.__signature__, fn.__doc__ = full, doc
+            return fn
+        names = [q.name for q in head]
+
+        @functools.wraps(fn)
+        def call(*args, **kw):
+            bound = full.bind(*args, **kw)
+            given = bound.arguments
+            return fn(**{n: given[n] for n in names if n in given}, **{k: v for k, v in given.items() if k not in names})
+
+        call.__signature__, call.__doc__ = full, doc
+        return call
+    return wrap
 
 
 class RainRenderer:
@@ -495,8 +790,18 @@ class RainRenderer:
     from k / fps and any frame can be rendered alone, so chunks of a sequence rendered anywhere give
     the same bytes as one pass. ``width``, ``height``: the frames' size; ``ground_plane``: True when
     no depth maps will be given. Options as :func:`rain`.
+
+    Example:
+
+    >>> import hydrolux
+    >>> renderer = hydrolux.RainRenderer(64, 48, rate_mmh=25, wind_mps=3, seed=4)
+    >>> scene = hydrolux.builtin_scene(64, 48)
+    >>> frames = [renderer.render(scene, frame_index=k).image for k in range(3)]
+    >>> bool((renderer.render(scene, frame_index=1).image == frames[1]).all())   # any frame alone, the same
+    True
     """
 
+    @_with_options(_RAIN_PARAMS, 4)
     def __init__(self, width: int, height: int, ground_plane: bool = True, **options: Any):
         self._r = _core.RainRenderer(width, height, _flag(ground_plane, "ground_plane"), _rain_options(options))
 
@@ -504,7 +809,16 @@ class RainRenderer:
                with_layer: bool = False) -> RainResult:
         """Frame ``frame_index`` over ``image`` (H, W, 3 or more) linear RGB: every value finite (a NaN
         or infinity is a ValueError naming the pixel); negative values, light that cannot be, are read
-        as 0 with a warning, their count in stats["negative_values_clamped"]."""
+        as 0 with a warning, their count in stats["negative_values_clamped"].
+
+        Example:
+
+        >>> import hydrolux
+        >>> renderer = hydrolux.RainRenderer(64, 48, seed=4)
+        >>> frame = renderer.render(hydrolux.builtin_scene(64, 48), frame_index=7, with_layer=True)
+        >>> frame.image.shape, frame.layer.shape, frame.stats["negative_values_clamped"]
+        ((48, 64, 3), (48, 64, 4), 0)
+        """
         return self._render(image, depth, frame_index, with_layer, 3)
 
     def _render(self, image, depth, frame_index, with_layer, stacklevel) -> RainResult:
@@ -517,16 +831,21 @@ class RainRenderer:
         return RainResult(d["image"], d["mask"], d["layer"], d["stats"])
 
     def field_info(self) -> dict:
+        """The rain field: its drops, total extinction (m^-1), frame size and focal length (px).
+
+        Example:
+
+        >>> import hydrolux
+        >>> info = hydrolux.RainRenderer(64, 48, seed=4).field_info()
+        >>> sorted(info), info["width"], info["height"]
+        (['beta_total_per_m', 'drops', 'focal_px', 'height', 'width'], 64, 48)
+        """
         return self._r.field_info()
 
 
+@_with_options(_RAIN_PARAMS, 4)
 def rain(image: np.ndarray, depth: Optional[np.ndarray] = None, frame_index: int = 0, with_layer: bool = False,
-         *, rate_mmh: float = 25.0, wind_mps: float = 0.0, wind_dir_deg: float = 90.0, exposure_s: float = 0.008,
-         focal_mm: Optional[float] = None, fov_deg: Optional[float] = None, sensor_width_mm: Optional[float] = None,
-         pixel_pitch_um: Optional[float] = None, f_number: float = 0.0, focus_m: float = 10.0, fps: float = 25.0,
-         camera_height_m: float = 1.7, pitch_deg: float = 0.0, near_m: float = 0.5, far_m: float = 100.0,
-         min_radius_mm: float = 0.1, max_radius_mm: float = 2.9, min_alpha: float = 0.01, extent_m: float = 1000.0,
-         backdrop_m: float = 100.0, oscillation: float = 0.0, seed: int = 1, unresolved: bool = True) -> RainResult:
+         **options: Any) -> RainResult:
     """Rain over one image (``hydrolux rain --image``; docs/rain.md): drops from Marshall-Palmer for
     ``rate_mmh``, falling at terminal velocity with the wind, each seen through Garg & Nayar's drop
     model lit by the image, smeared by the exposure into streaks, hidden behind ``depth`` (camera z
@@ -535,30 +854,37 @@ def rain(image: np.ndarray, depth: Optional[np.ndarray] = None, frame_index: int
     ``image``: (H, W, 3 or more) linear RGB. Camera: ``focal_mm`` (default 35) or ``fov_deg``,
     ``sensor_width_mm`` (default 36) or ``pixel_pitch_um``. Every option has the CLI flag's range
     and default; the same seed gives the same bytes. For a sequence use :class:`RainRenderer`.
+
+    Example:
+
+    >>> import hydrolux
+    >>> scene = hydrolux.builtin_scene(64, 48)
+    >>> out = hydrolux.rain(scene, rate_mmh=50, wind_mps=3, seed=4)
+    >>> out.image.shape, out.mask.shape, out.layer is None
+    ((48, 64, 3), (48, 64, 1), True)
+    >>> again = hydrolux.rain(scene, rate_mmh=50, wind_mps=3, seed=4)
+    >>> bool((again.image == out.image).all())   # the same seed, the same bytes
+    True
     """
-    opts = dict(rate_mmh=rate_mmh, wind_mps=wind_mps, wind_dir_deg=wind_dir_deg, exposure_s=exposure_s,
-                f_number=f_number, focus_m=focus_m, fps=fps, camera_height_m=camera_height_m, pitch_deg=pitch_deg,
-                near_m=near_m, far_m=far_m, min_radius_mm=min_radius_mm, max_radius_mm=max_radius_mm,
-                min_alpha=min_alpha, extent_m=extent_m, backdrop_m=backdrop_m, oscillation=oscillation, seed=seed,
-                unresolved=unresolved)
-    for k, v in (("focal_mm", focal_mm), ("fov_deg", fov_deg), ("sensor_width_mm", sensor_width_mm),
-                 ("pixel_pitch_um", pixel_pitch_um)):
-        if v is not None:
-            opts[k] = v
     img = _array_arg(image, "image")
     if img.ndim != 3 or img.shape[2] < 3:
         raise ValueError(f"image: expected (height, width, 3 or more channels) linear RGB, got {_describe(img)}")
-    r = RainRenderer(img.shape[1], img.shape[0], depth is None, **opts)
+    r = RainRenderer(img.shape[1], img.shape[0], depth is None, **options)
     return r._render(img, depth, frame_index, with_layer, 3)
 
 
-_CAMERA_OPTIONS = ("focal_mm", "fov_deg", "sensor_width_mm", "pixel_pitch_um", "f_number", "focus_m", "exposure_s",
-                   "fps", "camera_height_m", "pitch_deg")
-
-
+@_with_options([p for p in _RAIN_PARAMS if p["group"] == "camera"], 2)
 def builtin_scene(width: int = 1280, height: int = 720, **camera: Any) -> np.ndarray:
     """The built-in street scene (``hydrolux rain --image builtin``) as the camera sees it: (H, W, 3)
-    float32 linear RGB. Camera options as :func:`rain` (focal_mm, fov_deg, pitch_deg, ...)."""
+    float32 linear RGB. Camera options as :func:`rain` (focal_mm, fov_deg, pitch_deg, ...).
+
+    Example:
+
+    >>> import hydrolux
+    >>> scene = hydrolux.builtin_scene(64, 48, fov_deg=90)
+    >>> scene.shape, scene.dtype
+    ((48, 64, 3), dtype('float32'))
+    """
     for k in camera:
         if k not in _CAMERA_OPTIONS:
             raise TypeError(f"builtin_scene: '{k}' is not a camera option ({', '.join(_CAMERA_OPTIONS)})")
@@ -574,11 +900,32 @@ def _image_module():
 
 def read_image(path: str) -> np.ndarray:
     """An image file (PNG, JPEG, EXR, TIFF, HDR, PNM) as (H, W, C) float32 linear values (8/16-bit
-    files through the sRGB curve), checked as the CLI checks its inputs."""
+    files through the sRGB curve), checked as the CLI checks its inputs.
+
+    Example:
+
+    >>> import hydrolux, os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "street.png")
+    >>> hydrolux.write_image(path, hydrolux.builtin_scene(64, 48))
+    >>> img = hydrolux.read_image(path)
+    >>> img.shape, img.dtype
+    ((48, 64, 3), dtype('float32'))
+    """
     return _image_module().read(_path(path, "path"))[0]
 
 
 def write_image(path: str, image: np.ndarray, bits: int = 8) -> None:
     """Writes (H, W, C) linear float values as .png (sRGB, ``bits`` 8 or 16) or .exr (float),
-    atomically: the file appears whole or not at all, never half-written."""
+    atomically: the file appears whole or not at all, never half-written.
+
+    Example:
+
+    >>> import hydrolux, os, tempfile
+    >>> folder = tempfile.mkdtemp()
+    >>> scene = hydrolux.builtin_scene(64, 48)
+    >>> hydrolux.write_image(os.path.join(folder, "street.png"), scene, bits=16)
+    >>> hydrolux.write_image(os.path.join(folder, "street.exr"), scene)   # float, linear
+    >>> sorted(os.listdir(folder))
+    ['street.exr', 'street.png']
+    """
     _image_module().write(_path(path, "path"), _array_arg(image, "image"), bits)

@@ -41,10 +41,10 @@ def cli_out(frames, tmp_path_factory, cli):
 def batch_args(frames, out, **kw):
     a = argparse.Namespace(input_dir=str(frames), output_dir=str(out), mask_dir=None, depth_dir=None,
                            depth_scale_m=None, video=None, output=None, crf=None, frame_index=10,
-                           no_unresolved=False, chunk_frames=3, workers=2, threads_per_worker=1, scheduler=None,
-                           quiet=True)
-    for _, name, _, default, *_ in batch_rain.OPTIONS:
-        setattr(a, name, default)
+                           chunk_frames=3, workers=2, threads_per_worker=1, scheduler=None, quiet=True)
+    for p in batch_rain.params():  # every other declared parameter as the parser leaves it
+        if not hasattr(a, p["name"]):
+            setattr(a, p["name"], batch_rain.parser_default(p))
     a.seed, a.rate_mmh, a.wind_mps = 4, 25.0, 2.0
     for k, v in kw.items():
         setattr(a, k, v)

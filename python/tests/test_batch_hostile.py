@@ -232,9 +232,9 @@ def test_numbers_are_refused_with_the_cli_message(flag, value, frames, tmp_path,
 def test_numbers_the_cli_accepts_are_accepted(frames):
     a = argparse.Namespace(input_dir=str(frames), output_dir="o", seed="1e3", rate_mmh="+25", wind_mps=".5",
                            frame_index="1e2", chunk_frames="4", crf="1.8e1", depth_scale_m="1e-3")
-    for _, name, _, default, *_ in batch_rain.OPTIONS:
-        if not hasattr(a, name):
-            setattr(a, name, default)
+    for p in batch_rain.params():
+        if not hasattr(a, p["name"]):
+            setattr(a, p["name"], batch_rain.parser_default(p))
     batch_rain.parse_numbers(a)
     assert (a.seed, a.rate_mmh, a.wind_mps, a.frame_index, a.chunk_frames, a.crf, a.depth_scale_m) == \
         (1000, 25.0, 0.5, 100, 4, 18, 0.001)

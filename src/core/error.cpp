@@ -28,6 +28,14 @@ DomainError::DomainError(std::string quantity, double value, double lo, double h
       hi_(hi),
       context_(std::move(context)) {}
 
+DomainError::DomainError(Whole, std::string message, std::string quantity, double value, double lo, double hi)
+    : Error(std::move(message)), quantity_(std::move(quantity)), value_(value), lo_(lo), hi_(hi) {}
+
+DomainError DomainError::with_message(std::string message, std::string quantity, double value, double lo,
+                                      double hi) {
+  return DomainError(Whole{}, std::move(message), std::move(quantity), value, lo, hi);
+}
+
 std::string DomainError::range_text() const {
   // The unit is the quantity's suffix when it names one: wavelength_nm -> nm, theta_deg -> deg,
   // temperature_c -> C (m_imag has none).

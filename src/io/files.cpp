@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -230,6 +231,12 @@ std::size_t InputFile::read_at(std::uint64_t offset, char* buffer, std::size_t s
     got += std::size_t(n);
   }
   return got;
+}
+
+std::string lower_extension(const fs::path& path) {
+  std::string e = path.extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return e;
 }
 
 bool same_file(const fs::path& a, const fs::path& b) {

@@ -11,6 +11,7 @@
 
 #include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/io/files.hpp"
 #include "hydrolux/io/image_io.hpp"
 
 namespace hydrolux::io {
@@ -18,12 +19,6 @@ namespace hydrolux::io {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string lower_extension(const fs::path& p) {
-  std::string e = p.extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return e;
-}
 
 std::uint64_t ceil_div(std::uint64_t a, std::uint64_t b) { return (a + b - 1) / b; }
 

@@ -9,6 +9,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/physics.hpp"
+#include "hydrolux/rain/params.hpp"
 #include "hydrolux/rain/rain.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 
@@ -44,46 +45,49 @@ double RainCamera::defocus_radius_px(double z_m) const {
   return 0.5 * diameter_m / pixel_pitch_m();
 }
 
-namespace {
-constexpr double kMinFocalMm = 1, kMaxFocalMm = 2000;
-}  // namespace
-
 double focal_mm_from_fov(double fov_deg, double sensor_width_mm) {
+  const Param& focal = rain_param("focal_mm");
+  const double kMinFocalMm = focal.lo, kMaxFocalMm = focal.hi;
+  const Param& fov = rain_param("fov_deg");
   // The field of view is refused in its own terms where the focal length it gives would be: the
   // fields of view of focal lengths 1-2000 mm on this sensor, within [1, 170] degrees.
   const auto fov_of = [&](double focal_mm) { return 2 * rad_to_deg(std::atan(0.5 * sensor_width_mm / focal_mm)); };
-  require_in_range("fov_deg", fov_deg, std::max(1.0, fov_of(kMaxFocalMm)), std::min(170.0, fov_of(kMinFocalMm)),
+  require_in_range("fov_deg", fov_deg, std::max(fov.lo, fov_of(kMaxFocalMm)), std::min(fov.hi, fov_of(kMinFocalMm)),
                    fmt::format("a {:g} mm wide sensor (focal lengths {:g}-{:g} mm)", sensor_width_mm, kMinFocalMm,
                                kMaxFocalMm));
   // At the ends of that range the focal length is the bound itself, whatever the rounding.
   return std::clamp(0.5 * sensor_width_mm / std::tan(deg_to_rad(0.5 * fov_deg)), kMinFocalMm, kMaxFocalMm);
 }
 
+// The ranges are the declared parameters' (params.cpp); the checks here add those that follow from
+// other values (far beyond near, exposure within a frame, focus beyond the focal length).
 void validate(const RainCamera& c) {
-  require_in_range("width", c.width, 16, 16384);
-  require_in_range("height", c.height, 16, 16384);
-  require_in_range("focal_mm", c.focal_mm, kMinFocalMm, kMaxFocalMm);
-  require_in_range("sensor_width_mm", c.sensor_width_mm, 1, 100);
-  if (c.f_number != 0) require_in_range("f_number", c.f_number, 0.7, 64, "0 for a pinhole");
-  if (c.f_number != 0) require_in_range("focus_m", c.focus_m, c.focal_mm * 1e-3 * 1.01, 1e4);
-  require_in_range("fps", c.fps, 0.01, 1000);
-  require_in_range("exposure_s", c.exposure_s, 1e-6, 1.0 / c.fps, "at most one frame interval, 1 / fps");
-  require_in_range("height_m", c.height_m, 0, 1000);
-  require_in_range("pitch_deg", c.pitch_deg, -80, 80);
+  require_in_range("width", c.width, kMinFrameSide, kMaxFrameSide);
+  require_in_range("height", c.height, kMinFrameSide, kMaxFrameSide);
+  rain_param("focal_mm").check(c.focal_mm);
+  rain_param("sensor_width_mm").check(c.sensor_width_mm);
+  if (c.f_number != 0) require_in_range("f_number", c.f_number, kMinFNumber, rain_param("f_number").hi, "0 for a pinhole");
+  if (c.f_number != 0) require_in_range("focus_m", c.focus_m, c.focal_mm * 1e-3 * 1.01, rain_param("focus_m").hi);
+  rain_param("fps").check(c.fps);
+  require_in_range("exposure_s", c.exposure_s, rain_param("exposure_s").lo, 1.0 / c.fps,
+                   "at most one frame interval, 1 / fps");
+  rain_param("camera_height_m").check(c.height_m);
+  rain_param("pitch_deg").check(c.pitch_deg);
 }
 
 void validate(const RainSettings& s) {
-  require_in_range("rate_mmh", s.rate_mmh, 0, 500);
-  require_in_range("wind_mps", s.wind_mps, 0, 50);
-  require_in_range("wind_dir_deg", s.wind_dir_deg, -360, 360);
-  require_in_range("near_m", s.near_m, 0.05, 100);
-  require_in_range("far_m", s.far_m, s.near_m * 1.001, 1e4, "beyond near_m");
-  require_in_range("min_radius_mm", s.min_radius_mm, 0.04, 2.9);
-  require_in_range("max_radius_mm", s.max_radius_mm, s.min_radius_mm * 1.001, 2.9, "beyond min_radius_mm");
-  require_in_range("min_alpha", s.min_alpha, 1e-5, 0.5);
-  require_in_range("extent_m", s.extent_m, 0, 1e5);
-  require_in_range("backdrop_m", s.backdrop_m, 1, 1e5);
-  require_in_range("oscillation", s.oscillation, 0, 0.5);
+  rain_param("rate_mmh").check(s.rate_mmh);
+  rain_param("wind_mps").check(s.wind_mps);
+  rain_param("wind_dir_deg").check(s.wind_dir_deg);
+  rain_param("near_m").check(s.near_m);
+  require_in_range("far_m", s.far_m, s.near_m * 1.001, rain_param("far_m").hi, "beyond near_m");
+  rain_param("min_radius_mm").check(s.min_radius_mm);
+  require_in_range("max_radius_mm", s.max_radius_mm, s.min_radius_mm * 1.001, rain_param("max_radius_mm").hi,
+                   "beyond min_radius_mm");
+  rain_param("min_alpha").check(s.min_alpha);
+  rain_param("extent_m").check(s.extent_m);
+  rain_param("backdrop_m").check(s.backdrop_m);
+  rain_param("oscillation").check(s.oscillation);
   require_in_range("refractive_index", s.refractive_index, 1.01, 3);
   require_in_range("radius_classes", s.radius_classes, 1, 256);
 }

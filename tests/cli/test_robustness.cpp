@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "common.hpp"
+#include "hydrolux/jobs.hpp"
 #include "support/asan.hpp"
 #include "support/cli.hpp"
 #include "support/crafted_images.hpp"
@@ -349,6 +350,31 @@ TEST_F(Robustness, CaseListCoversEveryFlag) {
     for (const auto& f : listed) EXPECT_TRUE(options.count(f.flag)) << command << " has no flag " << f.flag;
   }
   for (const auto& [command, cc] : cases) EXPECT_TRUE(tree.count(command)) << "no command " << command;
+}
+
+// Every declared parameter (hydrolux/jobs.hpp) is a flag of its command, listed with the cases of its
+// kind: a real number's out-of-range, non-finite and non-numeric values; a whole number's fractions
+// too; a switch's. So a parameter added to a job's table gets its bad-input cases from the table.
+TEST_F(Robustness, EveryDeclaredParameterHasItsCases) {
+  const auto cases = read_cases();
+  const auto tree = cli_tree();
+  for (const auto& job : hydrolux::job_specs()) {
+    const std::string command = std::string(job.command).substr(std::string("hydrolux ").size());
+    ASSERT_TRUE(tree.count(command)) << job.name << ": no command " << command;
+    ASSERT_TRUE(cases.count(command)) << "robustness_cases.txt lacks the command " << command;
+    for (const auto& info : job.params) {
+      const auto& p = *info.param;
+      const std::string flag(p.flag);
+      EXPECT_TRUE(tree.at(command).count(flag)) << command << " does not register the declared " << flag;
+      const auto& listed = cases.at(command).flags;
+      const auto it = std::find_if(listed.begin(), listed.end(), [&](const FlagCase& f) { return f.flag == flag; });
+      ASSERT_NE(it, listed.end()) << "robustness_cases.txt lacks " << command << " " << flag;
+      const char* kind = p.kind == hydrolux::ParamKind::real      ? "number"
+                         : p.kind == hydrolux::ParamKind::integer ? "integer"
+                                                                  : "switch";
+      EXPECT_EQ(it->kind, kind) << command << " " << flag << ": listed as " << it->kind << ", declared " << kind;
+    }
+  }
 }
 
 // The base argument lines themselves succeed (else every case would prove nothing).

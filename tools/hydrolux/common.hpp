@@ -39,6 +39,8 @@ struct Command {
 
 // Every subcommand, registered on `app` (main.cpp; tests walk the same tree).
 std::vector<Command> add_all_commands(CLI::App& app);
+// docs/reference.md for `commands`: a table of flags per command (reference.cpp).
+std::string reference_markdown(const std::vector<Command>& commands);
 // Runs the CLI: parse, dispatch, errors to exit codes. Installs the signal handling first.
 int run_cli(int argc, char** argv);
 

@@ -19,6 +19,9 @@ class Error : public std::runtime_error {
 class DomainError : public Error {
  public:
   DomainError(std::string quantity, double value, double lo, double hi, std::string context = {});
+  // The same with the message given whole (a declared parameter's, which states its unit:
+  // core/params.hpp).
+  static DomainError with_message(std::string message, std::string quantity, double value, double lo, double hi);
   const std::string& quantity() const noexcept { return quantity_; }
   double value() const noexcept { return value_; }
   double lo() const noexcept { return lo_; }
@@ -30,6 +33,8 @@ class DomainError : public Error {
   std::string range_text() const;
 
  private:
+  struct Whole {};
+  DomainError(Whole, std::string message, std::string quantity, double value, double lo, double hi);
   std::string quantity_;
   double value_, lo_, hi_;
   std::string context_;

@@ -75,6 +75,9 @@ class InputFile {
   std::uint64_t size_ = 0;
 };
 
+// The extension of `path` in lower case, with its dot (".exr"); empty if none.
+std::string lower_extension(const std::filesystem::path& path);
+
 // True if `a` and `b` name the same existing file (same device and inode, through links), or
 // resolve to the same absolute path once symbolic links and "..", "." are resolved.
 bool same_file(const std::filesystem::path& a, const std::filesystem::path& b);

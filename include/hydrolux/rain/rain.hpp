@@ -73,6 +73,10 @@ struct RainCamera {
   double defocus_radius_px(double z_m) const;
 };
 
+// A frame's sides, pixels; an aperture's smallest f-number other than 0 (a pinhole).
+inline constexpr int kMinFrameSide = 16, kMaxFrameSide = 16384;
+inline constexpr double kMinFNumber = 0.7;
+
 // The focal length that gives a horizontal field of view `fov_deg` on a sensor `sensor_width_mm` wide.
 double focal_mm_from_fov(double fov_deg, double sensor_width_mm);
 
@@ -269,6 +273,9 @@ struct RainFrame {
 // a file. Measured (the peak resident size of `hydrolux rain` at two sizes, rain.cpp), so that a
 // door can refuse a size that cannot fit before any work instead of failing a minute in.
 std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channels, bool with_layer);
+// Throws Error "<what>: rain over WxH needs about X of memory and Y is available; about W'xH' would
+// fit" when the estimate exceeds the memory available now (core/memory.hpp).
+void check_render_memory(const RainCamera& camera, int input_channels, bool with_layer, const std::string& what);
 
 class RainRenderer {
  public:

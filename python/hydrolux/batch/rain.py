@@ -18,6 +18,7 @@ takes width x height x 3 bytes per frame; the chunks are removed once the video 
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import os
 import sys
@@ -31,100 +32,127 @@ from ._common import UsageError, printable
 # raised a worker's peak by 208 MB (the frame as float RGB in and out, its mask, the 8-bit copy, the
 # encoded file), ~100 bytes a pixel.
 TASK_BYTES_PER_PIXEL = 100
-FRAME_EXTENSIONS = {".png", ".jpg", ".jpeg", ".exr", ".tif", ".tiff", ".hdr", ".ppm", ".pfm"}
 
-# The rain command's options, with the CLI's ranges and units (tools/hydrolux/cmd_rain.cpp):
-# (flag, Python name, type, default or None, help, lo, hi, unit).
-OPTIONS = [
-    ("--rate-mmh", "rate_mmh", float, 25.0, "Rain rate, mm/h [0, 500]", 0, 500, "mm/h"),
-    ("--wind-mps", "wind_mps", float, 0.0, "Horizontal wind speed, m/s [0, 50]", 0, 50, "m/s"),
-    ("--wind-dir-deg", "wind_dir_deg", float, 90.0, "Where the wind blows to: 0 away from the camera, 90 to its right",
-     -360, 360, "deg"),
-    ("--exposure-s", "exposure_s", float, 0.008, "Exposure time, s (at most 1 / fps)", 1e-6, 1, "s"),
-    ("--focal-mm", "focal_mm", float, None, "Focal length, mm [1, 2000] (default 35)", 1, 2000, "mm"),
-    ("--fov-deg", "fov_deg", float, None, "Horizontal field of view, degrees [1, 170] (instead of --focal-mm)", 1, 170,
-     "deg"),
-    ("--sensor-width-mm", "sensor_width_mm", float, None, "Sensor width, mm [1, 100] (default 36)", 1, 100, "mm"),
-    ("--pixel-pitch-um", "pixel_pitch_um", float, None, "Pixel pitch, um (instead of --sensor-width-mm)", 0.1, 1000,
-     "um"),
-    ("--f-number", "f_number", float, 0.0, "Aperture f-number for defocus of near drops; 0 = pinhole", 0, 64, ""),
-    ("--focus-m", "focus_m", float, 10.0, "Focus distance, m (with --f-number)", 0.01, 1e4, "m"),
-    ("--fps", "fps", float, None, "Frame rate of --input-dir frames: frame k is exposed from k / fps (default 25)",
-     0.01, 1000, "1/s"),
-    ("--camera-height-m", "camera_height_m", float, 1.7, "Camera height above the ground plane, m", 0, 1000, "m"),
-    ("--pitch-deg", "pitch_deg", float, 0.0, "Camera pitch above the horizon, degrees [-80, 80]", -80, 80, "deg"),
-    ("--near-m", "near_m", float, 0.5, "No drop nearer than this, m", 0.05, 100, "m"),
-    ("--far-m", "far_m", float, 100.0, "No drop drawn beyond this, m (farther rain is unresolved)", 0.1, 1e4, "m"),
-    ("--min-radius-mm", "min_radius_mm", float, 0.1, "Smaller drops count only as unresolved rain, mm", 0.04, 2.9,
-     "mm"),
-    ("--max-radius-mm", "max_radius_mm", float, 2.9, "Largest drop radius, mm", 0.04, 2.9, "mm"),
-    ("--min-alpha", "min_alpha", float, 0.01, "A drop is drawn while its streak's peak coverage reaches this", 1e-5,
-     0.5, ""),
-    ("--extent-m", "extent_m", float, 1000.0, "Depth of the rain where the scene has none (sky), m", 0, 1e5, "m"),
-    ("--backdrop-m", "backdrop_m", float, 100.0, "The ground plane's backdrop distance, m", 1, 1e5, "m"),
-    ("--oscillation", "oscillation", float, 0.0, "Relative amplitude of the drops' shape oscillation [0, 0.5]", 0, 0.5,
-     ""),
-    ("--seed", "seed", int, 1, "Random seed: the same seed gives the same rain, bytes for bytes", 0, None, ""),
-]
-FLAG_OF = {name: flag for flag, name, *_ in OPTIONS}
-FLAG_OF.update({"camera_height_m": "--camera-height-m", "width": "the frames' width", "height": "the frames' height"})
+# The rain job's parameters are the library's declared ones (src/rain/params.cpp), read through
+# _core.params("rain") on first use: each one's flag, range, unit, default and help come from there, as
+# the CLI's and the Python functions' do. These flags, given where nothing uses them, are refused rather
+# than ignored (as the CLI refuses them), so they stay None until parse_numbers notes whether they were given.
+_REFUSED_WHERE_UNUSED = ("fps", "crf", "depth_scale_m")
+# What the library's messages name that is no flag.
+_NAMED = {"width": "the frames' width", "height": "the frames' height"}
 
 
-def max_seed() -> int:
-    """The largest seed, hydrolux::rain::kMaxSeed (2^53: every seed a double holds exactly), from the library."""
-    return int(_common.native("_core").kMaxSeed)
+@functools.lru_cache(maxsize=None)
+def params() -> tuple:
+    """The rain job's declared parameters, the library's one table (``_core.params("rain")``): dicts of
+    name, flag, group ("rain", "camera", "files"), kind ("real", "integer", "flag"), unit, lo, hi,
+    range, help, excludes, default and default_text.
+
+    Example:
+
+    >>> from hydrolux.batch import rain
+    >>> p = {p["name"]: p for p in rain.params()}
+    >>> p["rate_mmh"]["flag"], p["rate_mmh"]["range"], p["seed"]["hi"] == 2 ** 53
+    ('--rate-mmh', '[0, 500] mm/h', True)
+    """
+    return tuple(_common.native("_core").params("rain"))
+
+
+def parser_default(p: dict) -> Any:
+    """What the parser leaves for the parameter ``p`` when its flag is not given: its default, or None
+    where the flag's absence counts (a parameter another replaces, as --fov-deg replaces --focal-mm; one
+    refused where unused). :func:`parse_numbers` fills in the files' defaults (--crf, --depth-scale-m).
+
+    Example:
+
+    >>> from hydrolux.batch import rain
+    >>> [rain.parser_default(p) for p in rain.params() if p["name"] in ("rate_mmh", "focal_mm", "crf")]
+    [25.0, None, None]
+    """
+    replaced = any(q["excludes"] == p["name"] for q in params())
+    return None if replaced or p["name"] in _REFUSED_WHERE_UNUSED else p["default"]
 
 
 def parse_numbers(a: argparse.Namespace) -> None:
-    """Every numeric option parsed as the CLI parses it (the library's parsers) and checked against the CLI's
-    range, in place, before any work: one UsageError naming the flag, the value and the range."""
-    for flag, name, typ, _default, _text, lo, hi, unit in OPTIONS:
+    """Every numeric option parsed as the CLI parses it (the library's parsers) and checked against its
+    declared range, in place, before any work: one UsageError naming the flag, the value and the range.
+
+    Example:
+
+    >>> import argparse
+    >>> from hydrolux.batch import rain
+    >>> p = argparse.ArgumentParser()
+    >>> rain.add_arguments(p)
+    >>> a = p.parse_args(["--rate-mmh", "1e1", "--seed", "7", "--frame-index", "2e3"])
+    >>> rain.parse_numbers(a)
+    >>> a.rate_mmh, a.seed, a.frame_index, a.crf
+    (10.0, 7, 2000, 18)
+    >>> rain.parse_numbers(p.parse_args(["--rate-mmh", "600"]))
+    Traceback (most recent call last):
+    ...
+    hydrolux.batch._common.UsageError: --rate-mmh...600...
+    """
+    for p in params():
+        name = p["name"]
+        if p["kind"] == "flag":
+            continue
         value = getattr(a, name, None)
+        if name in _REFUSED_WHERE_UNUSED:
+            setattr(a, name + "_given", value is not None)
+        if value is None and p["group"] == "files":  # the job's own settings, not the renderer's: always set
+            value = p["default"]
         if value is None:
             continue
-        if typ is int:
-            setattr(a, name, _common.integer_flag(flag, value, lo, max_seed() if hi is None else hi, unit))
+        if p["kind"] == "integer":
+            setattr(a, name, _common.integer_flag(p["flag"], value, int(p["lo"]), int(p["hi"]), p["unit"]))
         else:
-            setattr(a, name, _common.number_flag(flag, value, lo, hi, unit))
-    a.frame_index = _common.integer_flag("--frame-index", a.frame_index, 0, 1_000_000_000)
+            setattr(a, name, _common.number_flag(p["flag"], value, p["lo"], p["hi"], p["unit"]))
     a.chunk_frames = _common.integer_flag("--chunk-frames", a.chunk_frames, 0, 100000, extra=" (0: automatic)")
-    # --crf and --depth-scale-m: given where nothing uses them, refused (as the CLI refuses them), not ignored.
-    a.crf_given, a.depth_scale_given = a.crf is not None, a.depth_scale_m is not None
-    a.crf = _common.integer_flag("--crf", 18 if a.crf is None else a.crf, 0, 51)
-    a.depth_scale_m = _common.number_flag("--depth-scale-m", 0.001 if a.depth_scale_m is None else a.depth_scale_m,
-                                          1e-6, 1e3, "m")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The rain job's own options on the parser ``p``, numbers kept as text for :func:`parse_numbers`;
+    ``python3 -m hydrolux.batch`` adds the cluster's (--workers, --threads-per-worker, --scheduler, -q).
+
+    Example:
+
+    >>> import argparse
+    >>> from hydrolux.batch import rain
+    >>> p = argparse.ArgumentParser(prog="rain")
+    >>> rain.add_arguments(p)
+    >>> a = p.parse_args(["--input-dir", "frames", "--output-dir", "rainy", "--wind-mps", "3", "--no-unresolved"])
+    >>> a.input_dir, a.rate_mmh, a.wind_mps, a.unresolved
+    ('frames', 25.0, '3', False)
+    """
     p.add_argument("--input-dir", help="A folder of frames in name order: one rain field across them")
     p.add_argument("--output-dir", help="Folder for the rainy frames (created; never the input folder)")
     p.add_argument("--video", help="Input video (MP4, MOV, MKV, ...) instead of --input-dir; frame rate and count kept")
     p.add_argument("-o", "--output", help="Output video with --video (.mp4, .mov or .mkv), H.264")
-    # Numbers are taken as text and parsed by the library's parsers in run(), as the CLI parses them.
-    p.add_argument("--crf", default=None, help="H.264 quality of the output video (0 lossless .. 51; --video only) [18]")
     p.add_argument("--mask-dir", help="Folder for the rain's coverage masks (same names as the frames)")
     p.add_argument("--depth-dir", help="Depth maps for --input-dir: each frame's stem as .exr (metres) or .png "
                                        "(16-bit codes x --depth-scale-m); without, a ground plane")
-    p.add_argument("--depth-scale-m", default=None, help="Metres per code of a PNG depth map of --depth-dir [0.001]")
-    for flag, name, typ, default, text, lo, hi, unit in OPTIONS:
-        valid = f"[{lo}, {hi if hi is not None else '2^53'}]" if typ is int else f"[{lo:g}, {hi:g}]"
-        p.add_argument(flag, dest=name, default=default,
-                       help=text + ("" if valid in text else f"; valid {valid}{' ' + unit if unit else ''}")
-                       + (f" [{default:g}]" if isinstance(default, (int, float)) else ""))
-    p.add_argument("--frame-index", default=0, help="Index of the first frame in the rain field's time [0]")
-    p.add_argument("--no-unresolved", action="store_true",
-                   help="Leave out the unresolved rain's extinction and airlight (streaks only)")
+    # The declared parameters. Numbers are taken as text and parsed by the library's parsers in run(), as the
+    # CLI parses them; a flag parameter's flag turns its default around (--no-unresolved).
+    for q in params():
+        text = q["help"].replace("%", "%%")  # argparse formats help with %
+        if q["kind"] == "flag":
+            p.add_argument(q["flag"], dest=q["name"], action="store_const", const=not q["default"],
+                           default=q["default"], help=text)
+        else:
+            p.add_argument(q["flag"], dest=q["name"], default=parser_default(q),
+                           help=f"{text}; valid {q['range']}" + (f" [{q['default_text']}]" if q["default_text"] else ""))
     p.add_argument("--chunk-frames", default=0,
                    help="Frames per task (0: about 4 tasks per worker, at most 32 frames each; 8 for video)")
 
 
 def _options(a: argparse.Namespace) -> Dict[str, Any]:
-    opts = {name: getattr(a, name) for _, name, *_ in OPTIONS if getattr(a, name) is not None}
-    if a.fov_deg is not None and a.focal_mm is not None:
-        raise UsageError("--fov-deg: give --focal-mm or --fov-deg, not both")
-    if a.pixel_pitch_um is not None and a.sensor_width_mm is not None:
-        raise UsageError("--pixel-pitch-um: give --sensor-width-mm or --pixel-pitch-um, not both")
-    opts["unresolved"] = not a.no_unresolved
+    """The renderer's options (the declared parameters but the files'), those given or defaulted."""
+    opts = {p["name"]: getattr(a, p["name"]) for p in params()
+            if p["group"] != "files" and getattr(a, p["name"], None) is not None}
+    flags = {p["name"]: p["flag"] for p in params()}
+    for p in params():
+        if p["excludes"] and p["name"] in opts and p["excludes"] in opts:
+            raise UsageError(f"{p['flag']}: give {flags[p['excludes']]} or {p['flag']}, not both")
     return opts
 
 
@@ -132,91 +160,52 @@ def _flag_error(e: ValueError) -> UsageError:
     """The library's message, with the Python argument named as the batch flag."""
     import re
 
+    named = {p["name"]: p["flag"] for p in params() if p["group"] != "files" and p["kind"] != "flag"}
+    named.update(_NAMED)
     text = str(e)
     # Every setting the message names, the one refused and those its range follows from ("beyond near_m").
-    for name in sorted(FLAG_OF, key=len, reverse=True):
-        text = re.sub(r"(?<![\w-])" + re.escape(name) + r"(?![\w-])", FLAG_OF[name], text)
+    for name in sorted(named, key=len, reverse=True):
+        text = re.sub(r"(?<![\w-])" + re.escape(name) + r"(?![\w-])", named[name], text)
     return UsageError(text)
 
 
-def _not_regular(path: str) -> Optional[str]:
-    """What a folder entry is when it is not a regular file (following a symbolic link), else None."""
-    import stat
+def plan_folder(input_dir: str, output_dir: str, mask_dir: Optional[str] = None,
+                depth_dir: Optional[str] = None) -> Dict[str, Any]:
+    """The frames of ``input_dir`` as ``hydrolux rain --input-dir`` plans them (the library's one
+    definition, ``_core.plan_frame_folder``): ``frames`` in name order, each one's output name in
+    ``outputs`` (its stem as .exr for EXR, else .png) and depth map in ``depth_maps`` (its stem as .exr
+    or .png in ``depth_dir``), the folders checked (an output or mask folder that is the input folder, the
+    depth folder or not a folder; masks in the output folder). Entries with a frame's name that are not
+    regular files (a FIFO, a device, a folder, a dangling link) are skipped and listed in one warning line
+    on stderr. A UsageError naming the flag otherwise, as the CLI's.
+
+    Example:
+
+    >>> import os, tempfile
+    >>> from hydrolux.batch import rain
+    >>> folder, depth = tempfile.mkdtemp(), tempfile.mkdtemp()
+    >>> for name in ("b.jpg", "a.exr", "notes.txt", ".hidden.png"):
+    ...     open(os.path.join(folder, name), "wb").close()
+    >>> for name in ("a.exr", "b.png"):
+    ...     open(os.path.join(depth, name), "wb").close()
+    >>> plan = rain.plan_folder(folder, os.path.join(folder, "rainy"), depth_dir=depth)
+    >>> plan["frames"], plan["outputs"], plan["depth_maps"]
+    (['a.exr', 'b.jpg'], ['a.exr', 'b.png'], ['a.exr', 'b.png'])
+    """
+    def path(p):  # as bytes: a name that is not UTF-8 reaches the library as it is
+        return None if p is None else os.fsencode(p)
 
     try:
-        st = os.stat(path)
-    except FileNotFoundError:
-        return "dangling link" if os.path.islink(path) else "vanished"
-    except OSError as e:
-        return f"unreadable: {e.strerror}"
-    mode = st.st_mode
-    if stat.S_ISREG(mode):
-        return None
-    for test, what in ((stat.S_ISDIR, "folder"), (stat.S_ISFIFO, "FIFO"), (stat.S_ISSOCK, "socket"),
-                       (stat.S_ISCHR, "character device"), (stat.S_ISBLK, "block device")):
-        if test(mode):
-            return what
-    return "not a regular file"
-
-
-def list_frames(input_dir: str, shown_dir: Optional[str] = None) -> List[str]:
-    """The frames of input_dir in name order: its regular files with an image extension (not hidden). An
-    entry with such a name that is not a regular file (a FIFO, a device, a folder, a dangling link) is
-    skipped, and the skipped ones are listed in one warning line on stderr."""
-    shown = shown_dir if shown_dir is not None else input_dir
-    if not os.path.isdir(input_dir):
-        raise UsageError(f"--input-dir {shown}: not a folder")
-    try:
-        entries = sorted(os.listdir(input_dir))
-    except OSError as e:
-        raise UsageError(f"--input-dir {shown}: {e.strerror}") from None
-    names, skipped = [], []
-    for n in entries:
-        if n.startswith(".") or os.path.splitext(n)[1].lower() not in FRAME_EXTENSIONS:
-            continue
-        what = _not_regular(os.path.join(input_dir, n))
-        if what is None:
-            names.append(n)
-        else:
-            skipped.append(f"{n} ({what})")
-    if skipped:
-        listed = ", ".join(skipped[:10]) + (f" and {len(skipped) - 10} more" if len(skipped) > 10 else "")
-        sys.stderr.write(printable(f"hydrolux.batch rain: warning: --input-dir {shown_dir or input_dir}: skipped "
-                                   f"{len(skipped)} " + ("entry that is not a regular file" if len(skipped) == 1 else
-                                                         "entries that are not regular files") + f": {listed}") + "\n")
+        plan = _common.native("_core").plan_frame_folder(path(input_dir), path(output_dir), path(mask_dir),
+                                                         path(depth_dir))
+    except UnicodeDecodeError:  # a name the library returns is not UTF-8, so not a Python str
+        raise UsageError(f"--input-dir {input_dir}: holds a name that is not UTF-8") from None
+    except ValueError as e:
+        raise UsageError(str(e) or f"--input-dir {input_dir}: refused (a path that is not UTF-8)") from None
+    if plan["skipped_warning"]:
+        sys.stderr.write(printable(f"hydrolux.batch rain: warning: {plan['skipped_warning']}") + "\n")
         sys.stderr.flush()
-    if not names:
-        raise UsageError(f"--input-dir {shown}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)")
-    return names
-
-
-def output_names(input_dir: str, frames: List[str]) -> List[str]:
-    """Each frame's output name, as the CLI names it: its stem as .exr (EXR input) or .png."""
-    seen: Dict[str, str] = {}
-    out = []
-    for f in frames:
-        stem, ext = os.path.splitext(f)
-        name = stem + (".exr" if ext.lower() == ".exr" else ".png")
-        if name in seen:
-            raise UsageError(f"--input-dir {input_dir}: {seen[name]} and {f} would both be written as {name}")
-        seen[name] = f
-        out.append(name)
-    return out
-
-
-def depth_maps(depth_dir: str, frames: List[str]) -> List[str]:
-    """Each frame's depth map in depth_dir, its stem as .exr or .png, found before any work (the CLI's
-    rule)."""
-    if not os.path.isdir(depth_dir):
-        raise UsageError(f"--depth-dir {depth_dir}: not a folder")
-    out = []
-    for f in frames:
-        stem = os.path.splitext(f)[0]
-        found = next((stem + e for e in (".exr", ".png") if os.path.isfile(os.path.join(depth_dir, stem + e))), None)
-        if found is None:
-            raise UsageError(f"--depth-dir {depth_dir}: no depth map for {f} ({stem}.exr or {stem}.png)")
-        out.append(found)
-    return out
+    return plan
 
 
 # ---- on the workers -------------------------------------------------------------------------------
@@ -243,7 +232,22 @@ def _renderer(job: Dict[str, Any], ground: bool):
 
 def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
     """A task: renders consecutive frames [(input name, output name, frame index, depth map), ...] and writes
-    them. Returns one record per frame; a frame that fails carries "error" and the others go on."""
+    them. Returns one record per frame; a frame that fails carries "error" and the others go on.
+
+    Example (what a worker runs; ``threads`` 0 leaves the process's threads as they are):
+
+    >>> import hydrolux, os, tempfile
+    >>> from hydrolux.batch import rain
+    >>> frames, out = tempfile.mkdtemp(), tempfile.mkdtemp()
+    >>> hydrolux.write_image(os.path.join(frames, "f0.png"), hydrolux.builtin_scene(64, 48))
+    >>> job = {"input_dir": frames, "output_dir": out, "mask_dir": None, "depth_dir": None, "depth_scale_m": None,
+    ...        "width": 64, "height": 48, "options": {"rate_mmh": 25.0, "seed": 4}, "threads": 0}
+    >>> records = rain.render_frames(job, [("f0.png", "rainy0.png", 0, None), ("gone.png", "gone.png", 1, None)])
+    >>> [(r["output"], r.get("error", "ok")) for r in records]
+    [('rainy0.png', 'ok'), ('gone.png', '...gone.png...')]
+    >>> os.listdir(out)
+    ['rainy0.png']
+    """
     _core = _common.native("_core")
     _image = _common.native("_image")
 
@@ -300,16 +304,36 @@ def _is_done(rec: Optional[dict], frame_index: int, input_path: str, output_path
 
 
 def run(a: argparse.Namespace, after_result=None) -> int:
+    """The job (``python3 -m hydrolux.batch rain``): the numbers parsed and checked, then
+    :func:`run_folder` or :func:`run_video`; 0 when every output is in place, 1 when some failed.
+
+    Example (a local cluster of one worker):
+
+    >>> import argparse, hydrolux, os, tempfile
+    >>> from hydrolux.batch import rain
+    >>> frames = tempfile.mkdtemp()
+    >>> for k in range(2):
+    ...     hydrolux.write_image(os.path.join(frames, f"f{k}.png"), hydrolux.builtin_scene(64, 48))
+    >>> p = argparse.ArgumentParser()
+    >>> rain.add_arguments(p)
+    >>> out = os.path.join(tempfile.mkdtemp(), "rainy")
+    >>> a = p.parse_args(["--input-dir", frames, "--output-dir", out, "--seed", "4", "--wind-mps", "3"])
+    >>> a.workers, a.threads_per_worker, a.scheduler, a.quiet = 1, None, None, True   # the cluster's options
+    >>> rain.run(a)
+    0
+    >>> sorted(os.listdir(out))
+    ['f0.png', 'f1.png', 'hydrolux-manifest.jsonl', ...]
+    """
     if (a.input_dir is None) == (getattr(a, "video", None) is None):
         raise UsageError("give exactly one of --input-dir and --video")
     parse_numbers(a)
     if getattr(a, "video", None) is not None:
-        if a.depth_scale_given:
+        if a.depth_scale_m_given:
             raise UsageError("--depth-scale-m: scales PNG depth maps, which are for --input-dir")
         return run_video(a, after_result)
     if a.crf_given:
         raise UsageError("--crf: sets the H.264 quality of --video's output; --input-dir writes pictures")
-    if a.depth_scale_given and not a.depth_dir:
+    if a.depth_scale_m_given and not a.depth_dir:
         raise UsageError("--depth-scale-m: scales PNG maps of --depth-dir; none is given")
     if getattr(a, "output", None):
         raise UsageError("-o: with --input-dir the frames go to --output-dir")
@@ -319,30 +343,41 @@ def run(a: argparse.Namespace, after_result=None) -> int:
 
 
 def run_folder(a: argparse.Namespace, after_result=None) -> int:
+    """Rain over the frames of ``a.input_dir`` into ``a.output_dir`` (and their masks into
+    ``a.mask_dir``), every input checked before the cluster starts; ``a`` as :func:`run` leaves it.
+
+    Example (a local cluster of one worker):
+
+    >>> import argparse, hydrolux, os, tempfile
+    >>> from hydrolux.batch import rain
+    >>> frames = tempfile.mkdtemp()
+    >>> for k in range(2):
+    ...     hydrolux.write_image(os.path.join(frames, f"f{k}.png"), hydrolux.builtin_scene(64, 48))
+    >>> p = argparse.ArgumentParser()
+    >>> rain.add_arguments(p)
+    >>> out, masks = tempfile.mkdtemp(), tempfile.mkdtemp()
+    >>> a = p.parse_args(["--input-dir", frames, "--output-dir", out, "--mask-dir", masks, "--seed", "4"])
+    >>> a.workers, a.threads_per_worker, a.scheduler, a.quiet = 1, None, None, True   # the cluster's options
+    >>> rain.parse_numbers(a)   # run() does this first
+    >>> rain.run_folder(a)
+    0
+    >>> sorted(os.listdir(masks))   # the rain's coverage, 16-bit
+    ['f0.png', 'f1.png']
+    """
     import hydrolux
     _image = _common.native("_image")
 
     opts = _options(a)
+    plan = plan_folder(a.input_dir, a.output_dir, a.mask_dir or None, a.depth_dir or None)
+    frames, names = plan["frames"], plan["outputs"]
     in_dir, out_dir = os.path.abspath(a.input_dir), os.path.abspath(a.output_dir)
     mask_dir = os.path.abspath(a.mask_dir) if a.mask_dir else None
-    frames = list_frames(in_dir, a.input_dir)
-    names = output_names(in_dir, frames)
     depth_dir = os.path.abspath(a.depth_dir) if a.depth_dir else None
-    depths = depth_maps(depth_dir, frames) if depth_dir else [None] * len(frames)
+    depths = plan["depth_maps"] if depth_dir else [None] * len(frames)
     exr_depth = next((d for d in depths if d and d.lower().endswith(".exr")), None)
-    if a.depth_scale_given and exr_depth:
+    if a.depth_scale_m_given and exr_depth:
         raise UsageError(f"--depth-scale-m: scales the codes of a PNG depth map; --depth-dir {depth_dir}: {exr_depth} "
                          "holds metres already")
-    for flag, d in (("--output-dir", out_dir), ("--mask-dir", mask_dir)):
-        if d and os.path.exists(d):
-            if not os.path.isdir(d):
-                raise UsageError(f"{flag} {d}: exists and is not a folder")
-            if os.path.samefile(d, in_dir):
-                raise UsageError(f"{flag} {d}: is the input folder; the frames would replace their inputs")
-            if depth_dir and os.path.samefile(d, depth_dir):
-                raise UsageError(f"{flag} {d}: is --depth-dir; the outputs could replace depth maps")
-    if mask_dir and os.path.exists(mask_dir) and os.path.exists(out_dir) and os.path.samefile(mask_dir, out_dir):
-        raise UsageError(f"--mask-dir {mask_dir}: is --output-dir; masks and frames share names")
     # Member by member: no output file (a frame, a mask, the manifest or its lock) that is, through a link, an
     # input frame, a depth map or another output.
     inputs = [("--input-dir", os.path.join(in_dir, f)) for f in frames]
@@ -467,7 +502,22 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
 
 def render_video_chunk(job: Dict[str, Any], start: int, count: int) -> Dict[str, Any]:
     """A task: frames [start, start + count) of the video (count -1: to its end), rendered and
-    written as raw 8-bit RGB into the staging folder."""
+    written as raw 8-bit RGB into the staging folder.
+
+    Example (what a worker runs; a short video made with the ffmpeg command):
+
+    >>> import os, subprocess, tempfile
+    >>> from hydrolux.batch import rain
+    >>> folder = tempfile.mkdtemp()
+    >>> video = os.path.join(folder, "street.mp4")
+    >>> _ = subprocess.run(["ffmpeg", "-loglevel", "error", "-f", "lavfi", "-i", "testsrc=size=64x48:rate=25",
+    ...                     "-frames:v", "4", "-pix_fmt", "yuv420p", video], check=True)
+    >>> job = {"video": video, "video_label": "--video", "staging": folder, "width": 64, "height": 48,
+    ...        "options": {"seed": 4, "fps": 25.0}, "frame_index": 0, "threads": 0}
+    >>> rec = rain.render_video_chunk(job, 0, 2)
+    >>> rec["output"], rec["frames"], rec["size"]   # 2 frames of 64 x 48 x 3 bytes
+    ('chunk_000000000.rgb', 2, 18432)
+    """
     _core = _common.native("_core")
     _video = _common.native("_video")
 
@@ -496,6 +546,28 @@ def render_video_chunk(job: Dict[str, Any], start: int, count: int) -> Dict[str,
 
 
 def run_video(a: argparse.Namespace, after_result=None) -> int:
+    """Rain over the video ``a.video`` into the video ``a.output``, in chunks of ``a.chunk_frames``
+    staged beside it; ``a`` as :func:`run` leaves it.
+
+    Example (a local cluster of one worker; a short video made with the ffmpeg command):
+
+    >>> import argparse, os, subprocess, tempfile
+    >>> from hydrolux.batch import rain
+    >>> folder = tempfile.mkdtemp()
+    >>> video = os.path.join(folder, "street.mp4")
+    >>> _ = subprocess.run(["ffmpeg", "-loglevel", "error", "-f", "lavfi", "-i", "testsrc=size=64x48:rate=25",
+    ...                     "-frames:v", "6", "-pix_fmt", "yuv420p", video], check=True)
+    >>> p = argparse.ArgumentParser()
+    >>> rain.add_arguments(p)
+    >>> a = p.parse_args(["--video", video, "-o", os.path.join(folder, "rainy.mp4"), "--seed", "4",
+    ...                   "--chunk-frames", "3"])
+    >>> a.workers, a.threads_per_worker, a.scheduler, a.quiet = 1, None, None, True   # the cluster's options
+    >>> rain.parse_numbers(a)   # run() does this first
+    >>> rain.run_video(a)
+    0
+    >>> sorted(os.listdir(folder))   # the staging folder holds the manifest
+    ['.rainy.mp4.chunks', 'rainy.mp4', 'street.mp4']
+    """
     import hydrolux
     _video = _common.native("_video")
 
@@ -506,7 +578,7 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
         raise UsageError("-o: give the output video (.mp4, .mov or .mkv)")
     if os.path.splitext(a.output)[1].lower() not in (".mp4", ".mov", ".mkv"):
         raise UsageError(f"-o {a.output}: expected a .mp4, .mov or .mkv file")
-    if a.fps is not None:
+    if a.fps_given:
         raise UsageError("--fps: a video's frame rate is its own")
     video, output = os.path.abspath(a.video), os.path.abspath(a.output)
     if not os.path.isfile(video):

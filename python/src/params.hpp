@@ -1,0 +1,51 @@
+#pragma once
+// The Python door onto the declared parameters (hydrolux/core/params.hpp): keyword arguments of
+// the declared names, converted and range-checked as the CLI checks its flags, in the same words.
+#include <fmt/format.h>
+
+#include <span>
+#include <string>
+
+#include "common.hpp"
+#include "hydrolux/core/params.hpp"
+
+namespace hydrolux::py_bind {
+
+// Where a declared real's range is checked: here, as the CLI's flags check it ("rate_mmh = 600 is
+// outside [0, 500] mm/h"), or by the library call that follows, which reads the same range from the
+// table and says it in its own words (hydrolux.lee: atmos::validate, as before the table existed).
+enum class RealRanges { checked, by_library };
+
+// One declared value from a Python object: a real, a whole number or a bool, in its range.
+inline double param_value(const Param& p, py::handle v, RealRanges ranges = RealRanges::checked) {
+  const std::string name(p.name);
+  switch (p.kind) {
+    case ParamKind::flag:
+      return flag_arg(v, name.c_str()) ? 1 : 0;
+    case ParamKind::integer:
+      return double(whole_arg(v, name.c_str(), (long long)p.lo, (long long)p.hi, std::string(p.unit).c_str()));
+    case ParamKind::real:
+      break;
+  }
+  const double x = real_arg(v, name.c_str());
+  if (ranges == RealRanges::checked) p.check(x);  // "rate_mmh = 600 is outside [0, 500] mm/h"
+  return x;
+}
+
+// Stores every keyword of `kw` that names a field (None: the default) into `request`, in the
+// table's order; a pair of parameters that replace one another refused when both are given.
+template <class Request>
+void apply_kwargs(Request& request, const py::dict& kw, std::span<const Field<Request>> fields,
+                  RealRanges ranges = RealRanges::checked) {
+  const auto given = [&](std::string_view name) {
+    const std::string key(name);
+    return kw.contains(key) && !kw[key.c_str()].is_none();
+  };
+  for (const auto& f : fields)
+    if (!f.param.excludes.empty() && given(f.param.name) && given(f.param.excludes))
+      throw Error(fmt::format("{}: give {} or {}, not both", f.param.name, f.param.excludes, f.param.name));
+  for (const auto& f : fields)
+    if (given(f.param.name)) f.set(request, param_value(f.param, kw[std::string(f.param.name).c_str()], ranges));
+}
+
+}  // namespace hydrolux::py_bind

@@ -1,0 +1,400 @@
+// A rain run over files (rain_job.hpp): the photograph, folder and video modes of `hydrolux rain`.
+#include "hydrolux/io/rain_job.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "hydrolux/color/srgb.hpp"
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/parse.hpp"
+#include "hydrolux/io/files.hpp"
+#include "hydrolux/io/frames.hpp"
+#include "hydrolux/io/rain_report.hpp"
+#include "hydrolux/io/video.hpp"
+
+namespace hydrolux::io {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct Run {
+  const RainJob& a;
+  const RainJobHooks& h;
+  Clock::time_point start = Clock::now();
+
+  void warn(const std::string& text) const {
+    if (h.warn) h.warn(text);
+  }
+  void progress(double f, std::string_view label) const {
+    if (h.progress) h.progress(f, label);
+  }
+  void clear_progress() const {
+    if (h.clear_progress) h.clear_progress();
+  }
+  void finish_progress() const {
+    if (h.finish_progress) h.finish_progress();
+  }
+
+  Image read_image(const std::string& flag, const std::string& path) const {
+    const std::string bytes = read_file(path, ImageLimits{}.max_file_bytes, flag);
+    auto decoded = h.codec.decode(bytes, fmt::format("{} {}", flag, path), ImageLimits{});
+    for (const auto& w : decoded.warnings) warn(fmt::format("{} {}: {}", flag, path, w));
+    return std::move(decoded.image);
+  }
+
+  // A depth map (depth_from_decoded), the JPEG refused before it is decoded. --depth-scale-m, if
+  // given, must have a coded map (PNG, TIFF, PNM) to scale: an EXR holds metres.
+  Image read_depth(const std::string& flag, const std::string& path, int width, int height) const {
+    const std::string bytes = read_file(path, ImageLimits{}.max_file_bytes, flag);
+    const std::string origin = fmt::format("{} {}", flag, path);
+    const auto format = sniff_image_format(bytes);
+    if (format == ImageFormat::jpeg) throw Error(origin + kJpegDepthRefusal);
+    if (a.depth_scale_given && (format == ImageFormat::exr || format == ImageFormat::hdr))
+      throw Error(fmt::format("--depth-scale-m: scales the codes of a PNG depth map; {} holds metres already", origin));
+    auto decoded = h.codec.decode(bytes, origin, ImageLimits{});
+    for (const auto& w : decoded.warnings) warn(fmt::format("{}: {}", origin, w));
+    return depth_from_decoded(decoded, a.files.depth_scale_m, width, height, origin);
+  }
+
+  nlohmann::json run_json(const rain::RainField& field) const {
+    return rain_run_json(field, a.depth ? *a.depth : a.depth_dir ? *a.depth_dir : std::string("ground plane"));
+  }
+
+  // The renderer for one camera, with the library's "too many drops" said in the flags.
+  rain::RainRenderer make_renderer(const rain::RainCamera& cam, bool ground_plane) const {
+    try {
+      return rain::RainRenderer(rain::RainField(a.options.settings, cam, ground_plane));
+    } catch (const rain::TooManyDrops& e) {
+      throw Error(fmt::format(
+          "--min-alpha {:g}: the rain field would hold {:.3g} drops, more than the limit of {:.3g}; "
+          "raise --min-alpha, --near-m or --min-radius-mm, or lower --far-m or --rate-mmh",
+          a.options.settings.min_alpha, e.drops(), double(rain::RainField::kMaxDrops)));
+    }
+  }
+
+  RainJobResult result(const rain::RainRenderer& r, const rain::RainStats& last, std::size_t frames,
+                       std::size_t total) const {
+    RainJobResult out;
+    out.frames = frames;
+    out.frames_total = total;
+    out.rate_mmh = r.field().settings().rate_mmh;
+    out.drops = r.field().drop_count();
+    out.last = last;
+    out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return out;
+  }
+};
+
+// One frame rendered: a non-finite input value is bad input naming the frame.
+void render_frame(rain::RainRenderer& renderer, const Image& frame, const Image* depth, std::int64_t index,
+                  bool with_layer, rain::RainFrame& out, const std::string& origin) {
+  try {
+    renderer.render_into(frame, depth, index, with_layer, out);
+  } catch (const rain::NonFinitePixel& e) {
+    throw Error(fmt::format("{}: {}", origin, e.what()));
+  }
+}
+
+// The negative input values read as 0 over a run, said once at its end (not a line a frame).
+struct NegativeValues {
+  std::uint64_t values = 0, frames = 0;
+  void add(const rain::RainStats& st) {
+    values += st.negative_values_clamped;
+    frames += st.negative_values_clamped > 0 ? 1 : 0;
+  }
+  void report(const Run& run, const std::string& origin, std::size_t frame_count) const {
+    if (values == 0) return;
+    const std::string n = fmt::format("{} negative value{}", values, values == 1 ? "" : "s");
+    run.warn(frame_count > 1 ? fmt::format("{}: {} in {} of {} frames read as 0 (light cannot be negative)", origin, n,
+                                           frames, frame_count)
+                             : fmt::format("{}: {} read as 0 (light cannot be negative)", origin, n));
+  }
+};
+
+struct ImageOut {
+  OutputFile* file;
+  ImageFormat format;
+};
+ImageOut declare_image(FileSet& files, const std::string& flag, const std::string& path) {
+  const ImageFormat format = output_image_format(path, flag);
+  return {&files.output(flag, path), format};
+}
+
+RainJobResult run_image(const Run& run) {
+  const RainJob& a = run.a;
+  if (a.crf_given) throw Error("--crf: sets the H.264 quality of --video's output; --image writes one picture");
+  if (a.depth_scale_given && !a.depth) throw Error("--depth-scale-m: scales a PNG --depth map; none is given");
+  FileSet files;
+  const bool builtin = *a.image == "builtin";
+  if (!builtin) files.input("--image", *a.image);
+  if (a.size && !builtin) throw Error("--size: goes with --image builtin (a photograph has its own size)");
+  if (a.depth) files.input("--depth", *a.depth);
+  if (!a.output) throw Error("-o: give the output image (.png or .exr)");
+  const ImageOut out = declare_image(files, "-o", *a.output);
+  std::optional<ImageOut> mask, layer;
+  if (a.mask_out) mask = declare_image(files, "--mask-out", *a.mask_out);
+  if (a.layer_out) {
+    layer = declare_image(files, "--layer-out", *a.layer_out);
+    if (layer->format != ImageFormat::exr)
+      throw Error(fmt::format("--layer-out {}: the rain layer is linear light; give an .exr file", *a.layer_out));
+  }
+  OutputFile* stats = a.stats_json ? &files.output("--stats-json", *a.stats_json) : nullptr;
+
+  const std::string origin = builtin ? std::string("--image builtin") : "--image " + *a.image;
+  Image frame;
+  if (builtin) {
+    const std::string size = a.size.value_or("1280x720");
+    const auto wh = parse::pair(size, 'x');
+    if (!wh) throw Error(fmt::format("--size {}: not WxH", size));
+    const rain::RainCamera c = rain::camera_for(a.options, int((*wh)[0]), int((*wh)[1]));
+    rain::check_render_memory(c, 3, layer.has_value(), "--size " + size);
+    frame = rain::builtin_scene(c);
+  } else {
+    frame = run.read_image("--image", *a.image);
+  }
+  const rain::RainCamera cam = rain::camera_for(a.options, frame.width, frame.height);
+  if (!builtin) rain::check_render_memory(cam, frame.channels, layer.has_value(), origin);
+  std::optional<Image> depth;
+  if (a.depth) depth = run.read_depth("--depth", *a.depth, frame.width, frame.height);
+  rain::RainRenderer renderer = run.make_renderer(cam, !depth);
+  rain::RainFrame result;
+  render_frame(renderer, frame, depth ? &*depth : nullptr, a.files.frame_index, layer.has_value(), result, origin);
+  NegativeValues negatives;
+  negatives.add(result.stats);
+  negatives.report(run, origin, 1);
+  // The optional outputs first: a failure (a full disk) is then reported under their own flag.
+  if (layer) layer->file->write(run.h.codec.encode(result.layer, layer->format, PngOptions{}));
+  if (mask)
+    mask->file->write(
+        run.h.codec.encode(coverage_for_encoding(result.alpha, mask->format), mask->format, PngOptions{16}));
+  out.file->write(run.h.codec.encode(result.image, out.format, PngOptions{}));
+  if (stats) {
+    auto j = run.run_json(renderer.field());
+    j["input"] = *a.image;
+    j["frames"] = nlohmann::json::array({rain_stats_json(result.stats)});
+    j["frames"][0]["frame_index"] = a.files.frame_index;
+    stats->write(j.dump(2) + "\n");
+  }
+  files.commit();
+  return run.result(renderer, result.stats, 1, 1);
+}
+
+RainJobResult run_folder(const Run& run) {
+  const RainJob& a = run.a;
+  if (a.output) throw Error("-o: with --input-dir the frames go to --output-dir");
+  if (!a.output_dir) throw Error("--output-dir: give the folder for the rainy frames (with --input-dir)");
+  if (a.depth) throw Error("--depth: one depth map serves one --image; give a folder's maps with --depth-dir");
+  if (a.mask_out) throw Error("--mask-out: with --input-dir give --mask-dir for the masks");
+  if (a.layer_out) throw Error("--layer-out: available with --image");
+  if (a.crf_given) throw Error("--crf: sets the H.264 quality of --video's output; --input-dir writes pictures");
+  if (a.depth_scale_given && !a.depth_dir) throw Error("--depth-scale-m: scales PNG maps of --depth-dir; none is given");
+  const FrameFolder plan = plan_frame_folder({*a.input_dir, *a.output_dir, a.mask_dir, a.depth_dir});
+  if (!plan.skipped.empty()) run.warn(plan.skipped_warning(*a.input_dir));
+  const fs::path out_dir(*a.output_dir);
+  const auto& frames = plan.frames;
+  // Every file the run reads or writes, declared before any work: an output on an input (a
+  // --stats-json naming a frame, a link in --output-dir to a frame) or two outputs on one path are
+  // refused here, whichever folders they are in.
+  FileSet files;
+  for (const auto& f : frames) files.input("--input-dir", f);
+  for (const auto& d : plan.depth_maps) files.input("--depth-dir", d);
+  for (const auto& n : plan.outputs) files.planned_output("--output-dir", out_dir / n);
+  if (a.mask_dir)
+    for (const auto& n : plan.outputs) files.planned_output("--mask-dir", fs::path(*a.mask_dir) / n);
+  OutputFile* stats = a.stats_json ? &files.output("--stats-json", *a.stats_json) : nullptr;
+  for (const auto& [flag, dir] : {std::pair{"--output-dir", a.output_dir}, {"--mask-dir", a.mask_dir}}) {
+    std::error_code ec;
+    if (dir) fs::create_directories(*dir, ec);
+    if (ec) throw IoError(fmt::format("{} {}: cannot create: {}", flag, *dir, ec.message()));
+  }
+
+  // A frame that cannot be used (unreadable, truncated, of another size, a non-finite value) is named
+  // and left out, the others written, and the run ends with the list, as the batch job does: found
+  // only by decoding, it would otherwise cost a second pass over every frame before the work.
+  std::optional<rain::RainRenderer> renderer;
+  rain::RainFrame result;
+  nlohmann::json per_frame = nlohmann::json::array();
+  std::vector<std::string> failed;
+  std::size_t written = 0;
+  NegativeValues negatives;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const std::string name = frames[k].string();
+    try {
+      const Image frame = run.read_image("--input-dir", name);
+      if (!renderer) {
+        const rain::RainCamera cam = rain::camera_for(a.options, frame.width, frame.height);
+        rain::check_render_memory(cam, frame.channels, false, "--input-dir " + name);
+        renderer.emplace(run.make_renderer(cam, !a.depth_dir));
+      } else if (const auto& c = renderer->field().camera(); frame.width != c.width || frame.height != c.height) {
+        throw IoError(fmt::format("--input-dir {}: is {}x{}, unlike the first frame ({}x{}); one sequence has one size",
+                                  name, frame.width, frame.height, c.width, c.height));
+      }
+      std::optional<Image> depth;
+      if (a.depth_dir) depth = run.read_depth("--depth-dir", plan.depth_maps[k].string(), frame.width, frame.height);
+      render_frame(*renderer, frame, depth ? &*depth : nullptr, a.files.frame_index + std::int64_t(k), false, result,
+                   "--input-dir " + name);
+    } catch (const IoFailure&) {
+      throw;
+    } catch (const Error& e) {
+      // Before any frame is written nothing is lost by stopping: bad input, nothing written.
+      if (written == 0) throw;
+      run.clear_progress();
+      run.warn(fmt::format("{} (left out)", e.what()));
+      failed.push_back(frames[k].filename().string());
+      continue;
+    }
+    const fs::path& out_name = plan.outputs[k];
+    const auto format = out_name.extension() == ".exr" ? ImageFormat::exr : ImageFormat::png;
+    write_file(out_dir / out_name, run.h.codec.encode(result.image, format, PngOptions{}), "--output-dir");
+    if (a.mask_dir)
+      write_file(fs::path(*a.mask_dir) / out_name,
+                 run.h.codec.encode(coverage_for_encoding(result.alpha, format), format, PngOptions{16}), "--mask-dir");
+    ++written;
+    negatives.add(result.stats);
+    if (stats) {
+      auto j = rain_stats_json(result.stats);
+      j["frame_index"] = a.files.frame_index + std::int64_t(k);
+      j["input"] = frames[k].filename().string();
+      per_frame.push_back(std::move(j));
+    }
+    run.progress(double(k + 1) / double(frames.size()), fmt::format("frame {}/{}", k + 1, frames.size()));
+  }
+  run.finish_progress();
+  negatives.report(run, "--input-dir " + *a.input_dir, frames.size());
+  if (stats) {
+    auto j = run.run_json(renderer->field());
+    j["input"] = *a.input_dir;
+    j["frames"] = std::move(per_frame);
+    if (!failed.empty()) j["left_out"] = failed;
+    stats->write(j.dump(2) + "\n");
+  }
+  files.commit();
+  auto out = run.result(*renderer, result.stats, frames.size() - failed.size(), frames.size());
+  out.left_out = std::move(failed);
+  return out;
+}
+
+// The video's own frame rate, size and the exposure it allows, said in the video's terms.
+void check_video_camera(const rain::RainCamera& cam, const std::string& video) {
+  try {
+    rain::validate(cam);
+  } catch (const DomainError& e) {
+    if (e.quantity() == "fps" || e.quantity() == "width" || e.quantity() == "height")
+      throw Error(fmt::format("--video {}: its {} {:g} is {}", video,
+                              e.quantity() == "fps" ? "frame rate (1/s)" : e.quantity().c_str(), e.value(),
+                              e.range_text()));
+    if (e.quantity() == "exposure_s")
+      throw Error(fmt::format("--exposure-s {:g}: is longer than one frame of --video {} ({:g} frames/s); at most {:g} s",
+                              e.value(), video, cam.fps, 1.0 / cam.fps));
+    throw;
+  }
+}
+
+RainJobResult run_video(const Run& run) {
+  const RainJob& a = run.a;
+  if (!a.output) throw Error("-o: give the output video (.mp4, .mov or .mkv)");
+  if (a.depth || a.depth_dir) throw Error("--depth: depth maps are for --image and --input-dir; video frames use the ground plane");
+  if (a.mask_out || a.mask_dir || a.layer_out || a.output_dir)
+    throw Error("--video writes one video (-o) and optionally --stats-json; masks are for --image and --input-dir");
+  if (a.options.fps) throw Error("--fps: a video's frame rate is its own");
+  if (a.depth_scale_given) throw Error("--depth-scale-m: scales PNG depth maps, which are for --image and --input-dir");
+  const std::string ext = lower_extension(*a.output);
+  if (std::find(std::begin(kVideoExtensions), std::end(kVideoExtensions), ext) == std::end(kVideoExtensions))
+    throw Error(fmt::format("-o {}: expected a .mp4, .mov or .mkv file", *a.output));
+  FileSet files;
+  files.input("--video", *a.video);
+  OutputFile& out = files.output("-o", *a.output);
+  OutputFile* stats = a.stats_json ? &files.output("--stats-json", *a.stats_json) : nullptr;
+  const VideoApi& api = video_api();
+  const InputFile input(*a.video, "--video");
+
+  auto reader = api.open_reader([&input](std::uint64_t off, char* buf, std::size_t n) { return input.read_at(off, buf, n); },
+                                input.size(), fmt::format("--video {}", *a.video), VideoLimits{});
+  const VideoInfo info = reader->info();
+  rain::RainCamera cam = rain::camera_for(a.options, info.width, info.height);
+  cam.fps = info.fps();
+  check_video_camera(cam, *a.video);
+  rain::check_render_memory(cam, 3, false, "--video " + *a.video);
+  rain::RainRenderer renderer = run.make_renderer(cam, true);
+  auto writer = api.open_writer([&out](std::uint64_t off, std::string_view bytes) { out.write_at(off, bytes); }, ext,
+                                info, a.files.crf, fmt::format("-o {}", *a.output));
+  const color::Srgb8Tables tables;
+  VideoFrame in_frame, out_frame;
+  Image linear;
+  rain::RainFrame result;
+  nlohmann::json per_frame = nlohmann::json::array();
+  NegativeValues negatives;
+  std::int64_t k = 0;
+  // The frame count for the progress: the container's, else the duration times the rate (Matroska).
+  const std::int64_t expected = info.frame_count > 0 ? info.frame_count
+                                : info.duration_s > 0 ? std::llround(info.duration_s * info.fps())
+                                                      : -1;
+  while (reader->read(in_frame)) {
+    // 8-bit frames to linear float and back through the library's tables.
+    if (linear.width != in_frame.width || linear.height != in_frame.height || linear.channels != 3)
+      linear = Image(in_frame.width, in_frame.height, 3);
+    tables.to_linear(in_frame.rgb.data(), std::size_t(in_frame.width) * in_frame.height, linear.pixels.data());
+    render_frame(renderer, linear, nullptr, a.files.frame_index + k, false, result, "--video " + *a.video);
+    negatives.add(result.stats);
+    const Image& img = result.image;
+    out_frame.width = img.width;
+    out_frame.height = img.height;
+    out_frame.rgb.resize(std::size_t(img.width) * img.height * 3);
+    tables.to_srgb8(img.pixels.data(), std::size_t(img.width) * img.height, img.channels, out_frame.rgb.data());
+    writer->write(out_frame);
+    if (stats) {
+      auto j = rain_stats_json(result.stats);
+      j["frame_index"] = a.files.frame_index + k;
+      per_frame.push_back(std::move(j));
+    }
+    ++k;
+    if (expected > 0) run.progress(std::min(1.0, double(k) / double(expected)), fmt::format("frame {}/{}", k, expected));
+  }
+  writer->finish();
+  run.finish_progress();
+  negatives.report(run, "--video " + *a.video, std::size_t(k));
+  if (stats) {
+    auto j = run.run_json(renderer.field());
+    j["input"] = *a.video;
+    j["video"] = {{"codec", info.codec}, {"fps_num", info.fps_num}, {"fps_den", info.fps_den}, {"frames", k},
+                  {"crf", a.files.crf}};
+    j["frames"] = std::move(per_frame);
+    stats->write(j.dump(2) + "\n");
+  }
+  files.commit();
+  return run.result(renderer, result.stats, std::size_t(k), std::size_t(k));
+}
+
+}  // namespace
+
+RainJobResult run_rain_job(const RainJob& a, const RainJobHooks& hooks) {
+  const int modes = int(a.image.has_value()) + int(a.input_dir.has_value()) + int(a.video.has_value());
+  if (modes != 1) throw Error("give exactly one of --image, --input-dir and --video");
+  if (a.output_dir && !a.input_dir) throw Error("--output-dir: goes with --input-dir");
+  if (a.mask_dir && !a.input_dir) throw Error("--mask-dir: goes with --input-dir (use --mask-out with --image)");
+  if (a.depth_dir && !a.input_dir) throw Error("--depth-dir: goes with --input-dir (use --depth with --image)");
+  const Run run{a, hooks};
+  if (a.image) return run_image(run);
+  if (a.input_dir) return run_folder(run);
+  return run_video(run);
+}
+
+std::string rain_summary(const RainJobResult& r) {
+  const auto& st = r.last;
+  return fmt::format(
+      "rain: {} frame{} at {:g} mm/h; {} drops in the field, {} streaks in view (length p50 {:.1f} px, p95 "
+      "{:.1f} px); drops {:.2f}x the luminance under them; {:.2f} s ({:.1f} frames/s)",
+      r.frames, r.frames == 1 ? "" : "s", r.rate_mmh, r.drops, st.drops_in_view, st.streak_length_px_p50,
+      st.streak_length_px_p95,
+      st.background_luminance_mean > 0 ? st.drop_luminance_mean / st.background_luminance_mean : 0.0, r.seconds,
+      r.seconds > 0 ? double(r.frames) / r.seconds : 0.0);
+}
+
+}  // namespace hydrolux::io

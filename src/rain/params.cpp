@@ -1,0 +1,104 @@
+#include "hydrolux/rain/params.hpp"
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace hydrolux::rain {
+
+namespace {
+
+using K = ParamKind;
+
+
+const Field<RainOptions> kRain[] = {
+    {{"rate_mmh", "--rate-mmh", "rain", K::real, "mm/h", 0, 500, "Rain rate, mm/h"}, HYDROLUX_PARAM_MEMBER(settings.rate_mmh)},
+    {{"wind_mps", "--wind-mps", "rain", K::real, "m/s", 0, 50, "Horizontal wind speed, m/s (drops move with it)"},
+     HYDROLUX_PARAM_MEMBER(settings.wind_mps)},
+    {{"wind_dir_deg", "--wind-dir-deg", "rain", K::real, "deg", -360, 360,
+      "Where the wind blows to: 0 away from the camera, 90 to its right"},
+     HYDROLUX_PARAM_MEMBER(settings.wind_dir_deg)},
+    {{"exposure_s", "--exposure-s", "camera", K::real, "s", 1e-6, 1, "Exposure time, s (at most 1 / fps)"},
+     HYDROLUX_PARAM_MEMBER(camera.exposure_s)},
+    {{"focal_mm", "--focal-mm", "camera", K::real, "mm", 1, 2000, "Focal length, mm"}, HYDROLUX_PARAM_MEMBER(camera.focal_mm)},
+    {{"fov_deg", "--fov-deg", "camera", K::real, "deg", 1, 170, "Horizontal field of view, degrees (instead of --focal-mm)",
+      "focal_mm"},
+     HYDROLUX_PARAM_OPTIONAL(fov_deg)},
+    {{"sensor_width_mm", "--sensor-width-mm", "camera", K::real, "mm", 1, 100,
+      "Sensor width, mm (pixel pitch = width / image width)"},
+     HYDROLUX_PARAM_MEMBER(camera.sensor_width_mm)},
+    {{"pixel_pitch_um", "--pixel-pitch-um", "camera", K::real, "um", 0.1, 1000, "Pixel pitch, um (instead of --sensor-width-mm)",
+      "sensor_width_mm"},
+     HYDROLUX_PARAM_OPTIONAL(pixel_pitch_um)},
+    {{"f_number", "--f-number", "camera", K::real, "", 0, 64,
+      "Aperture f-number for defocus of near drops; 0 = pinhole (all sharp)"},
+     HYDROLUX_PARAM_MEMBER(camera.f_number)},
+    {{"focus_m", "--focus-m", "camera", K::real, "m", 0.01, 1e4, "Focus distance, m (with --f-number)"},
+     HYDROLUX_PARAM_MEMBER(camera.focus_m)},
+    {{"fps", "--fps", "camera", K::real, "1/s", 0.01, 1000,
+      "Frame rate of --image / --input-dir frames (frame k is exposed from k / fps)"},
+     [](const RainOptions& o) { return o.fps.value_or(o.camera.fps); },
+     [](RainOptions& o, double v) { o.fps = v; }},
+    {{"camera_height_m", "--camera-height-m", "camera", K::real, "m", 0, 1000, "Camera height above the ground plane, m"},
+     HYDROLUX_PARAM_MEMBER(camera.height_m)},
+    {{"pitch_deg", "--pitch-deg", "camera", K::real, "deg", -80, 80, "Camera pitch above the horizon, degrees"},
+     HYDROLUX_PARAM_MEMBER(camera.pitch_deg)},
+    {{"near_m", "--near-m", "rain", K::real, "m", 0.05, 100, "No drop nearer than this, m"}, HYDROLUX_PARAM_MEMBER(settings.near_m)},
+    {{"far_m", "--far-m", "rain", K::real, "m", 0.1, 1e4, "No drop drawn beyond this, m (farther rain is unresolved)"},
+     HYDROLUX_PARAM_MEMBER(settings.far_m)},
+    {{"min_radius_mm", "--min-radius-mm", "rain", K::real, "mm", 0.04, 2.9, "Smaller drops count only as unresolved rain, mm"},
+     HYDROLUX_PARAM_MEMBER(settings.min_radius_mm)},
+    {{"max_radius_mm", "--max-radius-mm", "rain", K::real, "mm", 0.04, 2.9, "Largest drop radius, mm (larger drops break up)"},
+     HYDROLUX_PARAM_MEMBER(settings.max_radius_mm)},
+    {{"min_alpha", "--min-alpha", "rain", K::real, "", 1e-5, 0.5,
+      "A drop is drawn while its streak's peak coverage reaches this; fainter rain is unresolved"},
+     HYDROLUX_PARAM_MEMBER(settings.min_alpha)},
+    {{"extent_m", "--extent-m", "rain", K::real, "m", 0, 1e5, "Depth of the rain where the depth map has none (sky), m"},
+     HYDROLUX_PARAM_MEMBER(settings.extent_m)},
+    {{"backdrop_m", "--backdrop-m", "rain", K::real, "m", 1, 1e5,
+      "Without --depth: the scene is the ground plane up to a backdrop this far, m"},
+     HYDROLUX_PARAM_MEMBER(settings.backdrop_m)},
+    {{"oscillation", "--oscillation", "rain", K::real, "", 0, 0.5,
+      "Relative amplitude of the drops' shape oscillation (Rayleigh mode 2); 0 off"},
+     HYDROLUX_PARAM_MEMBER(settings.oscillation)},
+    {{"unresolved", "--no-unresolved", "rain", K::flag, "", 0, 1,
+      "Leave out the unresolved rain's extinction and airlight (streaks only)"},
+     HYDROLUX_PARAM_MEMBER(settings.unresolved)},
+    {{"seed", "--seed", "rain", K::integer, "", 0, double(kMaxSeed),
+      "Random seed: the same seed gives the same rain, bytes for bytes"},
+     HYDROLUX_PARAM_MEMBER(settings.seed)},
+};
+
+const Field<RainFileOptions> kRainFiles[] = {
+    {{"frame_index", "--frame-index", "files", K::integer, "", 0, 1e9, "Index of the first frame in the rain field's time"},
+     HYDROLUX_PARAM_MEMBER(frame_index)},
+    {{"crf", "--crf", "files", K::integer, "", 0, 51,
+      "H.264 quality of --video's output (0 lossless .. 51; 18 visually lossless)"},
+     HYDROLUX_PARAM_MEMBER(crf)},
+    {{"depth_scale_m", "--depth-scale-m", "files", K::real, "m", 1e-6, 1e3,
+      "Metres per code of a PNG depth map (--depth, --depth-dir)"},
+     HYDROLUX_PARAM_MEMBER(depth_scale_m)},
+};
+
+}  // namespace
+
+std::span<const Field<RainOptions>> rain_params() { return kRain; }
+std::span<const Field<RainFileOptions>> rain_file_params() { return kRainFiles; }
+
+const Param& rain_param(std::string_view name) {
+  if (const auto* f = find_field(rain_params(), name)) return f->param;
+  if (const auto* f = find_field(rain_file_params(), name)) return f->param;
+  throw std::logic_error("rain_param: no parameter " + std::string(name));
+}
+
+RainCamera camera_for(const RainOptions& o, int width, int height) {
+  RainCamera c = o.camera;
+  c.width = width;
+  c.height = height;
+  if (o.pixel_pitch_um) c.sensor_width_mm = *o.pixel_pitch_um * 1e-3 * width;
+  if (o.fov_deg) c.focal_mm = focal_mm_from_fov(*o.fov_deg, c.sensor_width_mm);
+  if (o.fps) c.fps = *o.fps;
+  return c;
+}
+
+}  // namespace hydrolux::rain

@@ -1,0 +1,28 @@
+// docs/reference.md is current: the tables generated from the CLI's registration and the declared
+// parameters (tools/hydrolux/reference.cpp) equal the file in the repository. `make reference`
+// (HYDROLUX_WRITE_REFERENCE=1) writes it anew.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "common.hpp"
+#include "support/cli.hpp"
+
+namespace {
+
+TEST(Reference, DocsReferenceIsCurrent) {
+  CLI::App app;
+  const auto commands = hydrolux::cli::add_all_commands(app);
+  const std::string generated = hydrolux::cli::reference_markdown(commands);
+  const auto path = std::filesystem::path(HYDROLUX_SOURCE_DIR) / "docs" / "reference.md";
+  if (const char* w = std::getenv("HYDROLUX_WRITE_REFERENCE"); w && std::string(w) == "1") {
+    std::ofstream(path, std::ios::binary) << generated;
+    GTEST_SKIP() << "wrote " << path;
+  }
+  EXPECT_EQ(hydrolux::testing::slurp(path), generated)
+      << path << " is not current: run `make reference` and commit it";
+}
+
+}  // namespace

@@ -1,0 +1,127 @@
+// The declared parameters (core/params.hpp, hydrolux/jobs.hpp): the messages a door shows, and the
+// invariants every job's table keeps so that each door can be generated from it.
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/params.hpp"
+#include "hydrolux/jobs.hpp"
+#include "hydrolux/rain/params.hpp"
+
+namespace {
+
+using hydrolux::Param;
+using hydrolux::ParamKind;
+
+TEST(Params, CheckNamesTheValueAndTheRangeWithItsUnit) {
+  const Param p{"rate_mmh", "--rate-mmh", "rain", ParamKind::real, "mm/h", 0, 500, "Rain rate"};
+  EXPECT_NO_THROW(p.check(0));
+  EXPECT_NO_THROW(p.check(500));
+  try {
+    p.check(600);
+    FAIL() << "600 accepted";
+  } catch (const hydrolux::DomainError& e) {
+    EXPECT_STREQ(e.what(), "rate_mmh = 600 is outside [0, 500] mm/h");
+    EXPECT_EQ(e.quantity(), "rate_mmh");
+    EXPECT_EQ(e.lo(), 0);
+    EXPECT_EQ(e.hi(), 500);
+  }
+  EXPECT_THROW(p.check(std::nan("")), hydrolux::DomainError);
+  const Param n{"crf", "--crf", "files", ParamKind::integer, "", 0, 51, "quality"};
+  EXPECT_NO_THROW(n.check(18));
+  try {
+    n.check(1.5);
+    FAIL() << "1.5 accepted as a whole number";
+  } catch (const hydrolux::DomainError& e) {
+    EXPECT_STREQ(e.what(), "crf = 1.5 is not a whole number in [0, 51]");
+  }
+}
+
+// The rain job's defaults are its structs' initializers, not a second copy.
+TEST(Params, RainDefaultsAreTheStructsInitializers) {
+  const hydrolux::rain::RainSettings s;
+  const hydrolux::rain::RainCamera c;
+  const auto infos = hydrolux::describe_fields(hydrolux::rain::rain_params());
+  const auto value = [&](std::string_view name) {
+    for (const auto& i : infos)
+      if (i.param->name == name) return i.default_value;
+    ADD_FAILURE() << "no parameter " << name;
+    return 0.0;
+  };
+  EXPECT_EQ(value("rate_mmh"), s.rate_mmh);
+  EXPECT_EQ(value("near_m"), s.near_m);
+  EXPECT_EQ(value("seed"), double(s.seed));
+  EXPECT_EQ(value("unresolved"), s.unresolved ? 1.0 : 0.0);
+  EXPECT_EQ(value("focal_mm"), c.focal_mm);
+  EXPECT_EQ(value("camera_height_m"), c.height_m);
+  EXPECT_EQ(value("fps"), c.fps);
+  EXPECT_TRUE(std::isnan(value("fov_deg")));  // none: it replaces focal_mm when given
+}
+
+// A row's setter and getter touch the member the row names, and a given field of view or pixel
+// pitch is turned into the camera the CLI and Python make.
+TEST(Params, RainRowsSetWhatTheyName) {
+  hydrolux::rain::RainOptions o;
+  for (const auto& f : hydrolux::rain::rain_params()) {
+    const double v = f.param.kind == ParamKind::flag ? 0 : f.param.kind == ParamKind::integer ? f.param.lo + 1
+                                                                                               : 0.5 * (f.param.lo + f.param.hi);
+    f.set(o, v);
+    EXPECT_EQ(f.get(o), v) << f.param.name;
+  }
+  hydrolux::rain::RainOptions q;
+  q.fov_deg = 90;
+  q.pixel_pitch_um = 5;
+  const auto cam = hydrolux::rain::camera_for(q, 1000, 500);
+  EXPECT_DOUBLE_EQ(cam.sensor_width_mm, 5.0);
+  EXPECT_NEAR(cam.focal_mm, 2.5, 1e-12);  // 90 degrees across 5 mm: f = w / 2
+}
+
+std::string kebab(std::string_view name) {
+  std::string s(name);
+  for (auto& ch : s)
+    if (ch == '_') ch = '-';
+  return s;
+}
+
+// Every job's table: names snake_case and unique, the flag the name in kebab case (a switch whose
+// default is on: --no-<name>), ranges ordered, defaults inside them, help given, exclusive pairs
+// naming a parameter of the same table, a unit for every name that states one.
+TEST(Params, EveryTableIsConsistent) {
+  ASSERT_FALSE(hydrolux::job_specs().empty());
+  for (const auto& job : hydrolux::job_specs()) {
+    std::set<std::string_view> names;
+    for (const auto& info : job.params) names.insert(info.param->name);
+    EXPECT_EQ(names.size(), job.params.size()) << job.name << ": a name twice";
+    for (const auto& info : job.params) {
+      const Param& p = *info.param;
+      const std::string where = std::string(job.name) + " " + std::string(p.name);
+      for (char ch : p.name) EXPECT_TRUE(std::islower((unsigned char)ch) || std::isdigit((unsigned char)ch) || ch == '_') << where;
+      const bool on_by_default = p.kind == ParamKind::flag && info.default_value != 0;
+      EXPECT_EQ(p.flag, (on_by_default ? "--no-" : "--") + kebab(p.name)) << where;
+      EXPECT_FALSE(p.help.empty()) << where;
+      EXPECT_FALSE(p.group.empty()) << where;
+      if (p.kind != ParamKind::flag) {
+        EXPECT_LT(p.lo, p.hi) << where;
+        if (!std::isnan(info.default_value)) {
+          EXPECT_NO_THROW(p.check(info.default_value)) << where << ": default outside its range";
+        }
+      }
+      if (!p.excludes.empty()) {
+        EXPECT_TRUE(names.count(p.excludes)) << where << " excludes an unknown " << p.excludes;
+      }
+      for (const char* suffix : {"_mm", "_m", "_deg", "_s", "_um", "_nm", "_mmh", "_mps"}) {
+        const std::string n(p.name), sfx(suffix);
+        if (n.size() > sfx.size() && n.compare(n.size() - sfx.size(), sfx.size(), sfx) == 0) {
+          EXPECT_FALSE(p.unit.empty()) << where << ": the name states a unit the row does not";
+        }
+      }
+    }
+  }
+  EXPECT_THROW(hydrolux::job_spec("no such job"), hydrolux::UnknownNameError);
+}
+
+}  // namespace

@@ -1,0 +1,53 @@
+#pragma once
+// The CLI's door onto the declared parameters (hydrolux/core/params.hpp): each parameter of a job
+// becomes a flag with its range validator, unit, default and help, storing into the request.
+#include <CLI/CLI.hpp>
+
+#include <map>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+#include "common.hpp"
+#include "hydrolux/core/params.hpp"
+
+namespace hydrolux::cli {
+
+// One flag for a declared parameter; `store` receives the parsed, range-checked value.
+CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(double)> store);
+
+// Every field of `fields` as a flag on `sub`, storing into *request (kept alive by the action).
+// Parameters that replace one another (excludes) are registered as exclusive. The names map to
+// their flags in `flags` (the library's errors name the quantity; the CLI names the flag).
+template <class Request>
+void add_params(CLI::App& sub, const std::shared_ptr<Request>& request, std::span<const Field<Request>> fields,
+                std::map<std::string, std::string>& flags) {
+  const auto infos = describe_fields(fields);
+  std::map<std::string_view, CLI::Option*> options;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    const Field<Request>& f = fields[i];
+    options[f.param.name] = add_param(sub, infos[i], [request, &f](double v) { f.set(*request, v); });
+    flags.emplace(std::string(f.param.name), std::string(f.param.flag));
+  }
+  for (const auto& f : fields)
+    if (!f.param.excludes.empty()) options.at(f.param.name)->excludes(options.at(f.param.excludes));
+}
+
+// Whether the flag of parameter `name` was given on the command line.
+bool given(const CLI::App& sub, const Param& param);
+
+// The fields from the one named `first` to the one named `last`, both included: a run of a table that
+// a command registers between its own flags, where it stands in --help.
+template <class Request>
+std::span<const Field<Request>> fields_from(std::span<const Field<Request>> fields, std::string_view first,
+                                            std::string_view last) {
+  const auto at = [&](std::string_view name) {
+    const auto* f = find_field(fields, name);
+    if (!f) throw std::logic_error("fields_from: no parameter " + std::string(name));
+    return std::size_t(f - fields.data());
+  };
+  return fields.subspan(at(first), at(last) - at(first) + 1);
+}
+
+}  // namespace hydrolux::cli
