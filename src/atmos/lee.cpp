@@ -10,6 +10,7 @@
 #include <functional>
 #include <cmath>
 
+#include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/optics/media.hpp"
@@ -26,8 +27,6 @@ namespace {
 
 constexpr double kPiD = kPi<double>;
 constexpr int kMaxSide = 16384;
-constexpr double kMaxSpread = 0.5;
-constexpr double kMaxSunDiskDeg = 5;
 // The population's grid reaches kTailSigmas relative widths beyond the outer columns (the gamma
 // weight there is below 1e-13 of its peak for spread <= 0.5) and nodes are spread / kNodesPerWidth
 // apart in ln a.
@@ -232,6 +231,13 @@ std::string_view table_kind_name(LeeTableKind k) {
 std::string_view angle_axis_name(AngleAxis a) { return a == AngleAxis::angle ? "angle" : "cos"; }
 std::string_view radius_scale_name(RadiusScale s) { return s == RadiusScale::log ? "log" : "linear"; }
 
+LeeTableKind parse_table_kind(std::string_view name) {
+  if (name == "rainbow") return LeeTableKind::rainbow;
+  if (name == "corona") return LeeTableKind::corona;
+  if (name == "glory") return LeeTableKind::glory;
+  throw UnknownNameError(fmt::format("table '{}': expected rainbow, corona or glory", name));
+}
+
 LeeSpec default_lee_spec(LeeTableKind kind) {
   LeeSpec s;
   s.table = kind;
@@ -257,6 +263,48 @@ LeeSpec profile_spec(LeeTableKind kind, double radius_um, double a0, double a1, 
   s.angle_max_deg = a1;
   s.rows = rows;
   s.size_spread = 0;
+  return s;
+}
+
+LeeShapeError::LeeShapeError(Rule rule, int columns, int rows)
+    : Error(rule == Rule::one_radius_columns
+                ? fmt::format("size ({}, {}): a single radius makes one column; give size=(1, {})", columns, rows, rows)
+                : fmt::format("angle_deg: a table of {} rows needs A < B (or one row)", rows)),
+      rule_(rule),
+      columns_(columns),
+      rows_(rows) {}
+
+LeeSpec make_lee_spec(const LeeRequest& r) {
+  LeeSpec s = default_lee_spec(r.table);
+  s.theory = r.theory;
+  if (r.radius_um) {
+    s.radius_min_um = (*r.radius_um)[0];
+    s.radius_max_um = (*r.radius_um)[1];
+  }
+  if (r.angle_deg) {
+    s.angle_min_deg = (*r.angle_deg)[0];
+    s.angle_max_deg = (*r.angle_deg)[1];
+  }
+  if (r.one_radius()) s.columns = 1;
+  if (r.size) {
+    s.columns = (*r.size)[0];
+    s.rows = (*r.size)[1];
+    if (r.one_radius() && s.columns != 1) throw LeeShapeError(LeeShapeError::Rule::one_radius_columns, s.columns, s.rows);
+  }
+  if (s.rows > 1 && s.angle_min_deg == s.angle_max_deg)
+    throw LeeShapeError(LeeShapeError::Rule::one_angle_rows, s.columns, s.rows);
+  if (r.radius_scale != "log" && r.radius_scale != "linear")
+    throw UnknownNameError(fmt::format("radius_scale '{}': expected log or linear", r.radius_scale));
+  s.radius_scale = r.radius_scale == "log" ? RadiusScale::log : RadiusScale::linear;
+  if (r.axis != "angle" && r.axis != "cos") throw UnknownNameError(fmt::format("axis '{}': expected angle or cos", r.axis));
+  s.axis = r.axis == "angle" ? AngleAxis::angle : AngleAxis::cosine;
+  s.sun_disk_deg = r.sun_disk_deg;
+  s.limb_darkening = r.limb_darkening;
+  s.size_spread = r.size_spread;
+  s.sampling = r.sampling;
+  s.seed = r.seed;
+  s.threads = r.threads;
+  s.temperature_c = r.temperature_c;
   return s;
 }
 
@@ -309,14 +357,17 @@ void validate(const LeeSpec& s) {
     throw DomainError("angle_deg", s.angle_max_deg, s.angle_min_deg, 180.0,
                       fmt::format("a table of {} rows (the largest angle must exceed the smallest, {:g} degrees)",
                                   s.rows, s.angle_min_deg));
-  require_in_range("sun_disk_deg", s.sun_disk_deg, 0.0, kMaxSunDiskDeg, "the sun's angular diameter");
+  // The declared parameters' ranges (lee_params.cpp); a spread other than 0 at least 0.01.
+  const Param &sun_disk = lee_param("sun_disk_deg"), &sampling = lee_param("sampling");
+  require_in_range("sun_disk_deg", s.sun_disk_deg, sun_disk.lo, sun_disk.hi, "the sun's angular diameter");
   if (s.size_spread != 0)
-    require_in_range("size_spread", s.size_spread, 0.01, kMaxSpread, "the relative width (0 for one radius)");
+    require_in_range("size_spread", s.size_spread, 0.01, lee_param("size_spread").hi,
+                     "the relative width (0 for one radius)");
   require_in_range("wavelength_nm", s.wavelength_min_nm, color::kCmfMinNm, color::kCmfMaxNm, "the CIE 1931 observer");
   require_in_range("wavelength_nm", s.wavelength_max_nm, s.wavelength_min_nm, color::kCmfMaxNm,
                    "the CIE 1931 observer (at least the shortest wavelength)");
   require_in_range("wavelengths", s.wavelengths, 0, 2000, "wavelength samples (0: one per 10 nm)");
-  require_in_range("sampling", s.sampling, 0.25, 16.0, "the sampling multiplier");
+  require_in_range("sampling", s.sampling, sampling.lo, sampling.hi, "the sampling multiplier");
   const auto sun_range = s.sun.range_nm();
   require_in_range("wavelength_nm", s.wavelength_min_nm, sun_range[0], sun_range[1], s.sun.name());
   require_in_range("wavelength_nm", s.wavelength_max_nm, sun_range[0], sun_range[1], s.sun.name());
@@ -413,13 +464,16 @@ color::Rgb LeeTable::rgb(int row, int column, bool into_gamut) const {
   return into_gamut ? color::desaturate_into_gamut(v, spec.rgb_space) : v;
 }
 
-LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
-  validate(spec);
-  LeeTable t;
-  t.spec = spec;
+// ---- compute_lee_table's steps ---------------------------------------------------------------
+
+namespace {
+
+// The rows' axes: theta and cos theta per row (on the cosine axis, its exact sample positions: acos
+// and cos do not round-trip), and sin theta (returned) for the sun's disk; the columns' radii.
+std::vector<double> set_axes(const LeeSpec& spec, LeeTable& t) {
   t.radius_um = column_radii_um(spec);
   t.angle_deg = row_angles_deg(spec);
-  const std::size_t rows = t.angle_deg.size(), cols = t.radius_um.size();
+  const std::size_t rows = t.angle_deg.size();
   t.cos_angle.resize(rows);
   std::vector<double> sin_angle(rows);
   for (std::size_t i = 0; i < rows; ++i) {
@@ -427,15 +481,16 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
     sin_angle[i] = std::sin(deg_to_rad(t.angle_deg[i]));
   }
   if (spec.axis == AngleAxis::cosine && rows > 1) {
-    // The exact sample positions of the cosine axis (acos and cos do not round-trip).
     const double c0 = std::cos(deg_to_rad(spec.angle_max_deg)), c1 = std::cos(deg_to_rad(spec.angle_min_deg));
     for (std::size_t i = 0; i < rows; ++i) t.cos_angle[i] = c0 + double(i) / double(rows - 1) * (c1 - c0);
   }
+  return sin_angle;
+}
 
-  const auto drop = optics::find_medium(spec.drop_medium);
-  const auto air = optics::find_medium(spec.surrounding_medium);
-
-  // Wavelengths: midpoints of K equal steps, weights S(l) dl.
+// The wavelengths (spectral sampling): midpoints of K equal steps, weights S(l) dl times the
+// observer, relative to the sun's luminance (returned, one X, Y, Z per wavelength). Sets the table's
+// wavelengths, the sun's white and the XYZ -> RGB matrix (Bradford from the sun's white to D65).
+std::vector<color::Xyz> sample_wavelengths(const LeeSpec& spec, LeeTable& t) {
   const int K = wavelength_count(spec);
   const double dl = K > 1 ? (spec.wavelength_max_nm - spec.wavelength_min_nm) / K : 1.0;
   t.wavelengths_nm.resize(std::size_t(K));
@@ -457,267 +512,323 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   t.sun_white = {white.X / white.Y, 1.0, white.Z / white.Y};
   t.xyz_to_rgb = color::multiply(color::xyz_to_rgb_matrix(spec.rgb_space),
                                  color::bradford_adaptation(t.sun_white, color::d65_white()));
+  return weight;
+}
 
-  // The population: a grid shared by the columns, or the columns' own radii (spread 0).
+// The radius grid: the population's nodes, a grid shared by the columns (each column a gamma
+// distribution over it), or the columns' own radii (spread 0).
+struct Population {
+  bool per_column = true;
+  RadiusGrid grid;                               // with a spread
+  std::size_t nodes = 0;                         // J: radii per wavelength
+  std::vector<scatter::SizeDistribution> dists;  // per column, with a spread
+};
+Population make_population(const LeeSpec& spec, const std::vector<double>& radius_um, const optics::Medium& air) {
+  Population p;
   const double w = spec.size_spread;
-  const bool per_column = w == 0;
-  const double k_max = 2 * kPiD * air->n(spec.wavelength_min_nm) / (spec.wavelength_min_nm * 1e-9);
-  RadiusGrid grid;
-  if (!per_column) grid = shared_grid(spec, k_max);
-  const std::size_t J = per_column ? cols : std::size_t(grid.nodes());
-  t.work.wavelengths = K;
-  t.work.radius_nodes = int(J);
-  std::vector<scatter::SizeDistribution> dists;
-  if (!per_column)
-    for (double r : t.radius_um) dists.push_back(scatter::SizeDistribution::gamma(r * 1e-6, w));
+  p.per_column = w == 0;
+  const double k_max = 2 * kPiD * air.n(spec.wavelength_min_nm) / (spec.wavelength_min_nm * 1e-9);
+  if (!p.per_column) p.grid = shared_grid(spec, k_max);
+  p.nodes = p.per_column ? radius_um.size() : std::size_t(p.grid.nodes());
+  if (!p.per_column)
+    for (double r : radius_um) p.dists.push_back(scatter::SizeDistribution::gamma(r * 1e-6, w));
+  return p;
+}
 
-  // Low-discrepancy sequences: the plastic constant's R2 (M. Roberts 2018) for points on the disk,
-  // the golden ratio's for the grid's shift per wavelength and the jitter inside the cells.
-  constexpr double kPlastic = 1.32471795724474602596, kGolden = 0.6180339887498949;
-  const double a1 = 1 / kPlastic, a2 = 1 / (kPlastic * kPlastic);
-  const double disk_u0 = seed_fraction(spec.seed, 1), disk_v0 = seed_fraction(spec.seed, 2);
-  const double shift0 = seed_fraction(spec.seed, 3), jitter0 = seed_fraction(spec.seed, 4);
-  const SunDiskSampler disk(spec.limb_darkening);
-  const double sun_radius = deg_to_rad(spec.sun_disk_deg) / 2;
-  const auto disk_point = [&](double n) {  // (cos rho, sin rho cos phi) of the n-th point
+// Low-discrepancy sequences: the plastic constant's R2 (M. Roberts 2018) for points on the disk,
+// the golden ratio's for the grid's shift per wavelength and the jitter inside the cells; each
+// starts at a fraction mixed from the seed.
+constexpr double kPlastic = 1.32471795724474602596, kGolden = 0.6180339887498949;
+struct Sequences {
+  explicit Sequences(const LeeSpec& spec)
+      : disk_u0(seed_fraction(spec.seed, 1)),
+        disk_v0(seed_fraction(spec.seed, 2)),
+        shift0(seed_fraction(spec.seed, 3)),
+        jitter0(seed_fraction(spec.seed, 4)),
+        disk(spec.limb_darkening),
+        sun_radius(deg_to_rad(spec.sun_disk_deg) / 2) {}
+  double a1 = 1 / kPlastic, a2 = 1 / (kPlastic * kPlastic);
+  double disk_u0, disk_v0, shift0, jitter0;
+  SunDiskSampler disk;
+  double sun_radius;  // radians
+  // (cos rho, sin rho cos phi) of the n-th point of the disk.
+  std::array<double, 2> disk_point(double n) const {
     const double rho = sun_radius * disk.radius_fraction(frac(disk_u0 + n * a1));
     const double phi = 2 * kPiD * frac(disk_v0 + n * a2);
     return std::array<double, 2>{std::cos(rho), std::sin(rho) * std::cos(phi)};
-  };
+  }
+  // The radius grid's shift at wavelength k.
+  double shift(int k) const { return frac(shift0 + k * kGolden); }
+  // The jitter of the n-th evaluation's first cell.
+  double jitter(double n) const { return frac(jitter0 + n * kGolden); }
+};
 
-  // The cells of the angle axis and the disk's kernel from cells to rows.
+// The cells of the angle axis and the disk's kernel from cells to rows (AngleCells).
+AngleCells make_angle_cells(const LeeSpec& spec, const LeeTable& t, const std::vector<double>& sin_angle,
+                            const Sequences& seq) {
+  const std::size_t rows = t.angle_deg.size();
   AngleCells cells;
   cells.cosine = spec.axis == AngleAxis::cosine;
   if (rows < 2) {
     cells.per_evaluation_disk = true;
     cells.count = 1;
-  } else {
-    cells.v0 = cells.cosine ? t.cos_angle[0] : t.angle_deg[0];
-    cells.dv = ((cells.cosine ? t.cos_angle[rows - 1] : t.angle_deg[rows - 1]) - cells.v0) / double(rows - 1);
-    cells.kernel.resize(rows);
-    int lo = 0, hi = int(rows) - 1;
-    for (std::size_t i = 0; i < rows; ++i) {
-      std::vector<std::pair<int, double>> share;  // a few cells: a linear search is quickest
-      const int points = sun_radius > 0 ? kDiskPoints : 1;
-      for (int q = 0; q < points; ++q) {
-        const auto d = sun_radius > 0 ? disk_point(double(q)) : std::array<double, 2>{1.0, 0.0};
-        const double mu = std::clamp(t.cos_angle[i] * d[0] + sin_angle[i] * d[1], -1.0, 1.0);
-        const double v = cells.cosine ? mu : rad_to_deg(std::acos(mu));
-        const int cell = int(std::floor((v - cells.v0) / cells.dv + 0.5));
-        auto it = std::find_if(share.begin(), share.end(), [cell](const auto& e) { return e.first == cell; });
-        if (it == share.end()) it = share.insert(share.end(), {cell, 0.0});
-        it->second += 1.0 / points;
-        lo = std::min(lo, cell);
-        hi = std::max(hi, cell);
-      }
-      std::sort(share.begin(), share.end());
-      cells.kernel[i] = std::move(share);
-    }
-    cells.first = lo;
-    cells.count = hi - lo + 1;
+    return cells;
   }
-  const std::size_t R = std::size_t(cells.count);
-  // The point at fraction f of cell c (c counted from cells.first) as theta (radians) and mu = cos
-  // theta; only what the theory needs is computed (Mie sums take mu, the ray theories theta).
-  const bool wants_mu = is_wave_theory(spec.theory);
-  const auto cell_point = [&](std::size_t c, double f, double& theta, double& mu) {
-    const double v = cells.v0 + (double(int(c) + cells.first) + f - 0.5) * cells.dv;
-    if (cells.cosine) {
-      mu = v < -1 ? -2 - v : (v > 1 ? 2 - v : v);  // beyond an axis, the mirror direction
-      if (!wants_mu) theta = std::acos(mu);
-      return;
+  cells.v0 = cells.cosine ? t.cos_angle[0] : t.angle_deg[0];
+  cells.dv = ((cells.cosine ? t.cos_angle[rows - 1] : t.angle_deg[rows - 1]) - cells.v0) / double(rows - 1);
+  cells.kernel.resize(rows);
+  int lo = 0, hi = int(rows) - 1;
+  for (std::size_t i = 0; i < rows; ++i) {
+    std::vector<std::pair<int, double>> share;  // a few cells: a linear search is quickest
+    const int points = seq.sun_radius > 0 ? kDiskPoints : 1;
+    for (int q = 0; q < points; ++q) {
+      const auto d = seq.sun_radius > 0 ? seq.disk_point(double(q)) : std::array<double, 2>{1.0, 0.0};
+      const double mu = std::clamp(t.cos_angle[i] * d[0] + sin_angle[i] * d[1], -1.0, 1.0);
+      const double v = cells.cosine ? mu : rad_to_deg(std::acos(mu));
+      const int cell = int(std::floor((v - cells.v0) / cells.dv + 0.5));
+      auto it = std::find_if(share.begin(), share.end(), [cell](const auto& e) { return e.first == cell; });
+      if (it == share.end()) it = share.insert(share.end(), {cell, 0.0});
+      it->second += 1.0 / points;
+      lo = std::min(lo, cell);
+      hi = std::max(hi, cell);
     }
-    const double d = v < 0 ? -v : (v > 180 ? 360 - v : v);  // beyond an axis, the mirror angle
-    theta = deg_to_rad(d);
-    if (wants_mu) mu = std::cos(theta);
-  };
+    std::sort(share.begin(), share.end());
+    cells.kernel[i] = std::move(share);
+  }
+  cells.first = lo;
+  cells.count = hi - lo + 1;
+  return cells;
+}
 
-  // Estimated work per wavelength (for progress): terms ~ x for the wave theories.
-  const auto shift_of = [&](int k) { return frac(shift0 + k * kGolden); };
+// The point at fraction f of cell c (c counted from cells.first) as theta (radians) and mu = cos
+// theta; only what the theory needs is computed (Mie sums take mu, the ray theories theta).
+void cell_point(const AngleCells& cells, bool wants_mu, std::size_t c, double f, double& theta, double& mu) {
+  const double v = cells.v0 + (double(int(c) + cells.first) + f - 0.5) * cells.dv;
+  if (cells.cosine) {
+    mu = v < -1 ? -2 - v : (v > 1 ? 2 - v : v);  // beyond an axis, the mirror direction
+    if (!wants_mu) theta = std::acos(mu);
+    return;
+  }
+  const double d = v < 0 ? -v : (v > 180 ? 360 - v : v);  // beyond an axis, the mirror angle
+  theta = deg_to_rad(d);
+  if (wants_mu) mu = std::cos(theta);
+}
+
+// Estimated work per wavelength (for progress): terms ~ x for the wave theories, from every
+// (J / 64)-th node; `total` their sum.
+std::vector<double> work_per_wavelength(const LeeTable& t, const Population& pop, const Sequences& seq,
+                                        bool wants_mu, double& total) {
+  const int K = int(t.wavelengths_nm.size());
+  const std::size_t J = pop.nodes;
   const auto node_radius_m = [&](std::size_t j, int k) {
-    return per_column ? t.radius_um[j] * 1e-6 : std::exp(grid.ln_radius(j, shift_of(k)));
+    return pop.per_column ? t.radius_um[j] * 1e-6 : std::exp(pop.grid.ln_radius(j, seq.shift(k)));
   };
   std::vector<double> k_work(static_cast<std::size_t>(K));
-  double total_work = 0;
+  total = 0;
   for (int k = 0; k < K; ++k) {
     double sum = 0;
     for (std::size_t j = 0; j < J; j += std::max<std::size_t>(1, J / 64))
       sum += wants_mu ? 10 + 2 * kPiD * node_radius_m(j, k) / (t.wavelengths_nm[std::size_t(k)] * 1e-9) : 1.0;
     k_work[std::size_t(k)] = sum;
-    total_work += sum;
+    total += sum;
   }
+  return k_work;
+}
 
-  std::vector<double> node_ln(J), node_a(J), node_width(J);  // this wavelength's nodes
-  std::vector<double> cell_xyz(cols * R * 3, 0.0);  // per column and cell, before the disk kernel
-  std::vector<double> node_values(J * R);          // T at each node and cell, this wavelength
-  std::vector<char> node_used(J, 1);
-  std::vector<double> column_weight;  // (column, node) area weights, this wavelength
-  std::vector<std::size_t> column_first(cols), column_count(cols);
-  std::atomic<std::int64_t> terms{0}, evaluations{0};
-
-  // The drop's index relative to air at every wavelength, within the domain all four theories
-  // share (the Debye series, Airy theory and geometric optics stop at Re m = 10, Im m = 1; the
-  // Mie solver goes further), checked before any work.
-  for (int k = 0; k < K; ++k) {
-    const double nm = t.wavelengths_nm[std::size_t(k)];
-    const scatter::Complex m = drop->index(nm, spec.temperature_c) / air->n(nm);
+// The drop's index relative to air at every wavelength, within the domain all four theories
+// share (the Debye series, Airy theory and geometric optics stop at Re m = 10, Im m = 1; the
+// Mie solver goes further), checked before any work.
+void check_drop_index(const LeeSpec& spec, const std::vector<double>& wavelengths_nm, const optics::Medium& drop,
+                      const optics::Medium& air) {
+  for (const double nm : wavelengths_nm) {
+    const scatter::Complex m = drop.index(nm, spec.temperature_c) / air.n(nm);
     require_in_range("m_real", m.real(), scatter::kMinIndexReal, scatter::kMaxIndexReal, "a Lee table's drop index");
     require_in_range("m_imag", m.imag(), 0.0, scatter::kMaxIndexImag, "a Lee table's drop index");
   }
+}
 
-  tbb::task_arena arena(spec.threads > 0 ? spec.threads : tbb::task_arena::automatic);
-  double done_work = 0;
-  for (int k = 0; k < K; ++k) {
-    const double nm = t.wavelengths_nm[std::size_t(k)];
-    const std::complex<double> n_drop = drop->index(nm, spec.temperature_c);
-    const double n_air = air->n(nm);
-    const scatter::Complex m = n_drop / n_air;
-    const double wavenumber = 2 * kPiD * n_air / (nm * 1e-9);
-    const double shift = shift_of(k);
-    // This wavelength's nodes: radius and width in ln a (each an inverse of the grid's cumulative
-    // density: found once here, not once per column that uses the node).
-    for (std::size_t j = 0; j < J; ++j) {
-      const double ln_a = per_column ? std::log(t.radius_um[j] * 1e-6) : grid.ln_radius(j, shift);
-      node_ln[j] = ln_a;
-      node_a[j] = std::exp(ln_a);
-      node_width[j] = per_column ? 1.0 : grid.width_at(ln_a);
-    }
+// The work arrays, reused from one wavelength to the next.
+struct WorkArrays {
+  WorkArrays(std::size_t J, std::size_t R, std::size_t cols)
+      : node_ln(J), node_a(J), node_width(J), cell_xyz(cols * R * 3, 0.0), node_values(J * R), node_used(J, 1),
+        column_first(cols), column_count(cols) {}
+  std::vector<double> node_ln, node_a, node_width;  // this wavelength's nodes
+  std::vector<double> cell_xyz;                     // per column and cell, before the disk kernel
+  std::vector<double> node_values;                  // T at each node and cell, this wavelength
+  std::vector<char> node_used;
+  std::vector<double> column_weight;  // (column, node) area weights, this wavelength
+  std::vector<std::size_t> column_first, column_count;
+};
 
-    // Each column's weights over the nodes: number density per unit ln a (n(a) a) x the node's width
-    // in ln a x a^2 (projected area), summed to 1.
-    if (!per_column) {
-      std::fill(node_used.begin(), node_used.end(), 0);
-      column_weight.assign(cols * J, 0.0);
-      arena.execute([&] {
-        tbb::parallel_for(std::size_t(0), cols, [&](std::size_t c) {
-          // Gamma: n(a) a^3 ~ exp((alpha + 2) ln a - a / beta), taken relative to its peak at
-          // a* = (alpha + 2) beta; only nodes within kTailSigmas widths of the column are kept.
-          const double alpha = dists[c].alpha(), beta = dists[c].beta();
-          const double peak_a = (alpha + 2) * beta, ln_peak = std::log(peak_a);
-          const double centre = std::log(t.radius_um[c] * 1e-6);
-          const auto [first, last] = grid.nodes_between(centre - kTailSigmas * w, centre + kTailSigmas * w, shift);
-          double* cw = &column_weight[c * J];
-          double sum = 0;
-          for (std::size_t j = first; j <= last; ++j) {
-            const double v = std::exp((alpha + 2) * (node_ln[j] - ln_peak) - (node_a[j] - peak_a) / beta);
-            cw[j] = v > kNegligibleWeight ? v * node_width[j] : 0.0;
-            sum += cw[j];
-          }
-          if (!(sum > 0))
-            throw Error(fmt::format("the radius grid does not resolve the column of {:g} um", t.radius_um[c]));
-          std::size_t used_first = last, used_last = first;
-          for (std::size_t j = first; j <= last; ++j) {
-            cw[j] /= sum;
-            if (cw[j] != 0) {
-              used_first = std::min(used_first, j);
-              used_last = std::max(used_last, j);
-            }
-          }
-          column_first[c] = used_first;
-          column_count[c] = used_last - used_first + 1;
-        });
-      });
-      for (std::size_t c = 0; c < cols; ++c)
-        for (std::size_t j = column_first[c]; j < column_first[c] + column_count[c]; ++j)
-          if (column_weight[c * J + j] != 0) node_used[j] = 1;
-    }
-
-    // Every node at every cell: T = i / (pi x^2), i = (|S1|^2 + |S2|^2) / 2, at a jittered point of
-    // the cell (or, for one row, at the row's angle to one point of the disk).
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, J, 1), [&](const tbb::blocked_range<std::size_t>& range) {
-        thread_local Scratch sc;
-        sc.resize(R);
-        for (std::size_t j = range.begin(); j != range.end(); ++j) {
-          double* out = &node_values[j * R];
-          if (!node_used[j]) continue;
-          const double x = wavenumber * node_a[j];
-          // Each node's evaluations are consecutive in the sequences (wavelength fastest), so the
-          // K points one column gets are spread over the cell and the disk for any J.
-          const double n = double(j * std::size_t(K) + std::size_t(k));
-          if (cells.per_evaluation_disk) {
-            const auto d = disk_point(n);
-            sc.mu[0] = std::clamp(t.cos_angle[0] * d[0] + sin_angle[0] * d[1], -1.0, 1.0);
-            sc.theta[0] = std::acos(sc.mu[0]);
-          } else {
-            const double j0 = frac(jitter0 + n * kGolden);
-            for (std::size_t c = 0; c < R; ++c) cell_point(c, frac(j0 + double(c) * a1), sc.theta[c], sc.mu[c]);
-          }
-          const double norm = 1 / (kPiD * x * x);
-          switch (spec.theory.kind) {
-            case scatter::TheoryKind::Mie:
-            case scatter::TheoryKind::Debye: {
-              if (spec.theory.kind == scatter::TheoryKind::Mie)
-                scatter::mie_coefficients(m, x, sc.coef);
-              else
-                sc.coef = scatter::debye_coefficients(m, x, spec.theory.p);
-              scatter::mie_amplitudes(sc.coef, sc.mu, sc.s1, sc.s2, 1);
-              terms += sc.coef.terms();
-              for (std::size_t i = 0; i < R; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
-              break;
-            }
-            case scatter::TheoryKind::Airy: {
-              const scatter::AiryRainbow rb = scatter::airy_rainbow(m.real(), x, spec.theory.p, m.imag());
-              for (std::size_t i = 0; i < R; ++i) out[i] = scatter::airy_intensity(rb, sc.theta[i]) * norm;
-              break;
-            }
-            case scatter::TheoryKind::Geometric: {
-              scatter::geometric_amplitudes(m, x, spec.theory.p, sc.theta, sc.s1, sc.s2, /*diffraction=*/true);
-              for (std::size_t i = 0; i < R; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
-              break;
-            }
-          }
-          ++evaluations;
-        }
-      });
-    });
-
-    // Each column: its weighted mean over the nodes, into X, Y, Z with this wavelength's weight.
-    // Neighbouring columns share most of their nodes, so a block of them is summed together: each
-    // node's values are read once per block (memory traffic, not arithmetic, bounds this).
-    const color::Xyz wk = weight[std::size_t(k)];
-    constexpr std::size_t kBlock = 8;
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (cols + kBlock - 1) / kBlock, 1),
-                        [&](const tbb::blocked_range<std::size_t>& range) {
-        std::vector<double> acc(kBlock * R);
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-          const std::size_t c0 = b * kBlock, c1 = std::min(cols, c0 + kBlock);
-          std::fill(acc.begin(), acc.end(), 0.0);
-          if (per_column) {
-            for (std::size_t c = c0; c < c1; ++c) std::copy_n(&node_values[c * R], R, &acc[(c - c0) * R]);
-          } else {
-            std::size_t first = J, last = 0;
-            for (std::size_t c = c0; c < c1; ++c) {
-              first = std::min(first, column_first[c]);
-              last = std::max(last, column_first[c] + column_count[c] - 1);
-            }
-            for (std::size_t j = first; j <= last; ++j) {
-              const double* v = &node_values[j * R];
-              for (std::size_t c = c0; c < c1; ++c) {
-                const double wj = column_weight[c * J + j];
-                if (wj == 0) continue;
-                axpy(&acc[(c - c0) * R], v, wj, R);
-              }
-            }
-          }
-          for (std::size_t c = c0; c < c1; ++c) {
-            const double* col = &acc[(c - c0) * R];
-            for (std::size_t i = 0; i < R; ++i) {
-              double* px = &cell_xyz[(c * R + i) * 3];
-              px[0] += wk.X * col[i];
-              px[1] += wk.Y * col[i];
-              px[2] += wk.Z * col[i];
-            }
-          }
-        }
-      });
-    });
-    done_work += k_work[std::size_t(k)];
-    if (progress) progress(done_work / total_work, fmt::format("{:.0f} nm", nm));
+// This wavelength's nodes: radius and width in ln a (each an inverse of the grid's cumulative
+// density: found once here, not once per column that uses the node).
+void place_nodes(const Population& pop, const LeeTable& t, double shift, WorkArrays& w) {
+  for (std::size_t j = 0; j < pop.nodes; ++j) {
+    const double ln_a = pop.per_column ? std::log(t.radius_um[j] * 1e-6) : pop.grid.ln_radius(j, shift);
+    w.node_ln[j] = ln_a;
+    w.node_a[j] = std::exp(ln_a);
+    w.node_width[j] = pop.per_column ? 1.0 : pop.grid.width_at(ln_a);
   }
+}
 
-  // The sun's disk: each row is its kernel's weighted sum of the cells.
+// Each column's weights over the shared grid's nodes: number density per unit ln a (n(a) a) x the
+// node's width in ln a x a^2 (projected area), summed to 1; and the nodes any column uses.
+void weigh_columns(const Population& pop, const LeeTable& t, double spread, double shift, tbb::task_arena& arena,
+                   WorkArrays& wa) {
+  const std::size_t cols = t.radius_um.size(), J = pop.nodes;
+  std::fill(wa.node_used.begin(), wa.node_used.end(), 0);
+  wa.column_weight.assign(cols * J, 0.0);
+  arena.execute([&] {
+    tbb::parallel_for(std::size_t(0), cols, [&](std::size_t c) {
+      // Gamma: n(a) a^3 ~ exp((alpha + 2) ln a - a / beta), taken relative to its peak at
+      // a* = (alpha + 2) beta; only nodes within kTailSigmas widths of the column are kept.
+      const double alpha = pop.dists[c].alpha(), beta = pop.dists[c].beta();
+      const double peak_a = (alpha + 2) * beta, ln_peak = std::log(peak_a);
+      const double centre = std::log(t.radius_um[c] * 1e-6);
+      const auto [first, last] =
+          pop.grid.nodes_between(centre - kTailSigmas * spread, centre + kTailSigmas * spread, shift);
+      double* cw = &wa.column_weight[c * J];
+      double sum = 0;
+      for (std::size_t j = first; j <= last; ++j) {
+        const double v = std::exp((alpha + 2) * (wa.node_ln[j] - ln_peak) - (wa.node_a[j] - peak_a) / beta);
+        cw[j] = v > kNegligibleWeight ? v * wa.node_width[j] : 0.0;
+        sum += cw[j];
+      }
+      if (!(sum > 0))
+        throw Error(fmt::format("the radius grid does not resolve the column of {:g} um", t.radius_um[c]));
+      std::size_t used_first = last, used_last = first;
+      for (std::size_t j = first; j <= last; ++j) {
+        cw[j] /= sum;
+        if (cw[j] != 0) {
+          used_first = std::min(used_first, j);
+          used_last = std::max(used_last, j);
+        }
+      }
+      wa.column_first[c] = used_first;
+      wa.column_count[c] = used_last - used_first + 1;
+    });
+  });
+  for (std::size_t c = 0; c < cols; ++c)
+    for (std::size_t j = wa.column_first[c]; j < wa.column_first[c] + wa.column_count[c]; ++j)
+      if (wa.column_weight[c * J + j] != 0) wa.node_used[j] = 1;
+}
+
+// One wavelength's single drops, as the kernel sees them.
+struct Wavelength {
+  int k = 0, K = 0;         // its index, of K
+  scatter::Complex m;       // the drop's index relative to air
+  double wavenumber = 0;    // 2 pi n_air / lambda, m^-1
+};
+
+// The kernel (per-radius scattering): every used node at every cell, T = i / (pi x^2),
+// i = (|S1|^2 + |S2|^2) / 2, at a jittered point of the cell (or, for one row, at the row's angle
+// to one point of the disk).
+void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<double>& sin_angle,
+                   const AngleCells& cells, const Sequences& seq, const Wavelength& wl, tbb::task_arena& arena,
+                   WorkArrays& wa, std::atomic<std::int64_t>& terms, std::atomic<std::int64_t>& evaluations) {
+  const std::size_t J = wa.node_a.size(), R = std::size_t(cells.count);
+  const bool wants_mu = is_wave_theory(spec.theory);
+  const int k = wl.k, K = wl.K;
+  const scatter::Complex m = wl.m;
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, J, 1), [&](const tbb::blocked_range<std::size_t>& range) {
+      thread_local Scratch sc;
+      sc.resize(R);
+      for (std::size_t j = range.begin(); j != range.end(); ++j) {
+        double* out = &wa.node_values[j * R];
+        if (!wa.node_used[j]) continue;
+        const double x = wl.wavenumber * wa.node_a[j];
+        // Each node's evaluations are consecutive in the sequences (wavelength fastest), so the
+        // K points one column gets are spread over the cell and the disk for any J.
+        const double n = double(j * std::size_t(K) + std::size_t(k));
+        if (cells.per_evaluation_disk) {
+          const auto d = seq.disk_point(n);
+          sc.mu[0] = std::clamp(t.cos_angle[0] * d[0] + sin_angle[0] * d[1], -1.0, 1.0);
+          sc.theta[0] = std::acos(sc.mu[0]);
+        } else {
+          const double j0 = seq.jitter(n);
+          for (std::size_t c = 0; c < R; ++c)
+            cell_point(cells, wants_mu, c, frac(j0 + double(c) * seq.a1), sc.theta[c], sc.mu[c]);
+        }
+        const double norm = 1 / (kPiD * x * x);
+        switch (spec.theory.kind) {
+          case scatter::TheoryKind::Mie:
+          case scatter::TheoryKind::Debye: {
+            if (spec.theory.kind == scatter::TheoryKind::Mie)
+              scatter::mie_coefficients(m, x, sc.coef);
+            else
+              sc.coef = scatter::debye_coefficients(m, x, spec.theory.p);
+            scatter::mie_amplitudes(sc.coef, sc.mu, sc.s1, sc.s2, 1);
+            terms += sc.coef.terms();
+            for (std::size_t i = 0; i < R; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
+            break;
+          }
+          case scatter::TheoryKind::Airy: {
+            const scatter::AiryRainbow rb = scatter::airy_rainbow(m.real(), x, spec.theory.p, m.imag());
+            for (std::size_t i = 0; i < R; ++i) out[i] = scatter::airy_intensity(rb, sc.theta[i]) * norm;
+            break;
+          }
+          case scatter::TheoryKind::Geometric: {
+            scatter::geometric_amplitudes(m, x, spec.theory.p, sc.theta, sc.s1, sc.s2, /*diffraction=*/true);
+            for (std::size_t i = 0; i < R; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
+            break;
+          }
+        }
+        ++evaluations;
+      }
+    });
+  });
+}
+
+// The accumulation (spectral -> colour): each column's weighted mean over the nodes, into X, Y, Z
+// with this wavelength's weight `wk`. Neighbouring columns share most of their nodes, so a block of
+// them is summed together: each node's values are read once per block (memory traffic, not
+// arithmetic, bounds this).
+void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, const color::Xyz& wk,
+                        tbb::task_arena& arena, WorkArrays& wa) {
+  const std::size_t J = pop.nodes;
+  constexpr std::size_t kBlock = 8;
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (cols + kBlock - 1) / kBlock, 1),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+      std::vector<double> acc(kBlock * R);
+      for (std::size_t b = range.begin(); b != range.end(); ++b) {
+        const std::size_t c0 = b * kBlock, c1 = std::min(cols, c0 + kBlock);
+        std::fill(acc.begin(), acc.end(), 0.0);
+        if (pop.per_column) {
+          for (std::size_t c = c0; c < c1; ++c) std::copy_n(&wa.node_values[c * R], R, &acc[(c - c0) * R]);
+        } else {
+          std::size_t first = J, last = 0;
+          for (std::size_t c = c0; c < c1; ++c) {
+            first = std::min(first, wa.column_first[c]);
+            last = std::max(last, wa.column_first[c] + wa.column_count[c] - 1);
+          }
+          for (std::size_t j = first; j <= last; ++j) {
+            const double* v = &wa.node_values[j * R];
+            for (std::size_t c = c0; c < c1; ++c) {
+              const double wj = wa.column_weight[c * J + j];
+              if (wj == 0) continue;
+              axpy(&acc[(c - c0) * R], v, wj, R);
+            }
+          }
+        }
+        for (std::size_t c = c0; c < c1; ++c) {
+          const double* col = &acc[(c - c0) * R];
+          for (std::size_t i = 0; i < R; ++i) {
+            double* px = &wa.cell_xyz[(c * R + i) * 3];
+            px[0] += wk.X * col[i];
+            px[1] += wk.Y * col[i];
+            px[2] += wk.Z * col[i];
+          }
+        }
+      }
+    });
+  });
+}
+
+// The sun's disk: each row is its kernel's weighted sum of the cells (one row: its cell).
+void apply_disk(const AngleCells& cells, const std::vector<double>& cell_xyz, LeeTable& t) {
+  const std::size_t rows = t.angle_deg.size(), cols = t.radius_um.size(), R = std::size_t(cells.count);
   t.xyz.assign(rows * cols * 3, 0.0);
   for (std::size_t c = 0; c < cols; ++c) {
     const double* col = &cell_xyz[c * R * 3];
@@ -731,6 +842,50 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
         for (int q = 0; q < 3; ++q) dst[q] += weight_i * col[std::size_t(cell - cells.first) * 3 + std::size_t(q)];
     }
   }
+}
+
+}  // namespace
+
+LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
+  validate(spec);
+  LeeTable t;
+  t.spec = spec;
+  const std::vector<double> sin_angle = set_axes(spec, t);
+  const std::size_t cols = t.radius_um.size();
+  const auto drop = optics::find_medium(spec.drop_medium);
+  const auto air = optics::find_medium(spec.surrounding_medium);
+  const std::vector<color::Xyz> weight = sample_wavelengths(spec, t);
+  const int K = int(t.wavelengths_nm.size());
+  const Population pop = make_population(spec, t.radius_um, *air);
+  const std::size_t J = pop.nodes;
+  t.work.wavelengths = K;
+  t.work.radius_nodes = int(J);
+  const Sequences seq(spec);
+  const AngleCells cells = make_angle_cells(spec, t, sin_angle, seq);
+  const std::size_t R = std::size_t(cells.count);
+  double total_work = 0;
+  const std::vector<double> k_work = work_per_wavelength(t, pop, seq, is_wave_theory(spec.theory), total_work);
+  WorkArrays wa(J, R, cols);
+  std::atomic<std::int64_t> terms{0}, evaluations{0};
+  check_drop_index(spec, t.wavelengths_nm, *drop, *air);
+
+  tbb::task_arena arena(spec.threads > 0 ? spec.threads : tbb::task_arena::automatic);
+  double done_work = 0;
+  for (int k = 0; k < K; ++k) {
+    const double nm = t.wavelengths_nm[std::size_t(k)];
+    const std::complex<double> n_drop = drop->index(nm, spec.temperature_c);
+    const double n_air = air->n(nm);
+    const Wavelength wl{k, K, n_drop / n_air, 2 * kPiD * n_air / (nm * 1e-9)};
+    const double shift = seq.shift(k);
+    place_nodes(pop, t, shift, wa);
+    if (!pop.per_column) weigh_columns(pop, t, spec.size_spread, shift, arena, wa);
+    scatter_nodes(spec, t, sin_angle, cells, seq, wl, arena, wa, terms, evaluations);
+    accumulate_columns(pop, cols, R, weight[std::size_t(k)], arena, wa);
+    done_work += k_work[std::size_t(k)];
+    if (progress) progress(done_work / total_work, fmt::format("{:.0f} nm", nm));
+  }
+
+  apply_disk(cells, wa.cell_xyz, t);
   t.work.evaluations = evaluations.load();
   t.work.terms = terms.load();
   t.work.term_angles = t.work.terms * std::int64_t(R);

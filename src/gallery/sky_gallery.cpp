@@ -11,6 +11,7 @@
 
 #include "entries.hpp"
 #include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/scene/bow_tables.hpp"
 #include "hydrolux/scene/compositor.hpp"
 
 namespace hydrolux::gallery::detail {
@@ -19,17 +20,15 @@ namespace {
 
 constexpr int kWidth = 420, kHeight = 236, kGap = 6;
 
-// One radius's tables (a 10% spread, half the standard sampling), computed once per radius.
+// One radius's tables (hydrolux sky's, at half its standard sampling), computed once per radius.
 const scene::BowSlice& slice(atmos::LeeTableKind kind, double radius_um) {
   static std::map<std::pair<int, double>, scene::BowSlice> cache;
   const auto key = std::make_pair(int(kind), radius_um);
   auto it = cache.find(key);
   if (it == cache.end()) {
-    const bool corona = kind == atmos::LeeTableKind::corona;
-    atmos::LeeSpec spec = atmos::profile_spec(kind, radius_um, corona ? 0 : 90, corona ? 20 : 180, 1024);
-    spec.size_spread = 0.1;
+    atmos::LeeSpec spec = scene::bow_table_spec(kind, radius_um);
     spec.sampling = 0.5;
-    it = cache.emplace(key, scene::slice_at_radius(scene::bow_table(atmos::compute_lee_table(spec)), radius_um)).first;
+    it = cache.emplace(key, scene::compute_bow_slice(spec)).first;
   }
   return it->second;
 }
@@ -90,8 +89,8 @@ std::vector<Entry> sky_entries() {
       [] { return panels({0.5, 5.0, 50.0}, [](scene::SkySettings& s, double rate) { s.rain_rate_mmh = rate; }); }));
   e.push_back(image_entry(
       "sky_corona.png", "A corona around the sun",
-      "Looking at the sun (25 degrees up) through a thin veil of 10 um droplets (the corona table, 0-20 degrees; "
-      "projected-area optical depth 0.03) with a 24 degree lens. Left, the physical blend: the sun's disk and its "
+      "Looking at the sun (25 degrees up) through a thin veil of 10 um droplets (hydrolux sky's corona table, "
+      "0-90 degrees; projected-area optical depth 0.03) with a 24 degree lens. Left, the physical blend: the sun's disk and its "
       "aureole (the droplets' diffraction peak, saturated in the display as in a photograph) ringed by the "
       "corona's colours, red outside (the rings' angles are checked in tests/atmos/test_lee.cpp: 1.6, 3.1 and "
       "4.7 degrees). Right, the whitepaper's blend over the same sky: near the sun the sky is brighter than the "

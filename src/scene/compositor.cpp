@@ -12,6 +12,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
+#include "hydrolux/scene/sky_params.hpp"
 
 namespace hydrolux::scene {
 
@@ -210,22 +211,24 @@ void validate(const SkySettings& s) {
   const auto check = [](const char* q, double v, double lo, double hi, const char* why = "") {
     if (!(v >= lo && v <= hi)) throw DomainError(q, v, lo, hi, why);
   };
-  check("fov_deg", s.camera.fov_deg, 1, 170);
-  check("view_azimuth_deg", s.camera.azimuth_deg, -360, 360);
-  check("view_elevation_deg", s.camera.elevation_deg, -89, 89);
+  // The declared parameters' ranges (sky_params.cpp).
+  const auto declared = [&](const char* q, double v) { check(q, v, sky_param(q).lo, sky_param(q).hi); };
+  declared("fov_deg", s.camera.fov_deg);
+  declared("view_azimuth_deg", s.camera.azimuth_deg);
+  declared("view_elevation_deg", s.camera.elevation_deg);
   check("width", s.camera.width, 1, 16384);
   check("height", s.camera.height, 1, 16384);
-  check("sun_azimuth_deg", s.sun_azimuth_deg, -360, 360);
-  check("sun_elevation_deg", s.sun_elevation_deg, 0, 90);
-  check("turbidity", s.turbidity, kMinTurbidity, kMaxTurbidity);
-  check("radius_um", s.radius_um, atmos::kMinRadiusUm, atmos::kMaxRadiusUm);
-  check("rain_rate_mmh", s.rain_rate_mmh, 0, 500);
+  declared("sun_azimuth_deg", s.sun_azimuth_deg);
+  declared("sun_elevation_deg", s.sun_elevation_deg);
+  declared("turbidity", s.turbidity);
+  declared("radius_um", s.radius_um);
+  declared("rain_rate_mmh", s.rain_rate_mmh);
   check("curtain_near_m", s.curtain_near_m, 0, 1e6);
   check("curtain_far_m", s.curtain_far_m, s.curtain_near_m, 1e6, "the far edge must not be nearer than the near one");
   for (int k = 0; k < 3; ++k) check("light_color", s.light_color[k], 0, 1e3);
-  check("cube_face_size", s.cube_face_size, 4, 4096);
-  check("dome_rings", s.dome_rings, 2, 4096);
-  check("dome_segments", s.dome_segments, 3, 8192);
+  declared("cube_face_size", s.cube_face_size);
+  declared("dome_rings", s.dome_rings);
+  declared("dome_segments", s.dome_segments);
 }
 
 double estimated_bytes(const SkySettings& s) {
@@ -291,8 +294,9 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowS
     : s_(settings), rainbow_(std::move(rainbow)), corona_(std::move(corona)), env_(std::move(environment)),
       env_scale_(environment_scale) {
   validate(s_);
-  if (!(environment_scale >= 0 && std::isfinite(environment_scale)))
-    throw DomainError("environment_scale", environment_scale, 0, 1e12);
+  const Param& scale = sky_param("environment_scale");  // the declared range (sky_params.cpp)
+  if (!(environment_scale >= scale.lo && std::isfinite(environment_scale)))
+    throw DomainError("environment_scale", environment_scale, scale.lo, scale.hi);
   sky_ = make_sun_sky(s_.sun_elevation_deg, s_.turbidity);
   sun_ = direction_from_angles(s_.sun_azimuth_deg, s_.sun_elevation_deg);
   fwd_ = direction_from_angles(s_.camera.azimuth_deg, s_.camera.elevation_deg);

@@ -5,6 +5,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/scene/sky_params.hpp"
 
 namespace hydrolux::scene {
 
@@ -80,8 +81,10 @@ Vec3 sky_radiance(const SunSky& s, const Vec3& sun, const Vec3& view) {
 }
 
 SunSky make_sun_sky(double sun_elevation_deg, double turbidity) {
-  if (!(sun_elevation_deg >= 0 && sun_elevation_deg <= 90))
-    throw DomainError("sun_elevation_deg", sun_elevation_deg, 0, 90, "the sun must be above the horizon");
+  const Param& elevation = sky_param("sun_elevation_deg");  // the declared range (sky_params.cpp)
+  if (!(sun_elevation_deg >= elevation.lo && sun_elevation_deg <= elevation.hi))
+    throw DomainError("sun_elevation_deg", sun_elevation_deg, elevation.lo, elevation.hi,
+                      "the sun must be above the horizon");
   if (!(turbidity >= kMinTurbidity && turbidity <= kMaxTurbidity))
     throw DomainError("turbidity", turbidity, kMinTurbidity, kMaxTurbidity, "Preetham's sky model");
   SunSky s;

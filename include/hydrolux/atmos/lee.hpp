@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "hydrolux/color/cie.hpp"
+#include "hydrolux/core/error.hpp"
 #include "hydrolux/core/progress.hpp"
 #include "hydrolux/scatter/theories.hpp"
 
@@ -53,6 +54,8 @@ enum class AngleAxis { angle, cosine };
 enum class RadiusScale { log, linear };
 
 std::string_view table_kind_name(LeeTableKind k);
+// "rainbow", "corona" or "glory"; UnknownNameError "table 'x': expected rainbow, corona or glory".
+LeeTableKind parse_table_kind(std::string_view name);
 std::string_view angle_axis_name(AngleAxis a);
 std::string_view radius_scale_name(RadiusScale s);
 
@@ -99,6 +102,56 @@ LeeSpec default_lee_spec(LeeTableKind kind);
 // One radius's profile: one column of drops of exactly `radius_um` (no spread) over [a0, a1]
 // degrees in `rows` rows, the kind's other defaults.
 LeeSpec profile_spec(LeeTableKind kind, double radius_um, double a0, double a1, int rows);
+
+// A table as a door asks for it (hydrolux lee, Python's hydrolux.lee): named values, each parsed by
+// the door in its own words; what is unset is the kind's default (default_lee_spec). The numbers and
+// switches are declared parameters (lee_params.hpp): their ranges and defaults are written once,
+// and the defaults are the initializers here. The spectrum (wavelengths), the media, the sun and the
+// colour space are left to the door to set on the spec make_lee_spec returns, in the order its
+// messages come in (the temperature is carried over; the door checks it against its medium).
+struct LeeRequest {
+  LeeTableKind table = LeeTableKind::rainbow;
+  scatter::Theory theory{scatter::TheoryKind::Mie, 0};
+  std::optional<std::array<double, 2>> radius_um;  // A <= B; A == B: one radius, one column
+  std::optional<std::array<double, 2>> angle_deg;  // A <= B
+  std::optional<std::array<int, 2>> size;          // columns, rows
+  std::string radius_scale = "log";                // "log" or "linear"
+  std::string axis = "angle";                      // "angle" or "cos"
+  double sun_disk_deg = kSunDiskDeg;
+  bool limb_darkening = false;
+  double size_spread = 0.1;
+  double sampling = 1;
+  std::uint64_t seed = 1;
+  int threads = 0;
+  std::optional<double> temperature_c;  // the drop medium's default when unset
+  // One radius given (A == B): the table has one column.
+  bool one_radius() const { return radius_um && (*radius_um)[0] == (*radius_um)[1]; }
+};
+
+// A request whose shape contradicts itself. what() says it in the library's (and Python's) names;
+// the CLI says it in its flags'.
+class LeeShapeError : public Error {
+ public:
+  enum class Rule {
+    one_radius_columns,  // one radius makes one column, and the size asks for more
+    one_angle_rows,      // equal angles make one row, and the table has more
+  };
+  LeeShapeError(Rule rule, int columns, int rows);
+  Rule rule() const noexcept { return rule_; }
+  int columns() const noexcept { return columns_; }
+  int rows() const noexcept { return rows_; }
+
+ private:
+  Rule rule_;
+  int columns_, rows_;
+};
+
+// The spec of a request: the kind's defaults, the radii and angles given (one radius: one column),
+// the size (columns, rows), the names of the radius scale and the axis, and the rest as given.
+// Throws LeeShapeError (a single radius with more than one column; equal angles with more than one
+// row) and UnknownNameError ("radius_scale 'x': expected log or linear", "axis 'x': expected angle
+// or cos"). Not validated: the caller adds what it sets and calls validate().
+LeeSpec make_lee_spec(const LeeRequest& request);
 
 // Checks a spec before any work: DomainError naming the quantity ("radius_um", "angle_deg",
 // "columns", "rows", "sun_disk_deg", "size_spread", "wavelength_nm", "wavelengths", "sampling",

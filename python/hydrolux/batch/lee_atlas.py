@@ -17,6 +17,7 @@ manifest as they complete; a re-run skips those whose options and files are unch
 from __future__ import annotations
 
 import argparse
+import functools
 import itertools
 import json
 import os
@@ -33,7 +34,43 @@ RESERVED = {"o", "output", "json", "q", "quiet", "threads", "h", "help"}
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]{0,99}$")
 
 
+@functools.lru_cache(maxsize=None)
+def params() -> tuple:
+    """The lee job's declared parameters, the library's one table (``_core.params("lee")``, as
+    ``hydrolux lee``'s flags and :func:`hydrolux.lee`'s keywords): dicts of name, flag, group, kind,
+    unit, lo, hi, range, help, excludes, default and default_text. A spec's option of a declared
+    name is given as its flag; --threads-per-table takes the range of ``threads``.
+
+    Example:
+
+    >>> from hydrolux.batch import lee_atlas
+    >>> p = {p["name"]: p for p in lee_atlas.params()}
+    >>> p["size_spread"]["flag"], p["size_spread"]["range"], p["threads"]["range"]
+    ('--size-spread', '[0, 0.5]', '[0, 1024]')
+    """
+    return tuple(_common.native("_core").params("lee"))
+
+
+def _flag(key: str) -> str:
+    """The flag of a spec's option: a declared parameter's own, else the key with dashes."""
+    declared = {p["name"]: p["flag"] for p in params()}
+    return declared.get(key.replace("-", "_"), "--" + key.replace("_", "-"))
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The lee-atlas job's own options (--spec, --output-dir, --threads-per-table) on the parser ``p``;
+    ``python3 -m hydrolux.batch`` adds the cluster's (--workers, --threads-per-worker, --scheduler, -q).
+
+    Example:
+
+    >>> import argparse
+    >>> from hydrolux.batch import lee_atlas
+    >>> p = argparse.ArgumentParser(prog="lee-atlas")
+    >>> lee_atlas.add_arguments(p)
+    >>> a = p.parse_args(["--spec", "atlas.json", "--output-dir", "atlas"])
+    >>> a.spec, a.output_dir, a.threads_per_table
+    ('atlas.json', 'atlas', 0)
+    """
     p.add_argument("--spec", required=True, help="The atlas: a JSON file of tables (see the module's help)")
     p.add_argument("--output-dir", required=True, help="Folder for the tables (created)")
     p.add_argument("--threads-per-table", default=0,
@@ -42,7 +79,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def cli_path() -> str:
     """The hydrolux executable beside this package: $HYDROLUX_CLI, the package's bin/ (an installed
-    copy), or the build tree's bin/."""
+    copy), or the build tree's bin/.
+
+    Example:
+
+    >>> import os
+    >>> from hydrolux.batch import lee_atlas
+    >>> os.access(lee_atlas.cli_path(), os.X_OK)
+    True
+    """
     env = os.environ.get("HYDROLUX_CLI")
     if env:
         return env
@@ -61,18 +106,34 @@ def _flag_args(options: Dict[str, Any], where: str) -> List[str]:
             raise UsageError(f"--spec {where}: '{key}' is set by the batch itself")
         value = options[key]
         if value is True:
-            args.append("--" + flag)
+            args.append(_flag(key))
         elif value is False or value is None:
             continue
         elif isinstance(value, (int, float, str)):
-            args += ["--" + flag, str(value)]
+            args += [_flag(key), str(value)]
         else:
             raise UsageError(f"--spec {where}: '{key}' must be a number, a string or true/false")
     return args
 
 
 def expand(spec_path: str) -> List[Dict[str, Any]]:
-    """The tables of a spec, sweeps expanded: [{"name": ..., "args": [flags...]}, ...]."""
+    """The tables of a spec, sweeps expanded: [{"name": ..., "args": [flags...]}, ...].
+
+    Example:
+
+    >>> import json, os, tempfile
+    >>> from hydrolux.batch import lee_atlas
+    >>> folder = tempfile.mkdtemp()
+    >>> spec = os.path.join(folder, "atlas.json")
+    >>> with open(spec, "w") as f:
+    ...     json.dump({"defaults": {"size": "4x8", "wavelengths-nm": "380:780:4"},
+    ...                "tables": [{"name": "rainbow-s{size-spread}", "table": "rainbow",
+    ...                            "sweep": {"size-spread": [0.05, 0.2]}}]}, f)
+    >>> for t in lee_atlas.expand(spec):
+    ...     print(t["name"], " ".join(t["args"]))
+    rainbow-s0.05 --size 4x8 --size-spread 0.05 --table rainbow --wavelengths-nm 380:780:4
+    rainbow-s0.2 --size 4x8 --size-spread 0.2 --table rainbow --wavelengths-nm 380:780:4
+    """
     try:
         with open(spec_path, "rb") as f:
             spec = json.loads(f.read())
@@ -117,7 +178,19 @@ def expand(spec_path: str) -> List[Dict[str, Any]]:
 # ---- on the workers -------------------------------------------------------------------------------
 
 def make_table(out_dir: str, name: str, args: List[str], threads: int) -> Dict[str, Any]:
-    """A task: one table by the hydrolux CLI; its error line if it fails."""
+    """A task: one table by the hydrolux CLI; its error line if it fails.
+
+    Example:
+
+    >>> import tempfile
+    >>> from hydrolux.batch import lee_atlas
+    >>> folder = tempfile.mkdtemp()
+    >>> rec = lee_atlas.make_table(folder, "bow", ["--size", "4x8", "--wavelengths-nm", "380:780:4"], 1)
+    >>> sorted(rec["files"])   # bow.exr, bow.png, bow.json and their sizes
+    ['.exr', '.json', '.png']
+    >>> print(lee_atlas.make_table(folder, "bad", ["--size", "0x8"], 1)["error"])
+    hydrolux lee: --size: '0x8' is not WxH ...
+    """
     exr = os.path.join(out_dir, name + ".exr")
     cmd = [cli_path(), "lee", "-o", exr, "-q", "--threads", str(threads)] + args
     p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
@@ -143,8 +216,32 @@ def _is_done(rec, out_dir: str, name: str, args: List[str]) -> bool:
 
 
 def run(a: argparse.Namespace, after_result=None) -> int:
-    a.threads_per_table = _common.integer_flag("--threads-per-table", a.threads_per_table, 0, 1024,
-                                               extra=" (0: the cores / the local workers)")
+    """The job: every table of ``a.spec`` not done yet, one task each, on the cluster; 0 when all are
+    in ``a.output_dir``, 1 when some failed (each said on stderr). ``after_result``: for the tests.
+
+    Example (a local cluster of one worker; ``python3 -m hydrolux.batch lee-atlas`` does the same):
+
+    >>> import json, os, tempfile
+    >>> from hydrolux.batch import lee_atlas
+    >>> folder = tempfile.mkdtemp()
+    >>> spec = os.path.join(folder, "atlas.json")
+    >>> with open(spec, "w") as f:
+    ...     json.dump({"defaults": {"size": "4x8", "wavelengths-nm": "380:780:4"},
+    ...                "tables": [{"name": "rainbow-s{size-spread}", "table": "rainbow",
+    ...                            "sweep": {"size-spread": [0.05, 0.2]}}]}, f)
+    >>> import argparse
+    >>> p = argparse.ArgumentParser()
+    >>> lee_atlas.add_arguments(p)
+    >>> a = p.parse_args(["--spec", spec, "--output-dir", os.path.join(folder, "atlas")])
+    >>> a.workers, a.threads_per_worker, a.scheduler, a.quiet = 1, None, None, True   # the cluster's options
+    >>> lee_atlas.run(a)
+    0
+    >>> sorted(os.listdir(os.path.join(folder, "atlas")))
+    ['hydrolux-manifest.jsonl', ..., 'rainbow-s0.05.png', 'rainbow-s0.2.exr', 'rainbow-s0.2.json', 'rainbow-s0.2.png']
+    """
+    lee_threads = {p["name"]: p for p in params()}["threads"]  # hydrolux lee --threads' range
+    a.threads_per_table = _common.integer_flag("--threads-per-table", a.threads_per_table, int(lee_threads["lo"]),
+                                               int(lee_threads["hi"]), extra=" (0: the cores / the local workers)")
     tables = expand(a.spec)
     out_dir = os.path.abspath(a.output_dir)
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):

@@ -1,0 +1,35 @@
+#pragma once
+// What a user sets for a rainbow scene (hydrolux sky) and for an engine's assets (hydrolux export),
+// declared once (core/params.hpp): the numbers and switches, each with its name, unit, range,
+// default and help. The defaults are SkySettings' (compositor.hpp) and the option structs'
+// initializers; validate(SkySettings) reads the ranges from here. The texts (the size, the curtain's
+// span, the light's colour, the blend, the mode, the theory) and the files stay with the door.
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "hydrolux/core/params.hpp"
+#include "hydrolux/scene/compositor.hpp"
+
+namespace hydrolux::scene {
+
+// A scene as hydrolux sky asks for it: the settings, and how the door lights and computes it.
+struct SkyOptions {
+  SkySettings settings;
+  double environment_scale = 1;  // multiplier on an environment map's values
+  double sampling = 1;           // of the tables computed for one radius (sky_profile_spec)
+};
+
+// The assets hydrolux export writes: the scene's tables (bow_tables.hpp) and sky.json.
+struct ExportOptions {
+  std::optional<double> radius_um;  // one radius: one-column tables
+  double sampling = 1;              // the tables' sampling multiplier
+  double turbidity = SkySettings{}.turbidity;
+};
+
+std::span<const Field<SkyOptions>> sky_params();
+std::span<const Field<ExportOptions>> export_params();
+// A sky parameter by name; throws std::logic_error for a name not declared.
+const Param& sky_param(std::string_view name);
+
+}  // namespace hydrolux::scene

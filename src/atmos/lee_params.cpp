@@ -1,0 +1,47 @@
+#include "hydrolux/atmos/lee_params.hpp"
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "hydrolux/rain/rain.hpp"  // kMaxSeed: the largest seed every door accepts
+
+namespace hydrolux::atmos {
+
+namespace {
+
+using K = ParamKind;
+
+// Each entry: the parameter, then how it is read from and written to the request. The order is the
+// CLI's (hydrolux lee --help registers them in slices between its own flags).
+
+const Field<LeeRequest> kLee[] = {
+    {{"sun_disk_deg", "--sun-disk-deg", "sun", K::real, "deg", 0, 5, "The sun's angular diameter in degrees (0: a point)"},
+     HYDROLUX_PARAM_MEMBER(sun_disk_deg)},
+    {{"limb_darkening", "--limb-darkening", "sun", K::flag, "", 0, 1,
+      "Darken the sun's limb (linear law, u = 0.6; not with --sun-disk-deg 0)"},
+     HYDROLUX_PARAM_MEMBER(limb_darkening)},
+    {{"size_spread", "--size-spread", "drops", K::real, "", 0, 0.5,
+      "Relative standard deviation of each column's gamma size distribution (0: one radius; else 0.01-0.5)"},
+     HYDROLUX_PARAM_MEMBER(size_spread)},
+    {{"temperature_c", "--temperature-c", "drops", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
+      "Water temperature in Celsius (0 to 100) [20]"},
+     HYDROLUX_PARAM_OPTIONAL(temperature_c)},
+    {{"sampling", "--sampling", "sampling", K::real, "", 0.25, 16,
+      "Multiplier on every sampling rate (wavelengths, radius grid)"},
+     HYDROLUX_PARAM_MEMBER(sampling)},
+    {{"seed", "--seed", "sampling", K::integer, "", 0, double(rain::kMaxSeed), "Seed of the sampling pattern"},
+     HYDROLUX_PARAM_MEMBER(seed)},
+    {{"threads", "--threads", "sampling", K::integer, "", 0, kMaxThreads, "Threads (0: every core)"}, HYDROLUX_PARAM_MEMBER(threads)},
+};
+
+}  // namespace
+
+std::span<const Field<LeeRequest>> lee_params() { return kLee; }
+
+const Param& lee_param(std::string_view name) {
+  if (const auto* f = find_field(lee_params(), name)) return f->param;
+  throw std::logic_error("lee_param: no parameter " + std::string(name));
+}
+
+}  // namespace hydrolux::atmos

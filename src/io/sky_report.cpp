@@ -1,0 +1,93 @@
+#include "hydrolux/io/sky_report.hpp"
+
+#include <cmath>
+#include <string>
+#include <string_view>
+
+#include "hydrolux/core/embedded_data.hpp"
+#include "hydrolux/scene/compositor.hpp"
+#include "hydrolux/version.hpp"
+
+namespace hydrolux::io {
+
+nlohmann::json sky_parameters_json(double turbidity) {
+  nlohmann::json j;
+  j["format"] = "hydrolux-sky-parameters";
+  j["format_version"] = 1;
+  j["hydrolux_version"] = kVersion;
+  j["model"] =
+      "Preetham, Shirley and Smits 1999 sky; the sun is ASTM G173 direct (air mass 1.5) carried to the air mass "
+      "of Kasten and Young 1989 with Preetham's Rayleigh and aerosol optical depths; docs/sky.md";
+  j["units"] = {{"radiance", "cd/m^2 per channel, linear Rec.709 (luminance 0.2126 R + 0.7152 G + 0.0722 B)"},
+                {"irradiance", "lux per channel"},
+                {"zenith_Y_kcd", "kcd/m^2"}};
+  j["turbidity"] = turbidity;
+  j["camera_height_m"] = scene::kCameraHeightM;
+  j["sun_angular_radius_deg"] = scene::kSunAngularRadiusDeg;
+  j["ground_albedo"] = {scene::kGroundAlbedo[0], scene::kGroundAlbedo[1], scene::kGroundAlbedo[2]};
+  j["extinction_efficiency"] = 2.0;
+  // beta_geo = pi M2 of Marshall-Palmer rain is a power law in the rain rate: c R^0.63.
+  const double b1 = scene::rain_beta_geo_per_m(1.0), b10 = scene::rain_beta_geo_per_m(10.0);
+  j["rain"] = {{"beta_geo_per_m", "coefficient * rain_rate_mmh ^ exponent (Marshall and Palmer 1948, n0 = 1.6e7 m^-4 "
+                                  "per metre of radius, Lambda = 8200 R^-0.21 m^-1)"},
+               {"coefficient", b1},
+               {"exponent", std::log10(b10 / b1)}};
+  j["tone_map"] = {{"exposure", 0.6}, {"white", 6.0},
+                   {"formula", "x = exposure L / l_ref; x (1 + x / white^2) / (1 + x), clamped to [0,1]; sRGB"}};
+  nlohmann::json e = nlohmann::json::array(), lux = nlohmann::json::array(), sun = nlohmann::json::array(),
+                 sky = nlohmann::json::array(), ground = nlohmann::json::array(), lref = nlohmann::json::array(),
+                 zy = nlohmann::json::array(), zx = nlohmann::json::array(), zyc = nlohmann::json::array(),
+                 py = nlohmann::json::array(), px = nlohmann::json::array(), pyc = nlohmann::json::array(),
+                 pat = nlohmann::json::array();
+  scene::SunSky first;
+  for (int deg = 0; deg <= 90; ++deg) {
+    const scene::SunSky s = scene::make_sun_sky(deg, turbidity);
+    if (deg == 0) first = s;
+    e.push_back(deg);
+    lux.push_back(s.sun_illuminance_lux);
+    sun.push_back({s.sun_rgb.x, s.sun_rgb.y, s.sun_rgb.z});
+    sky.push_back({s.sky_illuminance_rgb.x, s.sky_illuminance_rgb.y, s.sky_illuminance_rgb.z});
+    ground.push_back({s.ground_rgb.x, s.ground_rgb.y, s.ground_rgb.z});
+    lref.push_back(s.l_ref);
+    zy.push_back(s.zenith_Y_kcd);
+    zx.push_back(s.zenith_x);
+    zyc.push_back(s.zenith_y);
+    const auto coef = [](const scene::Perez& p) { return nlohmann::json{p.A, p.B, p.C, p.D, p.E}; };
+    py.push_back(coef(s.perez[0]));
+    px.push_back(coef(s.perez[1]));
+    pyc.push_back(coef(s.perez[2]));
+    pat.push_back({s.perez_at_sun[0], s.perez_at_sun[1], s.perez_at_sun[2]});
+  }
+  j["xyz_to_rgb"] = {{first.xyz_to_rgb[0][0], first.xyz_to_rgb[0][1], first.xyz_to_rgb[0][2]},
+                     {first.xyz_to_rgb[1][0], first.xyz_to_rgb[1][1], first.xyz_to_rgb[1][2]},
+                     {first.xyz_to_rgb[2][0], first.xyz_to_rgb[2][1], first.xyz_to_rgb[2][2]}};
+  j["elevations_deg"] = e;
+  j["sun_illuminance_lux"] = lux;
+  j["sun_rgb"] = sun;
+  j["sky_illuminance_rgb"] = sky;
+  j["ground_rgb"] = ground;
+  j["l_ref"] = lref;
+  j["zenith_Y_kcd"] = zy;
+  j["zenith_x"] = zx;
+  j["zenith_y"] = zyc;
+  j["perez_Y"] = py;
+  j["perez_x"] = px;
+  j["perez_y"] = pyc;
+  j["perez_at_sun"] = pat;
+  return j;
+}
+
+nlohmann::json write_engine_shaders(OutputDirectory& dir) {
+  nlohmann::json names = nlohmann::json::array();
+  for (const auto& f : detail::embedded_files()) {
+    const std::string_view p = f.path;
+    if (p.rfind("shaders/", 0) != 0) continue;
+    const std::string rest(p.substr(8));
+    if (rest.rfind("glsl/", 0) != 0 && rest.rfind("hlsl/", 0) != 0 && rest.find('/') != std::string::npos) continue;
+    dir.write(rest, f.text);
+    names.push_back(rest);
+  }
+  return names;
+}
+
+}  // namespace hydrolux::io

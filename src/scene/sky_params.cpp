@@ -1,0 +1,108 @@
+#include "hydrolux/scene/sky_params.hpp"
+
+#include <fmt/format.h>
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "hydrolux/atmos/lee_params.hpp"
+#include "hydrolux/scene/bow_tables.hpp"
+
+namespace hydrolux::scene {
+
+namespace {
+
+using K = ParamKind;
+
+
+}  // namespace
+
+// The tables are made on first use (their helps state the largest radius the tables computed here
+// allow, which the library works out), in the CLI's order: hydrolux sky --help and hydrolux export
+// --help register them in slices between their own flags. The sampling range is the Lee table's.
+std::span<const Field<SkyOptions>> sky_params() {
+  static const std::string radius_help = fmt::format(
+      "Drop radius in micrometres (the table column; 10% gamma spread): 500 rain, 10-50 fogbow or corona; without "
+      "--lut at most {:g}, where the largest drops of the spread reach Mie theory's size parameter limit (1e5) at 380 "
+      "nm; with --lut up to {:g}, as its tables cover",
+      max_sky_radius_um(), atmos::kMaxRadiusUm);
+  const Param& sampling = atmos::lee_param("sampling");
+  static const Field<SkyOptions> table[] = {
+      {{"sun_elevation_deg", "--sun-elevation-deg", "sun", K::real, "deg", 0, 90,
+        "The sun's elevation above the horizon, degrees"},
+       HYDROLUX_PARAM_MEMBER(settings.sun_elevation_deg)},
+      {{"sun_azimuth_deg", "--sun-azimuth-deg", "sun", K::real, "deg", -360, 360,
+        "The sun's azimuth, degrees from north towards east"},
+       HYDROLUX_PARAM_MEMBER(settings.sun_azimuth_deg)},
+      {{"radius_um", "--radius-um", "rain", K::real, "um", atmos::kMinRadiusUm, atmos::kMaxRadiusUm, radius_help},
+       HYDROLUX_PARAM_MEMBER(settings.radius_um)},
+      {{"fov_deg", "--fov-deg", "camera", K::real, "deg", 1, 170, "Horizontal field of view, degrees"},
+       HYDROLUX_PARAM_MEMBER(settings.camera.fov_deg)},
+      {{"view_azimuth_deg", "--view-azimuth-deg", "camera", K::real, "deg", -360, 360,
+        "Where the camera looks: azimuth, degrees from north towards east"},
+       HYDROLUX_PARAM_MEMBER(settings.camera.azimuth_deg)},
+      {{"view_elevation_deg", "--view-elevation-deg", "camera", K::real, "deg", -89, 89,
+        "Where the camera looks: elevation, degrees"},
+       HYDROLUX_PARAM_MEMBER(settings.camera.elevation_deg)},
+      {{"rain_rate_mmh", "--rain-rate-mmh", "rain", K::real, "mm/h", 0, 500,
+        "Rain rate in mm/h (Marshall-Palmer drops): sets the curtain's optical depth"},
+       HYDROLUX_PARAM_MEMBER(settings.rain_rate_mmh)},
+      {{"turbidity", "--turbidity", "sun", K::real, "", kMinTurbidity, kMaxTurbidity,
+        "Atmospheric turbidity of the sky and the sun's path (Preetham: 2 clear, 10 hazy)"},
+       HYDROLUX_PARAM_MEMBER(settings.turbidity)},
+      {{"environment_scale", "--environment-scale", "scene", K::real, "", 0, 1e12,
+        "Multiplier on --environment's values (needs --environment)"},
+       HYDROLUX_PARAM_MEMBER(environment_scale)},
+      {{"corona", "--corona", "rain", K::flag, "", 0, 1,
+        "Draw the corona and the forward light around the sun (0-90 degrees; drops of 1-50 um)"},
+       HYDROLUX_PARAM_MEMBER(settings.corona)},
+      {{"secondary", "--no-secondary", "rain", K::flag, "", 0, 1,
+        "Leave out the secondary bow (fades out below 134 degrees)"},
+       HYDROLUX_PARAM_MEMBER(settings.secondary)},
+      {{"cube_face_size", "--cube-face-size", "mode", K::integer, "", 4, 4096,
+        "Cube map face size in texels (--mode cube-map only)"},
+       HYDROLUX_PARAM_MEMBER(settings.cube_face_size)},
+      {{"dome_rings", "--dome-rings", "mode", K::integer, "", 2, 4096,
+        "Half dome rings from the antisolar point to 90 degrees (--mode half-dome only)"},
+       HYDROLUX_PARAM_MEMBER(settings.dome_rings)},
+      {{"dome_segments", "--dome-segments", "mode", K::integer, "", 3, 8192,
+        "Half dome segments around (--mode half-dome only)"},
+       HYDROLUX_PARAM_MEMBER(settings.dome_segments)},
+      {{"sampling", "--sampling", "tables", K::real, "", sampling.lo, sampling.hi,
+        "Sampling multiplier of the tables computed without --lut (not with --lut); the time grows as its square: "
+        "about 12 s at 1 for 500 um drops on two cores, an hour at 16"},
+       HYDROLUX_PARAM_MEMBER(sampling)},
+  };
+  return table;
+}
+
+std::span<const Field<ExportOptions>> export_params() {
+  static const std::string radius_help = [] {
+    atmos::LeeSpec geometric = atmos::default_lee_spec(atmos::LeeTableKind::rainbow);
+    geometric.theory = scatter::parse_theory("geometric");
+    return fmt::format(
+        "One drop radius in micrometres: one-column tables (a 1D slice); at most {:g} with Mie or Debye theory, {:g} "
+        "with geometric (the size parameter's limit at 380 nm)",
+        atmos::max_radius_um(atmos::default_lee_spec(atmos::LeeTableKind::rainbow)), atmos::max_radius_um(geometric));
+  }();
+  const Param& sampling = atmos::lee_param("sampling");
+  static const Field<ExportOptions> table[] = {
+      {{"radius_um", "--radius-um", "tables", K::real, "um", atmos::kMinRadiusUm, atmos::kMaxRadiusUm, radius_help},
+       HYDROLUX_PARAM_OPTIONAL(radius_um)},
+      {{"sampling", "--sampling", "tables", K::real, "", sampling.lo, sampling.hi,
+        "Multiplier on the tables' sampling rates"},
+       HYDROLUX_PARAM_MEMBER(sampling)},
+      {{"turbidity", "--turbidity", "sky", K::real, "", kMinTurbidity, kMaxTurbidity,
+        "Turbidity of sky.json's sky and sun (Preetham)"},
+       HYDROLUX_PARAM_MEMBER(turbidity)},
+  };
+  return table;
+}
+
+const Param& sky_param(std::string_view name) {
+  if (const auto* f = find_field(sky_params(), name)) return f->param;
+  throw std::logic_error("sky_param: no parameter " + std::string(name));
+}
+
+}  // namespace hydrolux::scene
