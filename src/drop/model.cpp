@@ -5,6 +5,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/drop/params.hpp"
 #include "hydrolux/optics/fresnel.hpp"
 
 namespace hydrolux::drop {
@@ -13,6 +14,12 @@ namespace {
 constexpr const char* kContext = "the Garg & Nayar drop model";
 
 void check_mu(double mu) { require_in_range("mu", mu, 1.0 + 1e-9, 10.0, kContext); }
+
+// n_internal's range is the drop render's declared one (drop/params.hpp).
+void check_internal(int n_internal) {
+  static const Param& p = drop_render_param("internal");
+  require_in_range("n_internal", n_internal, p.lo, p.hi, kContext);
+}
 
 // Polar angle folded into [0, pi] with the azimuth flipped when it passes a pole, azimuth in
 // [0, 2 pi).
@@ -32,7 +39,7 @@ Direction normalised(double theta, double phi) {
 DropPaths drop_paths(double theta_n, double phi_n, double mu, int n_internal) {
   check_mu(mu);
   require_in_range("theta_n", theta_n, kPi<> / 2, kPi<>, kContext);
-  require_in_range("n_internal", n_internal, 0, 20, kContext);
+  check_internal(n_internal);
   const double i = kPi<> - theta_n;                 // incidence angle (alpha = 0)
   const double q = safe_asin(std::sin(i) / mu);     // refraction angle, Snell
   const double k = optics::fr_dielectric(std::cos(i), mu);  // unpolarised Fresnel k(i, mu)
@@ -58,7 +65,7 @@ DropPaths drop_paths_at_rho(double rho, double mu, int n_internal) {
 
 DropRays drop_rays(const Vec3& view, const Vec3& normal, double mu, int n_internal) {
   check_mu(mu);
-  require_in_range("n_internal", n_internal, 0, 20, kContext);
+  check_internal(n_internal);
   // The point must face the camera; rounding just outside [0, 1] is clamped.
   const double raw_cos_i = -glm::dot(view, normal);
   require_in_range("cos_i", raw_cos_i, -1e-12, 1.0 + 1e-12, kContext);

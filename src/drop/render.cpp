@@ -11,6 +11,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/model.hpp"
+#include "hydrolux/drop/params.hpp"
 #include "hydrolux/drop/trace.hpp"
 
 namespace hydrolux::drop {
@@ -83,7 +84,8 @@ double DropCamera::drop_radius_px() const {
 Image render(const DropCamera& camera, const scene::Environment& env, const RenderOptions& options,
              const RayShader& shade) {
   validate(camera);
-  require_in_range("samples_per_axis", options.samples_per_axis, 1, 64, "drop rendering");
+  static const Param& samples = drop_render_param("samples");  // the declared range (drop/params.hpp)
+  require_in_range("samples_per_axis", options.samples_per_axis, samples.lo, samples.hi, "drop rendering");
   require_in_range("background_blur_rad", options.background_blur_rad, 0.0, kPi<> / 2, "drop rendering");
   const int n = options.samples_per_axis;
   // A blurred background is an average over the defocus disk; it gets at least 8 x 8 samples, on the

@@ -8,6 +8,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/drop/params.hpp"
 #include "hydrolux/optics/fresnel.hpp"
 #include "hydrolux/optics/snell.hpp"
 
@@ -279,7 +280,8 @@ PathKind kind_of(const Pending& p) {
 TraceSummary trace_paths(const DropSurface& surface, const Ray& camera_ray, double mu,
                          const TraceOptions& options, const ExitCallback& on_exit) {
   require_in_range("mu", mu, 0.1, 10.0, kContext);
-  require_in_range("max_depth", options.max_depth, 6, 64, kContext);
+  static const Param& depth = drop_render_param("depth");  // the declared range (drop/params.hpp)
+  require_in_range("max_depth", options.max_depth, depth.lo, depth.hi, kContext);
   require_in_range("min_weight", options.min_weight, 0.0, 1.0, kContext);
   require_in_range("camera_ray_direction", glm::length(camera_ray.direction), 1 - 1e-9, 1 + 1e-9,
                    kContext);

@@ -8,6 +8,7 @@
 
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/params.hpp"
 #include "hydrolux/optics/media.hpp"
 
 namespace hydrolux::cli {
@@ -99,7 +100,7 @@ Command add_ior(CLI::App& app) {
   sub->add_option("--temperature-c", args->temperature_c,
                   "Temperature, Celsius (temperature-dependent media only; water: 0 to 100, "
                   "default 20)")
-      ->check(number_in(-273.15, 1000, "C"));
+      ->check(number_in(kMinTemperatureC, kMaxTemperatureC, "C"));
   sub->add_flag("--json", args->json,
                 "Print one JSON object: medium, wavelength_nm, n, k (and temperature_c for water)");
   sub->add_flag("--list", args->list, "List the media with their valid ranges and sources");

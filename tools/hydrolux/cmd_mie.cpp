@@ -18,21 +18,23 @@
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/debye.hpp"
 #include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/sphere.hpp"
+#include "params.hpp"
 #include "progress.hpp"
 
 namespace hydrolux::cli {
 
 namespace {
+// The numbers and switches are scatter/params.hpp's; the index, the physical form's radius,
+// wavelength and media, the angles and the output are this command's.
 struct MieArgs {
+  std::shared_ptr<scatter::MieRequest> r = std::make_shared<scatter::MieRequest>();
   std::string m_text;
-  std::optional<double> x;
-  std::optional<double> radius_um, wavelength_nm, temperature_c;
+  std::optional<double> radius_um, wavelength_nm;
   std::string medium = "water", surrounding = "air";
   std::string angles = "0:180:181";
-  std::optional<int> debye;
-  int threads = 0;
-  bool json = false, no_angles = false, quiet = false;
+  bool json = false, quiet = false;
   std::optional<std::string> output;
 };
 
@@ -108,30 +110,31 @@ FileFormat output_format(const std::string& path) {
 }
 
 int run_mie(const MieArgs& a) {
-  const bool dimensionless = !a.m_text.empty() || a.x;
+  const scatter::MieRequest& r = *a.r;
+  const bool dimensionless = !a.m_text.empty() || r.x;
   const bool physical = a.radius_um || a.wavelength_nm;
   if (dimensionless && physical)
     throw Error("give either --m and --x, or --radius-um and --wavelength-nm (with --medium), not both");
   if (a.output && a.output->empty()) throw Error("-o: give a file name (.csv, .npy or .json)");
-  if (a.no_angles && a.output) throw Error("-o writes the amplitudes; --no-angles computes none");
-  if (a.no_angles && a.debye) throw Error("--debye restricts the amplitudes; --no-angles computes none");
+  if (r.no_angles && a.output) throw Error("-o writes the amplitudes; --no-angles computes none");
+  if (r.no_angles && r.debye) throw Error("--debye restricts the amplitudes; --no-angles computes none");
   scatter::Complex m;
   double x = 0;
   if (physical) {
     if (!a.radius_um || !a.wavelength_nm) throw Error("--radius-um and --wavelength-nm go together");
     const auto sphere = medium_flag("--medium", a.medium);
     const auto outside = medium_flag("--surrounding", a.surrounding);
-    check_temperature_flag(a.temperature_c, {sphere.get(), outside.get()});
-    const auto p = scatter::sphere_problem(*a.radius_um, *a.wavelength_nm, *sphere, *outside, a.temperature_c);
+    check_temperature_flag(r.temperature_c, {sphere.get(), outside.get()});
+    const auto p = scatter::sphere_problem(*a.radius_um, *a.wavelength_nm, *sphere, *outside, r.temperature_c);
     m = p.m;
     x = p.x;
   } else {
-    if (a.m_text.empty() || !a.x) throw Error("--m and --x go together (or use --radius-um and --wavelength-nm)");
+    if (a.m_text.empty() || !r.x) throw Error("--m and --x go together (or use --radius-um and --wavelength-nm)");
     m = parse_complex(a.m_text, "--m");
-    x = *a.x;
+    x = *r.x;
   }
   std::vector<double> angles, mu;
-  if (!a.no_angles) {
+  if (!r.no_angles) {
     angles = parse_angles_deg(a.angles, "--angles-deg");
     mu.resize(angles.size());
     for (std::size_t i = 0; i < mu.size(); ++i) mu[i] = std::cos(deg_to_rad(angles[i]));
@@ -150,7 +153,7 @@ int run_mie(const MieArgs& a) {
   int terms = 0;
   std::vector<scatter::Complex> s1(mu.size()), s2(mu.size());
   try {
-    if (a.no_angles) {
+    if (r.no_angles) {
       terms = scatter::mie_terms(x);
       q = scatter::mie_efficiencies(m, x);
     } else {
@@ -158,7 +161,7 @@ int run_mie(const MieArgs& a) {
       terms = c.terms();
       q = scatter::mie_efficiencies(c);  // of the whole sphere, also with --debye
       ProgressBar bar("mie", a.quiet);
-      scatter::mie_amplitudes(a.debye ? scatter::debye_coefficients(m, x, *a.debye) : c, mu, s1, s2, a.threads,
+      scatter::mie_amplitudes(r.debye ? scatter::debye_coefficients(m, x, *r.debye) : c, mu, s1, s2, r.threads,
                               bar.callback());
       bar.finish();
     }
@@ -191,7 +194,7 @@ int run_mie(const MieArgs& a) {
         sink.flush();
       }
     } else {
-      b = json_head(x, m, terms, q, a.debye);
+      b = json_head(x, m, terms, q, r.debye);
       stream_json_arrays(sink, angles, s1, s2);
       fmt::format_to(std::back_inserter(b), ",\"compute_s\":{}}}\n", seconds);
     }
@@ -202,10 +205,10 @@ int run_mie(const MieArgs& a) {
   if (a.json) {
     Sink sink(nullptr);
     auto& b = sink.buffer();
-    b = json_head(x, m, terms, q, a.debye);
+    b = json_head(x, m, terms, q, r.debye);
     if (out_file)
       fmt::format_to(std::back_inserter(b), ",\"output\":{}", nlohmann::json(*a.output).dump());
-    else if (!a.no_angles)
+    else if (!r.no_angles)
       stream_json_arrays(sink, angles, s1, s2);
     fmt::format_to(std::back_inserter(b), ",\"compute_s\":{}}}\n", seconds);
     sink.flush(true);
@@ -215,12 +218,12 @@ int run_mie(const MieArgs& a) {
              seconds);
   fmt::print("Qext = {:.10g}  Qsca = {:.10g}  Qabs = {:.6g}  Qback = {:.8g}  g = {:.10g}\n", q.qext, q.qsca,
              q.qabs, q.qback, q.g);
-  if (a.no_angles) return 0;
+  if (r.no_angles) return 0;
   if (out_file) {
     fmt::print("S1, S2 at {} angles written to {}\n", angles.size(), *a.output);
     return 0;
   }
-  if (a.debye) fmt::print("amplitudes of Debye order p = {} alone\n", *a.debye);
+  if (r.debye) fmt::print("amplitudes of Debye order p = {} alone\n", *r.debye);
   Sink sink(nullptr);
   auto& b = sink.buffer();
   fmt::format_to(std::back_inserter(b), "{:>10}  {:>16}  {:>16}  {:>16}  {:>16}\n", "theta_deg", "Re S1", "Im S1",
@@ -242,11 +245,24 @@ Command add_mie(CLI::App& app) {
       "Lorenz-Mie scattering by a homogeneous sphere: efficiencies and the amplitudes S1, S2 "
       "(Bohren & Huffman conventions). Give --m and --x, or the physical form --radius-um, "
       "--wavelength-nm, --medium.");
+  Command cmd{sub,
+              [args] { return run_mie(*args); },
+              {{"x", "--x"},
+               {"m_real", "--m (real part)"},
+               {"m_imag", "--m (imaginary part)"},
+               {"m_abs", "--m (its modulus)"},
+               {"radius_um", "--radius-um"},
+               {"wavelength_nm", "--wavelength-nm"},
+               {"temperature_c", "--temperature-c"}}};
+  // The declared parameters (x; temperature_c; no_angles, debye, threads) among this command's own.
+  const auto params = scatter::mie_params();
+  const auto declared = [&](std::size_t from, std::size_t count) {
+    add_params(*sub, args->r, params.subspan(from, count), cmd.flags_for_quantity);
+  };
   auto* m_opt = sub->add_option("--m", args->m_text,
                                  "Relative complex index n+ki (k >= 0 absorbing; n, k up to 1000, |m| >= 0.001), "
                                  "e.g. 1.333+1e-8i or 10+10i");
-  auto* x_opt = sub->add_option("--x", args->x, "Size parameter 2 pi r / lambda, 1e-6 to 1e6")
-                    ->check(number_in(scatter::kMieMinSizeParameter, scatter::kMieMaxSizeParameter));
+  declared(0, 1);
   sub->add_option("--radius-um", args->radius_um, "Sphere radius, micrometres")
       ->check(positive_number(1e6, "um"));
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")
@@ -256,25 +272,15 @@ Command add_mie(CLI::App& app) {
   auto* surrounding_opt =
       sub->add_option("--surrounding", args->surrounding, "Surrounding medium (air, or const:1 for vacuum)")
           ->capture_default_str();
-  auto* temperature_opt =
-      sub->add_option("--temperature-c", args->temperature_c, "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither "
-                        "medium does")
-          ->check(number_in(-273.15, 1000, "C"));
+  declared(1, 1);
   // The dimensionless form takes m and x as they are: media flags would be silently ignored.
-  for (auto* o : {m_opt, x_opt}) o->excludes(medium_opt)->excludes(surrounding_opt)->excludes(temperature_opt);
+  for (auto* o : {m_opt, sub->get_option("--x")})
+    o->excludes(medium_opt)->excludes(surrounding_opt)->excludes(sub->get_option("--temperature-c"));
   sub->add_option("--angles-deg", args->angles,
                   "Scattering angles, degrees (0 = forward): A:B:N for N angles from A to B (N up to 1e6), or a "
                   "list 0,10,90")
       ->capture_default_str();
-  sub->add_flag("--no-angles", args->no_angles,
-                "Efficiencies only (Qext, Qsca, Qabs, Qback, g): no amplitudes, the fast path for size sweeps");
-  sub->add_option("--debye", args->debye,
-                  "Restrict S1, S2 to Debye order P (0 diffraction + external reflection, 1 direct "
-                  "transmission, 2 primary rainbow, 3 secondary, ...); efficiencies stay the whole sphere's")
-      ->transform(integer_in(0, 1000));
-  sub->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
-      ->transform(integer_in(0, 1024))
-      ->capture_default_str();
+  declared(2, 3);
   sub->add_option("-o,--output", args->output,
                   "Write S1, S2 to this file instead of printing them, by extension: .csv (theta_deg,s1_re,s1_im,"
                   "s2_re,s2_im), .npy (float64 array, one row per angle, the same five columns) or .json (the "
@@ -284,15 +290,7 @@ Command add_mie(CLI::App& app) {
                 "s1, s2 ([re, im] pairs; with -o: \"output\", the file, instead), compute_s (seconds of "
                 "computation alone); streamed, so a million angles need no more memory than their values");
   sub->add_flag("-q,--quiet", args->quiet, "No progress bar on stderr");
-  return {sub,
-          [args] { return run_mie(*args); },
-          {{"x", "--x"},
-           {"m_real", "--m (real part)"},
-           {"m_imag", "--m (imaginary part)"},
-           {"m_abs", "--m (its modulus)"},
-           {"radius_um", "--radius-um"},
-           {"wavelength_nm", "--wavelength-nm"},
-           {"temperature_c", "--temperature-c"}}};
+  return cmd;
 }
 
 }  // namespace hydrolux::cli

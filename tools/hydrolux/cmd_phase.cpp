@@ -9,24 +9,26 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/scatter/geometric.hpp"
+#include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "hydrolux/scatter/sphere.hpp"
 #include "hydrolux/scatter/theories.hpp"
+#include "params.hpp"
 #include "progress.hpp"
 
 namespace hydrolux::cli {
 
 namespace {
+// The numbers are scatter/params.hpp's; the theory, the drops, the light, the media, the angles
+// and the output are this command's.
 struct PhaseArgs {
+  std::shared_ptr<scatter::PhaseRequest> r = std::make_shared<scatter::PhaseRequest>();
   std::string theory = "mie";
   std::optional<double> radius_um;
   double wavelength_nm = 0;
   std::string distribution = "mono";
-  int nodes = 64;
-  std::optional<double> temperature_c;
   std::string medium = "water", surrounding = "air";
   std::string angles = "0:180:181";
-  int threads = 0;
   bool csv = false;
   bool quiet = false;
 };
@@ -47,7 +49,7 @@ std::pair<scatter::RadiusQuadrature, std::string> size_quadrature(const PhaseArg
   }
   if (spec.kind == SizeDistributionKind::marshall_palmer) {
     const auto d = scatter::SizeDistribution::marshall_palmer(spec.parameter);
-    return {d.quadrature(a.nodes, kRainMinRadiusUm * 1e-6, kRainMaxRadiusUm * 1e-6),
+    return {d.quadrature(a.r->nodes, kRainMinRadiusUm * 1e-6, kRainMaxRadiusUm * 1e-6),
             fmt::format("Marshall-Palmer rain, {:g} mm/h, radii {:g}-{:g} um", spec.parameter, kRainMinRadiusUm,
                         kRainMaxRadiusUm)};
   }
@@ -61,9 +63,9 @@ std::pair<scatter::RadiusQuadrature, std::string> size_quadrature(const PhaseArg
   // Gauss-Legendre over a range holding the number and r^4-weighted tails: Mie intensities
   // oscillate in r, which a range rule with enough nodes resolves (a Gaussian rule of n(r) would
   // alias).
-  return {scatter::intensity_quadrature(d, a.nodes),
+  return {scatter::intensity_quadrature(d, a.r->nodes),
           fmt::format("{} distribution, mean radius {:g} um, relative width {:g}, {} radii",
-                      gamma ? "gamma" : "lognormal", *a.radius_um, spec.parameter, a.nodes)};
+                      gamma ? "gamma" : "lognormal", *a.radius_um, spec.parameter, a.r->nodes)};
 }
 int run_phase(const PhaseArgs& a) {
   scatter::Theory theory;
@@ -74,17 +76,17 @@ int run_phase(const PhaseArgs& a) {
   }
   const auto sphere = medium_flag("--medium", a.medium);
   const auto outside = medium_flag("--surrounding", a.surrounding);
-  check_temperature_flag(a.temperature_c, {sphere.get(), outside.get()});
+  check_temperature_flag(a.r->temperature_c, {sphere.get(), outside.get()});
   const auto angles = parse_angles_deg(a.angles, "--angles-deg");
   std::vector<double> theta(angles.size());
   for (std::size_t i = 0; i < theta.size(); ++i) theta[i] = deg_to_rad(angles[i]);
   const auto [quadrature, drops] = size_quadrature(a);
   // Check the media at this wavelength first, so a bad --wavelength-nm fails before any work.
   const auto p = scatter::sphere_problem(quadrature.radius_m.front() * 1e6, a.wavelength_nm, *sphere, *outside,
-                                         a.temperature_c);
+                                         a.r->temperature_c);
   ProgressBar bar("phase", a.quiet || quadrature.size() < 2);
   const auto result = scatter::average_intensities(theory, quadrature, a.wavelength_nm, *sphere, *outside,
-                                                   a.temperature_c, theta, a.threads, bar.callback());
+                                                   a.r->temperature_c, theta, a.r->threads, bar.callback());
   bar.finish();
 
   if (a.csv) {
@@ -121,6 +123,22 @@ Command add_phase(CLI::App& app) {
       "phase",
       "Scattered intensity against scattering angle for one drop: i1 = |S1|^2, i2 = |S2|^2 and "
       "their average, by Lorenz-Mie, one Debye order, Airy theory or geometric optics.");
+  Command cmd{sub,
+              [args] { return run_phase(*args); },
+              {{"x", "--radius-um (size parameter x)"},
+               {"m_real", "--medium/--surrounding (relative index, real part)"},
+               {"m_imag", "--medium/--surrounding (relative index, imaginary part)"},
+               {"r_max_m", "--radius-um (largest radius of the distribution, m)"},
+               {"r_min_m", "--radius-um (smallest radius of the distribution, m)"},
+               {"radius_um", "--radius-um"},
+               {"wavelength_nm", "--wavelength-nm"},
+               {"temperature_c", "--temperature-c"},
+               {"p", "--theory (order P)"}}};
+  // The declared parameters (nodes; temperature_c; threads) among this command's own.
+  const auto params = scatter::phase_params();
+  const auto declared = [&](std::size_t from) {
+    add_params(*sub, args->r, params.subspan(from, 1), cmd.flags_for_quantity);
+  };
   sub->add_option("--theory", args->theory,
                   "mie, debye:P (Debye order P: 0 diffraction + reflection, 2 primary rainbow, 3 "
                   "secondary), airy (primary rainbow; airy:P for order P), geometric (rays of orders "
@@ -133,37 +151,20 @@ Command add_phase(CLI::App& app) {
                   "mono, gamma:W or lognormal:W (relative width W in [0.0001, 1] around --radius-um), or "
                   "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um)")
       ->capture_default_str();
-  sub->add_option("--nodes", args->nodes,
-                  "Radii in the size average (Gauss-Legendre); Mie ripple needs them about lambda/10 apart")
-      ->transform(integer_in(1, 4096))
-      ->capture_default_str();
+  declared(0);  // --nodes
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")
       ->required()
       ->check(positive_number(1e6, "nm"));
   sub->add_option("--medium", args->medium, "Drop medium (see hydrolux ior --list)")->capture_default_str();
   sub->add_option("--surrounding", args->surrounding, "Surrounding medium")->capture_default_str();
-  sub->add_option("--temperature-c", args->temperature_c,
-                  "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither "
-                  "medium does")->check(number_in(-273.15, 1000, "C"));
+  declared(1);  // --temperature-c
   sub->add_option("--angles-deg", args->angles,
                   "Scattering angles, degrees (0 = forward): A:B:N or a list 0,10,90")
       ->capture_default_str();
-  sub->add_option("--threads", args->threads, "Worker threads (0 = all cores)")
-      ->transform(integer_in(0, 1024))
-      ->capture_default_str();
+  declared(2);  // --threads
   sub->add_flag("--csv", args->csv, "Comma-separated output with a header row: theta_deg,i1,i2,i");
   sub->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
-  return {sub,
-          [args] { return run_phase(*args); },
-          {{"x", "--radius-um (size parameter x)"},
-           {"m_real", "--medium/--surrounding (relative index, real part)"},
-           {"m_imag", "--medium/--surrounding (relative index, imaginary part)"},
-           {"r_max_m", "--radius-um (largest radius of the distribution, m)"},
-           {"r_min_m", "--radius-um (smallest radius of the distribution, m)"},
-           {"radius_um", "--radius-um"},
-           {"wavelength_nm", "--wavelength-nm"},
-           {"temperature_c", "--temperature-c"},
-           {"p", "--theory (order P)"}}};
+  return cmd;
 }
 
 }  // namespace hydrolux::cli

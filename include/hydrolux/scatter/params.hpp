@@ -1,0 +1,35 @@
+#pragma once
+// What a user sets for Mie scattering by one sphere (hydrolux mie, hydrolux.mie) and for a drop's
+// phase function (hydrolux phase), declared once (core/params.hpp): each value's name, unit, range,
+// default and help. The defaults are MieRequest's and PhaseRequest's initializers. The index m, the
+// media, the theory, the size distribution and the angles are texts each door parses; the radius
+// and the wavelength, whose ranges are open at 0, stay with the doors too.
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "hydrolux/core/params.hpp"
+
+namespace hydrolux::scatter {
+
+struct MieRequest {
+  std::optional<double> x;              // the size parameter, with the index m
+  std::optional<double> temperature_c;  // of the media, in the physical form
+  bool no_angles = false;               // efficiencies alone: no amplitudes
+  std::optional<int> debye;             // the amplitudes of this Debye order alone
+  int threads = 0;                      // 0: every core
+};
+
+struct PhaseRequest {
+  int nodes = 64;  // radii in the size average
+  std::optional<double> temperature_c;
+  int threads = 0;
+};
+
+std::span<const Field<MieRequest>> mie_params();
+std::span<const Field<PhaseRequest>> phase_params();
+// A parameter by name; throws std::logic_error for a name not declared.
+const Param& mie_param(std::string_view name);
+const Param& phase_param(std::string_view name);
+
+}  // namespace hydrolux::scatter

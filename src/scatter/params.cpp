@@ -1,0 +1,64 @@
+#include "hydrolux/scatter/params.hpp"
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "hydrolux/scatter/debye.hpp"
+#include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/size_distribution.hpp"
+
+namespace hydrolux::scatter {
+
+namespace {
+
+constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+using K = ParamKind;
+
+
+// Shared by both jobs: the media's temperature and the worker threads.
+constexpr Param kTemperature{"temperature_c", "--temperature-c", "media", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
+                             "Temperature in Celsius of the media that model it (water: 0 to 100); refused when "
+                             "neither medium does"};
+constexpr Param kThreads{"threads", "--threads", "run", K::integer, "", 0, kMaxThreads, "Worker threads (0 = all cores)"};
+
+const Field<MieRequest> kMie[] = {
+    {{"x", "--x", "sphere", K::real, "", kMieMinSizeParameter, kMieMaxSizeParameter,
+      "Size parameter 2 pi r / lambda, 1e-6 to 1e6"},
+     HYDROLUX_PARAM_OPTIONAL(x)},
+    {kTemperature, HYDROLUX_PARAM_OPTIONAL(temperature_c)},
+    {{"no_angles", "--no-angles", "amplitudes", K::flag, "", 0, 1,
+      "Efficiencies only (Qext, Qsca, Qabs, Qback, g): no amplitudes, the fast path for size sweeps"},
+     HYDROLUX_PARAM_MEMBER(no_angles)},
+    {{"debye", "--debye", "amplitudes", K::integer, "", 0, kMaxDebyeOrder,
+      "Restrict S1, S2 to Debye order P (0 diffraction + external reflection, 1 direct transmission, 2 primary "
+      "rainbow, 3 secondary, ...); efficiencies stay the whole sphere's"},
+     [](const MieRequest& o) { return o.debye ? double(*o.debye) : kNone; },
+     [](MieRequest& o, double v) { o.debye = int(v); }},
+    {kThreads, HYDROLUX_PARAM_MEMBER(threads)},
+};
+
+const Field<PhaseRequest> kPhase[] = {
+    {{"nodes", "--nodes", "sizes", K::integer, "", 1, kMaxQuadratureNodes,
+      "Radii in the size average (Gauss-Legendre); Mie ripple needs them about lambda/10 apart"},
+     HYDROLUX_PARAM_MEMBER(nodes)},
+    {kTemperature, HYDROLUX_PARAM_OPTIONAL(temperature_c)},
+    {kThreads, HYDROLUX_PARAM_MEMBER(threads)},
+};
+
+}  // namespace
+
+std::span<const Field<MieRequest>> mie_params() { return kMie; }
+std::span<const Field<PhaseRequest>> phase_params() { return kPhase; }
+
+const Param& mie_param(std::string_view name) {
+  if (const auto* f = find_field(mie_params(), name)) return f->param;
+  throw std::logic_error("mie_param: no parameter " + std::string(name));
+}
+
+const Param& phase_param(std::string_view name) {
+  if (const auto* f = find_field(phase_params(), name)) return f->param;
+  throw std::logic_error("phase_param: no parameter " + std::string(name));
+}
+
+}  // namespace hydrolux::scatter
