@@ -7,6 +7,7 @@
 //     the secondary's the other way round, and Alexander's dark band between them;
 //   - the frame matches `hydrolux sky` (the CPU reference) with the same settings: PSNR over the
 //     whole 640x360 frame (and the cube-map and half-dome modes against the CPU's own);
+//   - a sky.json that lacks keys stops the page with an error naming them (no fallback constants);
 // then saves a screenshot of the default scene (objects on) to --out and prints the frame times.
 //
 //   node tests/web/e2e.mjs --hydrolux build/bin/hydrolux [--out DIR] [--work DIR] [--web DIR]
@@ -202,7 +203,15 @@ async function main() {
   // the page, built into the work dir (the source tree stays clean)
   const dist = path.join(workDir, 'dist');
   run(process.execPath, [path.join(webDir, 'node_modules', 'vite', 'bin', 'vite.js'), 'build', '--outDir', dist, '--emptyOutDir', '--logLevel', 'warn'], { cwd: webDir });
-  const server = await serve([['/assets/', assetsDir], ['/work/', workDir], ['/', dist]]);
+  // A copy of the assets whose sky.json lacks two keys: the page must stop with an error naming them.
+  const badAssetsDir = path.join(workDir, 'badassets');
+  fs.rmSync(badAssetsDir, { recursive: true, force: true });
+  fs.cpSync(assetsDir, badAssetsDir, { recursive: true });
+  const badSky = JSON.parse(fs.readFileSync(path.join(assetsDir, 'sky.json'), 'utf8'));
+  delete badSky.rain;
+  delete badSky.camera_height_m;
+  fs.writeFileSync(path.join(badAssetsDir, 'sky.json'), JSON.stringify(badSky));
+  const server = await serve([['/assets/', assetsDir], ['/badassets/', badAssetsDir], ['/work/', workDir], ['/', dist]]);
   const base = `http://127.0.0.1:${server.address().port}/`;
 
   const require = createRequire(path.join(webDir, 'package.json'));
@@ -323,7 +332,25 @@ async function main() {
       }
     }
 
-    // (e) the screenshot of the default scene (objects on), the control panel beside the canvas
+    if (!screenshotOnly) {
+      // (e) every sky and rain constant comes from sky.json: without its keys the page shows an error
+      // (console and the page's error box) naming them, and renders nothing with made-up values
+      errors.length = 0;
+      await page.goto(base + query({ test: 1, size: `${W}x${H}`, assets: 'badassets/', ...VIEW }));
+      await page.waitForFunction(() => window.__hydroluxReady || window.__hydroluxError, null, { timeout: 120000 });
+      const bad = await page.evaluate(() => ({
+        ready: Boolean(window.__hydroluxReady),
+        error: window.__hydroluxError ?? '',
+        shown: !document.getElementById('error').hidden ? document.getElementById('error').textContent : '',
+      }));
+      info(`sky.json without "rain" and "camera_height_m": ${bad.error}`);
+      if (bad.ready) fail('a sky.json without "rain" and "camera_height_m" still rendered');
+      for (const key of ['"rain.coefficient"', '"rain.exponent"', '"camera_height_m"'])
+        if (!bad.error.includes(key) || !bad.shown.includes(key)) fail(`the error for an incomplete sky.json does not name ${key}`);
+      if (!errors.some((e) => e.includes('camera_height_m'))) fail('the error for an incomplete sky.json is not on the console');
+    }
+
+    // (f) the screenshot of the default scene (objects on), the control panel beside the canvas
     await page.setViewportSize({ width: 1280 + 340, height: 720 });
     await open({ test: 1, ui: 1, size: '1280x720', ...VIEW });
     const ms = await page.evaluate(() => window.__hydrolux.measure(10));

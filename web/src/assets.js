@@ -1,6 +1,7 @@
 // Loads what `hydrolux export --dir DIR` writes, at run time: the Lee tables (.f32 + .json),
 // sky.json and the GLSL files, so the page runs the very shaders the export ships.
 import * as THREE from 'three';
+import { checkSky } from './sky.js';
 
 // The GLSL function files in the order they are concatenated (each needs the ones before it).
 export const GLSL_FUNCTIONS = [
@@ -62,6 +63,7 @@ export async function loadAssets(base) {
     bin('rainbow.f32'),
     bin('corona.f32'),
   ]);
+  checkSky(sky); // every sky and rain constant comes from sky.json: a missing key stops the page here
   const names = [...GLSL_FUNCTIONS, ...GLSL_MAINS];
   const sources = await Promise.all(names.map(text));
   const glsl = Object.fromEntries(names.map((n, i) => [n, sources[i]]));

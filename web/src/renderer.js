@@ -67,7 +67,7 @@ export class HydroluxRenderer {
         u_cam_r: { value: new THREE.Vector3() },
         u_cam_u: { value: new THREE.Vector3() },
         u_tan_half_fov: { value: 1 },
-        u_cam_height: { value: 1.7 },
+        u_cam_height: { value: 0 }, // sky.json's camera_height_m, set by render()
         u_sky: {
           value: {
             perez_a: new THREE.Vector3(),
@@ -86,7 +86,7 @@ export class HydroluxRenderer {
         u_l_ref: { value: 1 },
         u_light_color: { value: new THREE.Vector3(1, 1, 1) },
         u_blend: { value: 0 },
-        u_beta_geo: { value: 5e-4 },
+        u_beta_geo: { value: 0 }, // from sky.json's rain power law, set by render()
         u_curtain: { value: new THREE.Vector2(1000, 3000) },
         u_moisture: { value: 1 },
         u_moisture_noise: { value: 0 },

@@ -1,10 +1,54 @@
 // Sky and rain quantities from the exported sky.json at any sun elevation (docs/sky.md): its rows
 // are 1 degree apart, interpolated linearly here; at a tabulated elevation the values are exact.
 
+// The keys of sky.json (written by `hydrolux export`) that the page reads. Every constant comes from
+// there, with no copy here: a missing key is an error (checkSky, when the assets load), never a
+// silent default.
+export const SKY_KEYS = [
+  'elevations_deg',
+  'sun_illuminance_lux',
+  'sun_rgb',
+  'sky_illuminance_rgb',
+  'l_ref',
+  'zenith_Y_kcd',
+  'zenith_x',
+  'zenith_y',
+  'perez_Y',
+  'perez_x',
+  'perez_y',
+  'ground_albedo',
+  'xyz_to_rgb',
+  'camera_height_m',
+  'rain.coefficient',
+  'rain.exponent',
+];
+
+// The value at a dotted key ("rain.coefficient"), undefined where any part is missing.
+function lookup(sky, key) {
+  return key.split('.').reduce((o, k) => (o !== null && typeof o === 'object' ? o[k] : undefined), sky);
+}
+
+// Throws, naming every key of SKY_KEYS that sky.json lacks.
+export function checkSky(sky) {
+  const missing = SKY_KEYS.filter((k) => lookup(sky, k) === undefined);
+  if (missing.length)
+    throw new Error(
+      `sky.json has no ${missing.map((k) => `"${k}"`).join(', ')} (re-export the assets with \`hydrolux export\`)`,
+    );
+  if (!Array.isArray(sky.elevations_deg) || sky.elevations_deg.length < 2)
+    throw new Error('sky.json: "elevations_deg" must list at least two elevations');
+}
+
+// sky.json's value at a key, which must be there.
+function need(sky, key) {
+  const v = lookup(sky, key);
+  if (v === undefined) throw new Error(`sky.json has no "${key}"`);
+  return v;
+}
+
 // sky.json's keys, tolerant of per-elevation arrays or one value for all elevations.
 function rowOf(sky, key, i, f) {
-  const a = sky[key];
-  if (a === undefined) throw new Error(`sky.json has no "${key}"`);
+  const a = need(sky, key);
   if (!Array.isArray(a) || a.length !== sky.elevations_deg.length) return a; // one value for all
   const lerp = (x, y) => (Array.isArray(x) ? x.map((xi, k) => lerp(xi, y[k])) : x + (y - x) * f);
   return f === 0 ? a[i] : lerp(a[i], a[i + 1]);
@@ -34,20 +78,17 @@ export function skyAt(sky, elevationDeg) {
     perezY: get('perez_Y'),
     perezX: get('perez_x'),
     perezYy: get('perez_y'),
-    groundAlbedo: sky.ground_albedo,
-    xyzToRgb: sky.xyz_to_rgb,
-    cameraHeight: sky.camera_height_m ?? 1.7,
+    groundAlbedo: need(sky, 'ground_albedo'),
+    xyzToRgb: need(sky, 'xyz_to_rgb'),
+    cameraHeight: need(sky, 'camera_height_m'),
   };
 }
 
-// beta_geo = pi M2 (m^-1) of Marshall and Palmer's rain: n(a) = N0 exp(-Lambda a) per metre of
-// radius with N0 = 1.6e7 m^-4 (their 8e6 per metre of diameter) and Lambda = 8200 R^-0.21 m^-1,
-// so M2 = 2 N0 / Lambda^3 (5.0e-4 m^-1 at 5 mm/h).
-// sky.json's "rain" (coefficient x R^exponent, the same power law) is used when present.
+// beta_geo = pi M2 (m^-1) of Marshall and Palmer's rain at rainMmh (mm/h): sky.json's "rain", the
+// power law coefficient x R^exponent that `hydrolux export` fits to the library's one law
+// (scene::rain_beta_geo_per_m, from scatter::SizeDistribution::marshall_palmer).
 export function betaGeo(rainMmh, sky) {
-  if (sky?.rain?.coefficient !== undefined) return sky.rain.coefficient * Math.pow(rainMmh, sky.rain.exponent);
-  const lambda = 8200 * Math.pow(rainMmh, -0.21);
-  return (Math.PI * 2 * 1.6e7) / (lambda * lambda * lambda);
+  return need(sky, 'rain.coefficient') * Math.pow(rainMmh, need(sky, 'rain.exponent'));
 }
 
 // dir(az, el) in the world frame of docs/sky.md: +y up, +z north, +x east.
