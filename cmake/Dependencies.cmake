@@ -1,6 +1,12 @@
 # Every dependency is a Debian 12 package installed by scripts/install-deps.
 find_package(PkgConfig REQUIRED)
+# {fmt} 9.1 (libfmt-dev), used header-only: Debian ships its compiled part only as libfmt.so, which
+# would cost every CLI start a library load and bring the shared libstdc++ back into a CLI linked
+# with a static one (tools/hydrolux/CMakeLists.txt). The package's own fmt::fmt-header-only target
+# (FMT_HEADER_ONLY: the same code, compiled into each user) stands in for fmt::fmt everywhere.
 find_package(fmt REQUIRED)
+add_library(hydrolux_fmt INTERFACE)
+target_link_libraries(hydrolux_fmt INTERFACE fmt::fmt-header-only)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json REQUIRED)
 find_package(glm REQUIRED)

@@ -291,8 +291,20 @@ TEST(CliStartup, DoesNotLoadHighwaysLibrary) {
 #if !HYDROLUX_TEST_ASAN && defined(NDEBUG)
   const auto r = hydrolux::testing::run_argv({"fresnel", "--theta-deg", "30"},
                                              [] { ::setenv("LD_TRACE_LOADED_OBJECTS", "1", 1); });
-  EXPECT_NE(r.out.find("libstdc++"), std::string::npos) << r.out;  // the listing is there
+  EXPECT_NE(r.out.find("libc.so"), std::string::npos) << r.out;  // the listing is there
   EXPECT_EQ(r.out.find("libhwy"), std::string::npos) << r.out;
+#endif
+}
+
+// Nor, in a Release build with the fast start (HYDROLUX_FAST_START; BENCHMARKS.md "CLI start-up"),
+// the shared libstdc++, fmt or oneTBB: the executable carries the first two and loads oneTBB on its
+// first parallel loop. A shared library listed here costs every start its loading and relocation.
+TEST(CliStartup, LoadsNoCxxLibraryAtStart) {
+#if !HYDROLUX_TEST_ASAN && defined(NDEBUG) && HYDROLUX_TEST_FAST_START
+  const auto r = hydrolux::testing::run_argv({"fresnel", "--theta-deg", "30"},
+                                             [] { ::setenv("LD_TRACE_LOADED_OBJECTS", "1", 1); });
+  ASSERT_NE(r.out.find("libc.so"), std::string::npos) << r.out;
+  for (const char* lib : {"libstdc++", "libfmt", "libtbb"}) EXPECT_EQ(r.out.find(lib), std::string::npos) << lib << "\n" << r.out;
 #endif
 }
 

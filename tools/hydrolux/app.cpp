@@ -15,7 +15,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <new>
+#include <optional>
 #include <string_view>
 #include <system_error>
 #include <thread>
@@ -123,15 +125,35 @@ std::string program_from_argv(const CLI::App& app, int argc, const char* const* 
 
 }  // namespace
 
+namespace {
+
+// Each top-level command: the name it registers and how, in the order of `hydrolux --help`.
+struct TopCommand {
+  std::string_view name;
+  void (*add)(CLI::App& app, std::vector<Command>& out);
+};
+constexpr TopCommand kTopCommands[] = {
+    {"fresnel", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_fresnel(app)); }},
+    {"ior", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_ior(app)); }},
+    {"mie", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_mie(app)); }},
+    {"phase", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_phase(app)); }},
+    {"drop",
+     [](CLI::App& app, std::vector<Command>& out) {
+       for (auto& c : add_drop(app)) out.push_back(std::move(c));
+     }},
+    {"rainphys", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_rainphys(app)); }},
+    {"lee", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_lee(app)); }},
+    {"sky", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_sky(app)); }},
+    {"export", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_export(app)); }},
+    {"rain", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_rain(app)); }},
+    {"gallery", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_gallery(app)); }},
+};
+
+}  // namespace
+
 std::vector<Command> add_all_commands(CLI::App& app) {
-  std::vector<Command> commands = {add_fresnel(app), add_ior(app), add_mie(app), add_phase(app)};
-  for (auto& c : add_drop(app)) commands.push_back(std::move(c));
-  commands.push_back(add_rainphys(app));
-  commands.push_back(add_lee(app));
-  commands.push_back(add_sky(app));
-  commands.push_back(add_export(app));
-  commands.push_back(add_rain(app));
-  commands.push_back(add_gallery(app));
+  std::vector<Command> commands;
+  for (const auto& top : kTopCommands) top.add(app, commands);
   return commands;
 }
 
@@ -155,74 +177,23 @@ std::string with_flags(std::string text, const std::map<std::string, std::string
   return text;
 }
 
-int run_parsed(int argc, char** argv) {
-  // A provisional name for messages (the leading words of argv, "hydrolux drop render"), set before
-  // the signal handling starts: a Ctrl-C may come before the command tree is even built.
-  std::string provisional = "hydrolux";
-  for (int i = 1; i < argc && i <= 2 && argv[i][0] != '-' && argv[i][0] != '\0'; ++i) provisional += std::string(" ") + argv[i];
-  set_program_name(provisional);
-  install_signal_handling();
-  CLI::App app{"hydrolux: physically based light transport through water drops.\n"
-               "Units: angles in degrees, wavelengths in vacuum nanometres, temperatures in Celsius.\n"
-               "Exit codes: 0 done; 2 bad input (nothing written); 1 a system failure such as a full disk "
-               "(no output replaced); 130/143 cancelled by Ctrl-C/SIGTERM (unfinished outputs removed).",
-               "hydrolux"};
-  app.set_version_flag("--version", fmt::format("hydrolux {}", kVersion));
-  app.require_subcommand(1);
-  app.allow_extras(false);
-  app.get_formatter()->column_width(34);
+// The top-level app, before any command is registered.
+std::unique_ptr<CLI::App> new_app() {
+  auto app = std::make_unique<CLI::App>(
+      "hydrolux: physically based light transport through water drops.\n"
+      "Units: angles in degrees, wavelengths in vacuum nanometres, temperatures in Celsius.\n"
+      "Exit codes: 0 done; 2 bad input (nothing written); 1 a system failure such as a full disk "
+      "(no output replaced); 130/143 cancelled by Ctrl-C/SIGTERM (unfinished outputs removed).",
+      "hydrolux");
+  app->set_version_flag("--version", fmt::format("hydrolux {}", kVersion));
+  app->require_subcommand(1);
+  app->allow_extras(false);
+  app->get_formatter()->column_width(34);
+  return app;
+}
 
-  const std::vector<Command> commands = add_all_commands(app);
-  // "--flag=" (an empty value after '=') becomes "--flag" "": CLI11 would otherwise take the next
-  // argument, another flag, as the value and report a confusing error about something else.
-  std::vector<std::string> split_args;
-  std::vector<const char*> args{argv[0]};
-  split_args.reserve(2 * std::size_t(argc));
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view a = argv[i];
-    if (a.size() > 3 && a.substr(0, 2) == "--" && a.find('=') == a.size() - 1) {
-      split_args.emplace_back(a.substr(0, a.size() - 1));
-      split_args.emplace_back();
-    } else {
-      split_args.emplace_back(a);
-    }
-  }
-  for (const auto& a : split_args) args.push_back(a.c_str());
-  // Named from argv at once: a signal may arrive while the arguments are still being parsed.
-  set_program_name(program_from_argv(app, int(args.size()), args.data()));
-  try {
-    app.parse(int(args.size()), args.data());
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ConversionError& e) {
-    // CLI11's "Could not convert: --json = maybe": say what the option takes instead.
-    const std::string prog = program_from_argv(app, int(args.size()), args.data());
-    std::string msg = e.what();
-    const auto colon = msg.find(": "), eq = msg.find(" = ");
-    if (colon != std::string::npos && eq != std::string::npos && eq > colon) {
-      const std::string name = msg.substr(colon + 2, eq - colon - 2), value = msg.substr(eq + 3);
-      msg = fmt::format("{} '{}': not a value this option takes", name, value);
-      for (const auto& cmd : commands)
-        if (prog == "hydrolux " + cmd.app->get_name() || prog.ends_with(" " + cmd.app->get_name()))
-          if (const auto* opt = cmd.app->get_option_no_throw(name); opt && opt->get_expected_max() == 0)
-            msg = fmt::format("{} '{}': {} is a switch and takes no value; give {} alone", name, value, name, name);
-    }
-    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, printable(msg), prog);
-    return kExitUsage;
-  } catch (const CLI::ParseError& e) {
-    std::string msg = e.what();
-    if (msg.empty()) msg = "invalid arguments";
-    for (char& c : msg)
-      if (c == '\n') c = ' ';
-    const std::string prog = program_from_argv(app, int(args.size()), args.data());
-    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, printable(msg), prog);
-    return kExitUsage;
-  }
-
+// Runs the command that parsed, turning its failures into messages and exit codes.
+int run_command(const CLI::App& app, const std::vector<Command>& commands) {
   for (const auto& cmd : commands) {
     if (!cmd.app->parsed()) continue;
     std::string prog = cmd.app->get_name();
@@ -268,6 +239,107 @@ int run_parsed(int argc, char** argv) {
     }
   }
   return kExitFailure;  // unreachable: require_subcommand(1)
+}
+
+// A run that parses with part of the command tree (issue 24: registering all the commands, with
+// their ~300 options and the defaults some compute, was most of a short command's start-up).
+// `hydrolux NAME ...` registers only NAME: once a top-level command is parsed, CLI11 matches no
+// other top-level name (require_subcommand(1)), so the other commands cannot change how the rest of
+// the line parses. `hydrolux --version` alone registers none. Anything else, and any line this
+// tree does not parse (an error, --help), returns nullopt: the whole tree then parses it again, so
+// that every message, help text and exit code is the whole tree's.
+std::optional<int> run_with_part_of_tree(const std::vector<const char*>& args) {
+  if (args.size() < 2) return std::nullopt;
+  const std::string_view first = args[1];
+  const TopCommand* only = nullptr;
+  for (const auto& top : kTopCommands)
+    if (top.name == first) only = &top;
+  const bool version_only = args.size() == 2 && first == "--version";
+  if (!only && !version_only) return std::nullopt;
+
+  const auto app = new_app();
+  std::vector<Command> commands;
+  if (only) {
+    only->add(*app, commands);
+    const auto subs = app->get_subcommands([](const CLI::App*) { return true; });
+    if (subs.size() != 1 || subs.front()->get_name() != first) return std::nullopt;  // not as registered
+  }
+  set_program_name(program_from_argv(*app, int(args.size()), args.data()));
+  try {
+    app->parse(int(args.size()), args.data());
+  } catch (const CLI::CallForVersion& e) {
+    if (version_only) return app->exit(e);
+    return std::nullopt;
+  } catch (const CLI::Error&) {
+    return std::nullopt;
+  }
+  return run_command(*app, commands);
+}
+
+int run_parsed(int argc, char** argv) {
+  // A provisional name for messages (the leading words of argv, "hydrolux drop render"), set before
+  // the signal handling starts: a Ctrl-C may come before the command tree is even built.
+  std::string provisional = "hydrolux";
+  for (int i = 1; i < argc && i <= 2 && argv[i][0] != '-' && argv[i][0] != '\0'; ++i) provisional += std::string(" ") + argv[i];
+  set_program_name(provisional);
+  install_signal_handling();
+
+  // "--flag=" (an empty value after '=') becomes "--flag" "": CLI11 would otherwise take the next
+  // argument, another flag, as the value and report a confusing error about something else.
+  std::vector<std::string> split_args;
+  std::vector<const char*> args{argv[0]};
+  split_args.reserve(2 * std::size_t(argc));
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view a = argv[i];
+    if (a.size() > 3 && a.substr(0, 2) == "--" && a.find('=') == a.size() - 1) {
+      split_args.emplace_back(a.substr(0, a.size() - 1));
+      split_args.emplace_back();
+    } else {
+      split_args.emplace_back(a);
+    }
+  }
+  for (const auto& a : split_args) args.push_back(a.c_str());
+
+  if (const std::optional<int> code = run_with_part_of_tree(args)) return *code;
+
+  const auto app_owner = new_app();
+  CLI::App& app = *app_owner;
+  const std::vector<Command> commands = add_all_commands(app);
+  // Named from argv at once: a signal may arrive while the arguments are still being parsed.
+  set_program_name(program_from_argv(app, int(args.size()), args.data()));
+  try {
+    app.parse(int(args.size()), args.data());
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ConversionError& e) {
+    // CLI11's "Could not convert: --json = maybe": say what the option takes instead.
+    const std::string prog = program_from_argv(app, int(args.size()), args.data());
+    std::string msg = e.what();
+    const auto colon = msg.find(": "), eq = msg.find(" = ");
+    if (colon != std::string::npos && eq != std::string::npos && eq > colon) {
+      const std::string name = msg.substr(colon + 2, eq - colon - 2), value = msg.substr(eq + 3);
+      msg = fmt::format("{} '{}': not a value this option takes", name, value);
+      for (const auto& cmd : commands)
+        if (prog == "hydrolux " + cmd.app->get_name() || prog.ends_with(" " + cmd.app->get_name()))
+          if (const auto* opt = cmd.app->get_option_no_throw(name); opt && opt->get_expected_max() == 0)
+            msg = fmt::format("{} '{}': {} is a switch and takes no value; give {} alone", name, value, name, name);
+    }
+    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, printable(msg), prog);
+    return kExitUsage;
+  } catch (const CLI::ParseError& e) {
+    std::string msg = e.what();
+    if (msg.empty()) msg = "invalid arguments";
+    for (char& c : msg)
+      if (c == '\n') c = ' ';
+    const std::string prog = program_from_argv(app, int(args.size()), args.data());
+    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, printable(msg), prog);
+    return kExitUsage;
+  }
+  return run_command(app, commands);
 }
 
 }  // namespace
