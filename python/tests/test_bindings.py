@@ -1,6 +1,8 @@
 """Every binding of the hydrolux package: dtypes and shapes, the same numbers as the CLI for the same
 inputs (bit for bit: both call the same library code, and the CLI's JSON prints doubles in their
 shortest round-trip form), invariants, and bad inputs raising ValueError that names the argument."""
+import argparse
+import inspect
 import json
 import os
 import signal
@@ -177,6 +179,32 @@ def test_rain_matches_cli(cli, tmp_path):
     assert r.stats["drops_in_view"] > 0
     # image = clear (1 - alpha) + layer, up to float rounding.
     assert np.all((r.mask >= 0) & (r.mask <= 1))
+
+
+def test_a_declared_parameter_reaches_every_door(cli, tmp_path):
+    """radius_classes, declared once (src/rain/params.cpp; docs/parameters.md): the CLI's flag, the
+    Python keyword, the batch job's option and the reference all take it, with the same range."""
+    from hydrolux.batch import rain as batch_rain
+    frame = h.builtin_scene(96, 64)
+    src = tmp_path / "frame.exr"
+    h.write_image(str(src), frame)
+    r = h.rain(h.read_image(str(src)), seed=3, radius_classes=6)
+    cli("rain", "--image", src, "-o", tmp_path / "out.exr", "--stats-json", tmp_path / "s.json", "--seed", 3,
+        "--radius-classes", 6, "-q")
+    np.testing.assert_array_equal(r.image, h.read_image(str(tmp_path / "out.exr")))
+    run = json.loads((tmp_path / "s.json").read_text())
+    assert run["rain"]["radius_classes"] == 6 and len(run["field"]["classes"]) == 6
+    assert not np.array_equal(r.image, h.rain(frame, seed=3).image)  # 6 classes are not the default 24
+    assert "radius_classes" in inspect.signature(h.rain).parameters
+    bad = cli("rain", "--image", src, "-o", tmp_path / "bad.exr", "--radius-classes", 300, check=False)
+    assert bad.returncode == 2 and "--radius-classes" in bad.stderr and "[1, 256]" in bad.stderr
+    with pytest.raises(ValueError, match=r"radius_classes: 300 is outside the valid range \[1, 256\]"):
+        h.rain(frame, radius_classes=300)
+    p = argparse.ArgumentParser()
+    batch_rain.add_arguments(p)
+    assert p.parse_args(["--radius-classes", "6"]).radius_classes == "6"  # parsed by the library later
+    reference = open(os.path.join(os.environ.get("HYDROLUX_SOURCE_DIR", "."), "docs", "reference.md")).read()
+    assert "| `--radius-classes` | `radius_classes` | rain |" in reference
 
 
 def test_rain_renderer_sequence_is_frame_independent():

@@ -89,7 +89,7 @@ void validate(const RainSettings& s) {
   rain_param("backdrop_m").check(s.backdrop_m);
   rain_param("oscillation").check(s.oscillation);
   require_in_range("refractive_index", s.refractive_index, 1.01, 3);
-  require_in_range("radius_classes", s.radius_classes, 1, 256);
+  rain_param("radius_classes").check(s.radius_classes);
 }
 
 // ---- Marshall-Palmer ------------------------------------------------------------------------
