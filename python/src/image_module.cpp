@@ -9,6 +9,7 @@
 #include "common.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/image_io.hpp"
+#include "hydrolux/rain/params.hpp"
 
 namespace hydrolux::py_bind {
 namespace {
@@ -44,7 +45,7 @@ py::tuple read_image(const std::string& path) {
 
 // A depth map for a width x height frame (io::depth_from_decoded), as hydrolux rain reads --depth.
 py::array_t<float> read_depth(const std::string& path, double scale_m, int width, int height, const std::string& label) {
-  require_arg("depth_scale_m", scale_m, 1e-6, 1e3, "m");
+  rain::rain_param("depth_scale_m").check(scale_m);  // the declared range (rain/params.cpp)
   Image depth;
   {
     py::gil_scoped_release release;

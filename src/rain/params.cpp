@@ -12,7 +12,7 @@ using K = ParamKind;
 
 
 const Field<RainOptions> kRain[] = {
-    {{"rate_mmh", "--rate-mmh", "rain", K::real, "mm/h", 0, 500, "Rain rate, mm/h"}, HYDROLUX_PARAM_MEMBER(settings.rate_mmh)},
+    {{"rate_mmh", "--rate-mmh", "rain", K::real, "mm/h", 0, kMaxRainRateMmh, "Rain rate, mm/h"}, HYDROLUX_PARAM_MEMBER(settings.rate_mmh)},
     {{"wind_mps", "--wind-mps", "rain", K::real, "m/s", 0, 50, "Horizontal wind speed, m/s (drops move with it)"},
      HYDROLUX_PARAM_MEMBER(settings.wind_mps)},
     {{"wind_dir_deg", "--wind-dir-deg", "rain", K::real, "deg", -360, 360,

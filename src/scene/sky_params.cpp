@@ -45,7 +45,7 @@ std::span<const Field<SkyOptions>> sky_params() {
       {{"view_elevation_deg", "--view-elevation-deg", "camera", K::real, "deg", -89, 89,
         "Where the camera looks: elevation, degrees"},
        HYDROLUX_PARAM_MEMBER(settings.camera.elevation_deg)},
-      {{"rain_rate_mmh", "--rain-rate-mmh", "rain", K::real, "mm/h", 0, 500,
+      {{"rain_rate_mmh", "--rain-rate-mmh", "rain", K::real, "mm/h", 0, kMaxRainRateMmh,
         "Rain rate in mm/h (Marshall-Palmer drops): sets the curtain's optical depth"},
        HYDROLUX_PARAM_MEMBER(settings.rain_rate_mmh)},
       {{"turbidity", "--turbidity", "sun", K::real, "", kMinTurbidity, kMaxTurbidity,

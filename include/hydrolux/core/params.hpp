@@ -46,6 +46,9 @@ struct Param {
 // Ranges that several jobs' parameters share, stated once: a temperature before the medium's own
 // range is checked (from absolute zero to 1000 C), and the worker threads (0: every core).
 inline constexpr double kMinTemperatureC = -273.15, kMaxTemperatureC = 1000;
+// The rain rate the rain and the sky take, mm/h (0: no rain; Marshall-Palmer is fitted to at most
+// ~100 mm/h, and cloudbursts reach a few hundred).
+inline constexpr double kMaxRainRateMmh = 500;
 inline constexpr int kMaxThreads = 1024;
 
 // A parameter bound to the request it fills. `get` reads it (NaN where it has no value of its own

@@ -80,28 +80,31 @@ inline constexpr double kMinFNumber = 0.7;
 // The focal length that gives a horizontal field of view `fov_deg` on a sensor `sensor_width_mm` wide.
 double focal_mm_from_fov(double fov_deg, double sensor_width_mm);
 
-// DomainError naming the quantity ("focal_mm", "exposure_s", ...) for a value outside its range:
-// width, height [16, 16384]; focal_mm [1, 2000]; sensor_width_mm [1, 100]; f_number 0 or [0.7, 64];
-// focus_m (f, 1e4]; fps [0.01, 1000] (a time lapse too); exposure_s [1e-6, 1 / fps]; height_m [0, 1000];
-// pitch_deg [-80, 80].
+// DomainError naming the quantity ("focal_mm", "exposure_s", ...) for a value outside its range: the
+// declared ranges (rain/params.cpp), the frame's sides in [kMinFrameSide, kMaxFrameSide], an f-number
+// of 0 (a pinhole) or from kMinFNumber, the focus beyond the focal length, the exposure within one
+// frame (1 / fps).
 void validate(const RainCamera& camera);
 
+// The rain a user asks for. The valid ranges (and each member's help) are declared once with the
+// parameters in rain/params.cpp; validate() checks them and the ranges that follow from other
+// members (far_m beyond near_m, max_radius_mm beyond min_radius_mm).
 struct RainSettings {
-  double rate_mmh = 25;          // rain rate, [0, 500] mm/h (0: no rain)
-  double wind_mps = 0;           // horizontal wind speed, [0, 50] m/s; drops move with it
+  double rate_mmh = 25;          // rain rate, mm/h (0: no rain)
+  double wind_mps = 0;           // horizontal wind speed, m/s; drops move with it
   double wind_dir_deg = 90;      // where it blows to: 0 away from the camera, 90 to its right
-  double near_m = 0.5;           // drops nearer than this are left out, [0.05, 100] m
-  double far_m = 100;            // no drop is drawn beyond this, (near_m, 1e4] m
-  double min_radius_mm = 0.1;    // smaller drops count only as unresolved rain, [0.04, 2.9] mm
-  double max_radius_mm = 2.9;    // larger ones break up, (min_radius_mm, 2.9] mm (Gunn & Kinzer's table)
-  double min_alpha = 0.01;       // a class is drawn out to where its peak alpha falls below this, [1e-5, 0.5]
-  double extent_m = 1000;        // the rain's depth where a depth map has none (sky), [0, 1e5] m
-  double backdrop_m = 100;       // without a depth map: the ground plane up to a backdrop this far, [1, 1e5] m
-  double oscillation = 0;        // relative amplitude of the drop's apparent radius oscillation, [0, 0.5]
+  double near_m = 0.5;           // drops nearer than this are left out
+  double far_m = 100;            // no drop is drawn beyond this
+  double min_radius_mm = 0.1;    // smaller drops count only as unresolved rain
+  double max_radius_mm = 2.9;    // larger ones break up (Gunn & Kinzer's table ends there)
+  double min_alpha = 0.01;       // a class is drawn out to where its peak alpha falls below this
+  double extent_m = 1000;        // the rain's depth where a depth map has none (sky)
+  double backdrop_m = 100;       // without a depth map: the ground plane up to a backdrop this far
+  double oscillation = 0;        // relative amplitude of the drop's apparent radius oscillation
   double refractive_index = 1.333;  // water, [1.01, 3]
   std::uint64_t seed = 1;
   bool unresolved = true;        // the unresolved rain's extinction and airlight
-  int radius_classes = 24;       // log-spaced radius classes, [1, 256]
+  int radius_classes = 24;       // log-spaced radius classes
 };
 
 // The largest seed every door accepts (CLI --seed, Python seed=, the batch jobs): 2^53, so that a
