@@ -1,12 +1,19 @@
 # Every dependency is a Debian 12 package installed by scripts/install-deps.
 find_package(PkgConfig REQUIRED)
-# {fmt} 9.1 (libfmt-dev), used header-only: Debian ships its compiled part only as libfmt.so, which
-# would cost every CLI start a library load and bring the shared libstdc++ back into a CLI linked
-# with a static one (tools/hydrolux/CMakeLists.txt). The package's own fmt::fmt-header-only target
-# (FMT_HEADER_ONLY: the same code, compiled into each user) stands in for fmt::fmt everywhere.
-find_package(fmt REQUIRED)
-add_library(hydrolux_fmt INTERFACE)
-target_link_libraries(hydrolux_fmt INTERFACE fmt::fmt-header-only)
+# {fmt} 9.1 (libfmt-dev): Debian ships its compiled part only as libfmt.so, which would cost every
+# CLI start a library load and bring the shared libstdc++ back into a CLI linked with a static one
+# (tools/hydrolux/CMakeLists.txt). hydrolux_fmt is that part built here from the installed headers
+# (cmake/fmt_compiled.cpp) as a static library, for every target that formats. FMT_SHARED stays
+# defined for the users, as the package's shared target defines it: on ELF it only gives fmt's API
+# default visibility, so every object compiles as it did against libfmt.so.
+find_package(fmt REQUIRED)   # the headers (and the version check below)
+if(NOT fmt_VERSION VERSION_GREATER_EQUAL 9 OR fmt_VERSION VERSION_GREATER_EQUAL 10)
+  message(FATAL_ERROR "cmake/fmt_compiled.cpp is fmt 9's compiled part; found fmt ${fmt_VERSION}")
+endif()
+add_library(hydrolux_fmt STATIC ${CMAKE_CURRENT_LIST_DIR}/fmt_compiled.cpp)
+target_include_directories(hydrolux_fmt SYSTEM PUBLIC
+  $<TARGET_PROPERTY:fmt::fmt-header-only,INTERFACE_INCLUDE_DIRECTORIES>)
+target_compile_definitions(hydrolux_fmt PUBLIC FMT_SHARED)
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json REQUIRED)
 find_package(glm REQUIRED)
