@@ -633,4 +633,14 @@ Image depth_from_decoded(const DecodedImage& decoded, double scale_m, int width,
   return depth;
 }
 
+DecodedImage read_decoded(const ImageCodec& codec, std::string_view label, const fs::path& path,
+                          const std::function<void(const std::string&)>& warn) {
+  const std::string bytes = read_file(path, ImageLimits{}.max_file_bytes, label);
+  const std::string origin = fmt::format("{} {}", label, path.string());
+  auto decoded = codec.decode(bytes, origin, ImageLimits{});
+  if (warn)
+    for (const auto& w : decoded.warnings) warn(fmt::format("{}: {}", origin, w));
+  return decoded;
+}
+
 }  // namespace hydrolux::io

@@ -43,10 +43,7 @@ struct Run {
   }
 
   Image read_image(const std::string& flag, const std::string& path) const {
-    const std::string bytes = read_file(path, ImageLimits{}.max_file_bytes, flag);
-    auto decoded = h.codec.decode(bytes, fmt::format("{} {}", flag, path), ImageLimits{});
-    for (const auto& w : decoded.warnings) warn(fmt::format("{} {}: {}", flag, path, w));
-    return std::move(decoded.image);
+    return std::move(read_decoded(h.codec, flag, path, h.warn).image);
   }
 
   // A depth map (depth_from_decoded), the JPEG refused before it is decoded. --depth-scale-m, if

@@ -5,9 +5,9 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 
 #include "common.hpp"
+#include "hydrolux/io/files.hpp"
 #include "support/cli.hpp"
 
 namespace {
@@ -18,7 +18,7 @@ TEST(Reference, DocsReferenceIsCurrent) {
   const std::string generated = hydrolux::cli::reference_markdown(commands);
   const auto path = std::filesystem::path(HYDROLUX_SOURCE_DIR) / "docs" / "reference.md";
   if (const char* w = std::getenv("HYDROLUX_WRITE_REFERENCE"); w && std::string(w) == "1") {
-    std::ofstream(path, std::ios::binary) << generated;
+    hydrolux::io::write_file(path, generated, "docs/reference.md");  // checked and atomic (files.hpp)
     GTEST_SKIP() << "wrote " << path;
   }
   EXPECT_EQ(hydrolux::testing::slurp(path), generated)

@@ -23,25 +23,13 @@ struct RainArgs {
   bool quiet = false;
 };
 
-// The image plugin's coder, loaded on first use only (a video run never loads OpenImageIO).
-io::ImageCodec lazy_codec() {
-  io::ImageCodec c;
-  c.decode = [](std::string_view bytes, std::string_view origin, const io::ImageLimits& limits) {
-    return image_api().decode_image(bytes, origin, limits);
-  };
-  c.encode = [](const Image& image, io::ImageFormat format, io::PngOptions png) {
-    return image_api().encode_image(image, format, png);
-  };
-  return c;
-}
-
 int run_rain(RainArgs& a, const CLI::App& sub) {
   io::RainJob& job = *a.job;
   job.crf_given = given(sub, rain::rain_param("crf"));
   job.depth_scale_given = given(sub, rain::rain_param("depth_scale_m"));
   ProgressBar bar("rain", a.quiet);
   io::RainJobHooks hooks;
-  hooks.codec = lazy_codec();
+  hooks.codec = image_codec();  // the plugin loads on first use: a video run never loads OpenImageIO
   hooks.warn = [](const std::string& text) { warn(text); };
   hooks.progress = [&bar](double f, std::string_view label) { bar.update(f, label); };
   hooks.clear_progress = [&bar] { bar.clear(); };

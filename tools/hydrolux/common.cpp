@@ -143,11 +143,8 @@ ImageOutput declare_output_image(io::FileSet& files, const std::string& flag, co
 }
 
 io::DecodedImage read_input_decoded(const std::string& flag, const std::string& path) {
-  const ImageApi& images = image_api();  // before reading: a missing plugin is reported first
-  const std::string bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, flag);
-  auto decoded = images.decode_image(bytes, fmt::format("{} {}", flag, path), io::ImageLimits{});
-  for (const auto& w : decoded.warnings) warn(fmt::format("{} {}: {}", flag, path, w));
-  return decoded;
+  (void)image_api();  // loaded before reading: a missing plugin is reported first
+  return io::read_decoded(image_codec(), flag, path, [](const std::string& w) { warn(w); });
 }
 
 Image read_input_image(const std::string& flag, const std::string& path) {

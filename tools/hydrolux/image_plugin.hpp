@@ -35,5 +35,7 @@ inline constexpr const char* kImagePluginFile = "libhydrolux_image_plugin.so";
 // Loads the plugin (once; thread-safe) from the directory of the running executable
 // (hydrolux/io/plugin.hpp). Throws hydrolux::Error naming the file and the loader's reason if it cannot.
 const ImageApi& image_api();
+// The plugin's coder as the library takes it (io::ImageCodec), loading the plugin on first use only.
+io::ImageCodec image_codec();
 
 }  // namespace hydrolux::cli

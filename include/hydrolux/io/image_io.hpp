@@ -16,6 +16,7 @@
 // error, or a warning returned with the image.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -52,6 +53,18 @@ struct DecodedImage {
   ImageFormat format = ImageFormat::png;
   std::vector<std::string> warnings;  // what the codec said on a successful decode, one line each
 };
+
+// An image coder passed in by a caller that loads the codecs itself (the CLI's image plugin keeps
+// OpenImageIO out of commands that do not read or write images): decode_image and encode_image.
+struct ImageCodec {
+  DecodedImage (*decode)(std::string_view bytes, std::string_view origin, const ImageLimits& limits) = nullptr;
+  std::string (*encode)(const Image& image, ImageFormat format, PngOptions png) = nullptr;
+};
+
+// An image file given as `label` (a flag), read whole through the checked path (files.hpp) and
+// decoded by `codec`; each warning of the codec goes to `warn` as "<label> <path>: <warning>".
+DecodedImage read_decoded(const ImageCodec& codec, std::string_view label, const std::filesystem::path& path,
+                          const std::function<void(const std::string&)>& warn);
 
 // The format from the first bytes: PNG, EXR, Radiance HDR (#?RADIANCE / #?RGBE), PNM (P1-P6,
 // Pf/PF), JPEG, TIFF; nullopt otherwise.

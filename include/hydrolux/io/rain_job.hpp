@@ -15,12 +15,6 @@
 
 namespace hydrolux::io {
 
-// An image coder, passed in: the library does not load OpenImageIO itself (the CLI's image plugin).
-struct ImageCodec {
-  DecodedImage (*decode)(std::string_view bytes, std::string_view origin, const ImageLimits& limits) = nullptr;
-  std::string (*encode)(const Image& image, ImageFormat format, PngOptions png) = nullptr;
-};
-
 // What to rain on and where the results go, as the CLI's flags name them (messages quote them so).
 struct RainJob {
   // Exactly one of image ("builtin": the built-in street scene, of `size`), input_dir, video.
@@ -35,7 +29,7 @@ struct RainJob {
 };
 
 struct RainJobHooks {
-  ImageCodec codec;
+  ImageCodec codec;  // image_io.hpp: the library does not load OpenImageIO itself
   std::function<void(const std::string&)> warn;                  // one line each
   std::function<void(double, std::string_view)> progress;         // fraction done, "frame k/n"; may be empty
   std::function<void()> clear_progress;                           // before a warning in the middle of a run
