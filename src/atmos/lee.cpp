@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <functional>
 #include <cmath>
@@ -13,10 +14,14 @@
 #include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/parse.hpp"
+#include "hydrolux/core/vec.hpp"
+#include "hydrolux/drop/shape.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/airy.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/debye.hpp"
+#include "hydrolux/scatter/ellipse_rainbow.hpp"
 #include "hydrolux/scatter/geometric.hpp"
 #include "hydrolux/scatter/mie.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
@@ -274,6 +279,60 @@ LeeShapeError::LeeShapeError(Rule rule, int columns, int rows)
       columns_(columns),
       rows_(rows) {}
 
+DropShapeSpec parse_drop_shape(std::string_view text) {
+  DropShapeSpec s;
+  if (text == "sphere") return s;
+  if (text == "beard-chuang") {
+    s.kind = DropShapeSpec::Kind::beard_chuang;
+    return s;
+  }
+  if (text.starts_with("spheroid:")) {
+    const auto q = parse::number(text.substr(9));
+    if (!q)
+      throw UnknownNameError(fmt::format("shape '{}': the axis ratio after 'spheroid:' is not a number", text));
+    if (!(*q > kMinAxisRatio && *q <= 1))
+      throw DomainError::with_message(
+          fmt::format("shape '{}': axis_ratio = {:g} is outside (0.3, 1] (polar over equatorial axis)", text, *q),
+          "axis_ratio", *q, kMinAxisRatio, 1);
+    if (*q < kMinBowAxisRatio)
+      throw DomainError::with_message(
+          fmt::format("shape '{}': axis_ratio = {:g} is outside [{:g}, 1], the axis ratios whose primary bow the "
+                      "plane-section method describes (docs/non-spherical.md)",
+                      text, *q, kMinBowAxisRatio),
+          "axis_ratio", *q, kMinBowAxisRatio, 1);
+    s.kind = DropShapeSpec::Kind::spheroid;
+    s.axis_ratio = *q;
+    return s;
+  }
+  throw UnknownNameError(fmt::format("shape '{}': expected sphere, spheroid:Q (axis ratio 0.3 < Q <= 1) or beard-chuang", text));
+}
+
+std::string drop_shape_name(const DropShapeSpec& s) {
+  switch (s.kind) {
+    case DropShapeSpec::Kind::sphere: return "sphere";
+    case DropShapeSpec::Kind::spheroid: return fmt::format("spheroid:{:g}", s.axis_ratio);
+    case DropShapeSpec::Kind::beard_chuang: return "beard-chuang";
+  }
+  return "?";
+}
+
+double drop_axis_ratio(const DropShapeSpec& s, double radius_um) {
+  switch (s.kind) {
+    case DropShapeSpec::Kind::sphere: return 1;
+    case DropShapeSpec::Kind::spheroid: return s.axis_ratio;
+    case DropShapeSpec::Kind::beard_chuang: {
+      const auto range = drop::drop_shape_radius_range_m();
+      const double a = radius_um * 1e-6;
+      if (a >= range[1]) return drop::axis_ratio(drop::drop_shape(range[1]));
+      if (a >= range[0]) return drop::axis_ratio(drop::drop_shape(a));
+      // Below the table: the departure from the sphere scaled as a^2 (drop/shape.hpp).
+      static const double q0 = drop::axis_ratio(drop::drop_shape(range[0]));
+      return 1 - (1 - q0) * (a / range[0]) * (a / range[0]);
+    }
+  }
+  return 1;
+}
+
 LeeSpec make_lee_spec(const LeeRequest& r) {
   LeeSpec s = default_lee_spec(r.table);
   s.theory = r.theory;
@@ -305,6 +364,10 @@ LeeSpec make_lee_spec(const LeeRequest& r) {
   s.seed = r.seed;
   s.threads = r.threads;
   s.temperature_c = r.temperature_c;
+  s.shape = parse_drop_shape(r.shape);
+  s.sun_elevation_deg = r.sun_elevation_deg;
+  s.position_deg = r.position_deg;
+  s.canting_deg = r.canting_deg;
   return s;
 }
 
@@ -389,6 +452,33 @@ void validate(const LeeSpec& s) {
   if (s.theory.kind == scatter::TheoryKind::Airy && s.table != LeeTableKind::rainbow)
     throw Error(fmt::format("Airy theory describes a rainbow only; a {} table needs mie, debye:P or geometric",
                             table_kind_name(s.table)));
+  lee_param("sun_elevation_deg").check(s.sun_elevation_deg);
+  lee_param("position_deg").check(s.position_deg);
+  lee_param("canting_deg").check(s.canting_deg);
+  if (!s.shape.spherical()) {
+    if (s.table != LeeTableKind::rainbow || s.theory.kind != scatter::TheoryKind::Airy || s.theory.p > 3)
+      throw Error(fmt::format("shape {}: non-spherical drops are computed by Airy theory of their plane section "
+                              "(docs/non-spherical.md): a rainbow table with theory airy (primary) or airy:3 "
+                              "(secondary), not a {} table with {}",
+                              drop_shape_name(s.shape), table_kind_name(s.table), scatter::theory_name(s.theory)));
+    if (s.shape.kind == DropShapeSpec::Kind::beard_chuang) {
+      // The flattest drop of the population must keep a bow (docs/non-spherical.md).
+      const double q = drop_axis_ratio(s.shape, largest_radius_m(s) * 1e6);
+      if (q < kMinBowAxisRatio) {
+        double hi = s.radius_max_um;
+        for (double lo = kMinRadiusUm; hi - lo > 1;) {
+          const double mid = 0.5 * (lo + hi);
+          LeeSpec t = s;
+          t.radius_max_um = mid;
+          (drop_axis_ratio(s.shape, largest_radius_m(t) * 1e6) < kMinBowAxisRatio ? hi : lo) = mid;
+        }
+        throw DomainError("radius_um", s.radius_max_um, kMinRadiusUm, std::floor(hi - 1),
+                          fmt::format("beard-chuang drops (axis ratio {:.3f} at the population's largest drop; the "
+                                      "plane-section method needs at least {:g})",
+                                      q, kMinBowAxisRatio));
+      }
+    }
+  }
   // The work arrays: the cells per evaluation (the rows, and the sun's disk beyond the ends) and
   // the nodes' values and columns' weights.
   const WorkShape w = work_shape(s);
@@ -720,6 +810,41 @@ struct Wavelength {
   double wavenumber = 0;    // 2 pi n_air / lambda, m^-1
 };
 
+// Non-spherical drops: the directions of their symmetry axes and the weights, a product of
+// 3-point Gauss-Hermite rules in the two tilt components (exact for the mean of any polynomial of
+// degree 5 in the tilts; the bow's shift is smooth, near quadratic, in them); one vertical axis
+// without canting.
+struct Orientation {
+  Vec3 axis;
+  double weight;
+};
+std::vector<Orientation> drop_orientations(const LeeSpec& spec) {
+  if (spec.shape.spherical() || spec.canting_deg == 0) return {{Vec3(0, 1, 0), 1.0}};
+  const double s = deg_to_rad(spec.canting_deg) * std::sqrt(3.0);
+  const std::array<std::pair<double, double>, 3> rule{{{-s, 1.0 / 6}, {0.0, 2.0 / 3}, {s, 1.0 / 6}}};
+  std::vector<Orientation> o;
+  for (const auto& [tx, wx] : rule)
+    for (const auto& [tz, wz] : rule) o.push_back({glm::normalize(Vec3(std::tan(tx), 1, std::tan(tz))), wx * wz});
+  return o;
+}
+
+// One non-spherical drop (equal-volume radius radius_um, size parameter x): the plane-section Airy
+// bow of each orientation, weighted; T = i / (pi x^2) per the equal-volume sphere's cross-section.
+// A section without a bow of this order adds nothing.
+void section_bow(const LeeSpec& spec, const std::vector<Orientation>& orientations, scatter::Complex m, double x,
+                 double radius_um, const std::vector<double>& theta, double norm, double* out) {
+  const double q = drop_axis_ratio(spec.shape, radius_um);
+  const double e = deg_to_rad(spec.sun_elevation_deg), psi = deg_to_rad(spec.position_deg);
+  std::fill(out, out + theta.size(), 0.0);
+  for (const auto& o : orientations) {
+    const auto bow = scatter::section_rainbow(m.real(), spec.theory.p, scatter::spheroid_section(q, o.axis, e, psi));
+    if (!bow) continue;
+    const scatter::SectionAiry a = scatter::section_airy(*bow, x, m.imag());
+    for (std::size_t i = 0; i < theta.size(); ++i)
+      out[i] += o.weight * norm * scatter::section_airy_intensity(a, theta[i]);
+  }
+}
+
 // The kernel (per-radius scattering): every used node at every cell, T = i / (pi x^2),
 // i = (|S1|^2 + |S2|^2) / 2, at a jittered point of the cell (or, for one row, at the row's angle
 // to one point of the disk).
@@ -730,6 +855,7 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
   const bool wants_mu = is_wave_theory(spec.theory);
   const int k = wl.k, K = wl.K;
   const scatter::Complex m = wl.m;
+  const std::vector<Orientation> orientations = drop_orientations(spec);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, J, 1), [&](const tbb::blocked_range<std::size_t>& range) {
       thread_local Scratch sc;
@@ -764,6 +890,10 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
             break;
           }
           case scatter::TheoryKind::Airy: {
+            if (!spec.shape.spherical()) {
+              section_bow(spec, orientations, m, x, wa.node_a[j] * 1e6, sc.theta, norm, out);
+              break;
+            }
             const scatter::AiryRainbow rb = scatter::airy_rainbow(m.real(), x, spec.theory.p, m.imag());
             for (std::size_t i = 0; i < R; ++i) out[i] = scatter::airy_intensity(rb, sc.theta[i]) * norm;
             break;

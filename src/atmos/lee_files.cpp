@@ -18,10 +18,31 @@ nlohmann::json to_json(const std::vector<double>& v) {
   return a;
 }
 
+namespace {
+
+// The drops' shape and, for non-spherical drops, the bow's point and each column's axis ratio.
+nlohmann::json drop_shape_json(const LeeTable& t) {
+  const auto& s = t.spec;
+  nlohmann::json j{{"name", drop_shape_name(s.shape)}};
+  if (s.shape.spherical()) return j;
+  j["method"] = "Airy theory of the plane section (docs/non-spherical.md)";
+  j["sun_elevation_deg"] = s.sun_elevation_deg;
+  j["position_deg"] = s.position_deg;
+  j["canting_deg"] = s.canting_deg;
+  nlohmann::json q = nlohmann::json::array();
+  for (double r : t.radius_um) q.push_back(drop_axis_ratio(s.shape, r));
+  j["axis_ratio"] = q;
+  j["axis_ratio_of"] = "the drop of each column's radius_um (polar over equatorial axis)";
+  return j;
+}
+
+}  // namespace
+
 nlohmann::json lee_profile_json(const LeeTable& t) {
   nlohmann::json j;
   j["radius_um"] = t.radius_um.front();
   j["theory"] = scatter::theory_name(t.spec.theory);
+  j["drop_shape"] = drop_shape_json(t);
   j["units"] = "sr^-1";
   j["color_space"] = color::rgb_space_name(t.spec.rgb_space);
   j["angle_deg"] = to_json(t.angle_deg);
@@ -101,6 +122,7 @@ nlohmann::json lee_sidecar(const LeeTable& t, const LeeImages& im, const std::st
                                                 {"radius", "number-weighted mean radius"},
                                                 {"relative_width", s.size_spread}}
                                : nlohmann::json{{"kind", "monodisperse"}};
+  j["drop_shape"] = drop_shape_json(t);
   j["medium"] = {{"drop", s.drop_medium}, {"surrounding", s.surrounding_medium}};
   if (s.temperature_c) j["medium"]["temperature_c"] = *s.temperature_c;
   j["sampling"] = {{"multiplier", s.sampling},

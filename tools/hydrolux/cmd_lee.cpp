@@ -58,6 +58,11 @@ int run_lee(const LeeArgs& a) {
   } catch (const Error& e) {
     throw Error(fmt::format("--theory {}: {}", a.theory, e.what()));
   }
+  try {
+    (void)atmos::parse_drop_shape(req.shape);
+  } catch (const Error& e) {
+    throw Error(fmt::format("--{}", e.what()));  // the library's message starts "shape '<value>': "
+  }
   if (a.radius_um)
     req.radius_um = parse_span(*a.radius_um, "--radius-um",
                                fmt::format("micrometres in [{:g}, {:g}]", atmos::kMinRadiusUm, atmos::kMaxRadiusUm), true);
@@ -175,6 +180,12 @@ Command add_lee(CLI::App& app) {
                   "Wavelengths A:B[:N] in nanometres [360, 830]; N samples (default one per 10 nm)")
       ->capture_default_str();
   declared("temperature_c", "temperature_c");
+  sub->add_option("--shape", args->req->shape,
+                  "Drop shape: sphere, spheroid:Q (axis ratio Q = polar / equatorial in (0.3, 1], axis vertical) or "
+                  "beard-chuang (falling drops, Q from the radius); non-spherical drops need --theory airy or "
+                  "airy:3 (docs/non-spherical.md)")
+      ->capture_default_str();
+  declared("sun_elevation_deg", "canting_deg");
   sub->add_option("--medium", args->medium, "Drop medium (hydrolux ior --list)")->capture_default_str();
   sub->add_option("--sun", args->sun, "Light source: astm-g173-direct, blackbody:T (kelvin) or equal-energy")
       ->capture_default_str();
@@ -195,7 +206,8 @@ Command add_lee(CLI::App& app) {
                                  {"temperature_k", "--sun"},
                                  {"m_imag", "--medium (its index relative to air)"},
                                  {"m_real", "--medium (its index relative to air)"},
-                                 {"p", "--theory"}});
+                                 {"p", "--theory"},
+                                 {"axis_ratio", "--shape"}});
   return cmd;
 }
 

@@ -70,6 +70,28 @@ inline constexpr double kLimbDarkeningU = 0.6;
 // see max_radius_um.
 inline constexpr double kMinRadiusUm = 0.1, kMaxRadiusUm = 5000;
 
+// The drops' shape (docs/non-spherical.md): spheres (the default), oblate spheroids of one axis
+// ratio (polar / equatorial; symmetry axis vertical), or Beard & Chuang's falling drops, whose
+// axis ratio follows their radius (drop/shape.hpp; below its smallest radius, 0.5 mm, the
+// departure from the sphere is scaled as a^2, the trend of its coefficients).
+struct DropShapeSpec {
+  enum class Kind { sphere, spheroid, beard_chuang };
+  Kind kind = Kind::sphere;
+  double axis_ratio = 1;  // spheroid only
+  bool spherical() const { return kind == Kind::sphere; }
+};
+// The axis ratios a spheroid may have: (0.3, 1] is the shape's domain; the plane-section method
+// covers kMinBowAxisRatio and above (below it the primary's fold meets the hyperbolic umbilic and
+// the section loses its bow: docs/non-spherical.md).
+inline constexpr double kMinAxisRatio = 0.3, kMinBowAxisRatio = 0.7;
+// "sphere", "spheroid:Q" (0.3 < Q <= 1) or "beard-chuang". UnknownNameError for another name,
+// DomainError ("axis_ratio") for Q outside (0.3, 1] or below kMinBowAxisRatio.
+DropShapeSpec parse_drop_shape(std::string_view text);
+std::string drop_shape_name(const DropShapeSpec& s);
+// The axis ratio of a drop of equal-volume radius radius_um (1 for spheres). For beard-chuang
+// beyond the shape table's largest radius (4.5 mm) the table's last shape is used.
+double drop_axis_ratio(const DropShapeSpec& s, double radius_um);
+
 struct LeeSpec {
   LeeTableKind table = LeeTableKind::rainbow;
   scatter::Theory theory{scatter::TheoryKind::Mie, 0};
@@ -93,6 +115,12 @@ struct LeeSpec {
   double sampling = 1;  // multiplies every sampling rate
   std::uint64_t seed = 1;
   int threads = 0;  // 0: every core
+  // Non-spherical drops (Airy theory of the plane section: docs/non-spherical.md). The bow's point
+  // is fixed by the sun's elevation and the position angle around the antisolar point (0 at the
+  // top, 90 at the side, 180 at the bottom); the drops' axes are vertical, or tilted by a 2-D
+  // Gaussian of standard deviation canting_deg per component. Spheres ignore all three.
+  DropShapeSpec shape;
+  double sun_elevation_deg = 0, position_deg = 0, canting_deg = 0;
 };
 
 // The defaults of each kind: rainbow 5-800 um over 90-180 degrees; corona 1-50 um over 0-20; glory
@@ -124,6 +152,8 @@ struct LeeRequest {
   std::uint64_t seed = 1;
   int threads = 0;
   std::optional<double> temperature_c;  // the drop medium's default when unset
+  std::string shape = "sphere";         // parse_drop_shape's names
+  double sun_elevation_deg = 0, position_deg = 0, canting_deg = 0;
   // One radius given (A == B): the table has one column.
   bool one_radius() const { return radius_um && (*radius_um)[0] == (*radius_um)[1]; }
 };
@@ -155,8 +185,9 @@ LeeSpec make_lee_spec(const LeeRequest& request);
 
 // Checks a spec before any work: DomainError naming the quantity ("radius_um", "angle_deg",
 // "columns", "rows", "sun_disk_deg", "size_spread", "wavelength_nm", "wavelengths", "sampling",
-// "size_parameter", "temperature_c") or Error for a theory that cannot make the table (Airy theory
-// has no corona or glory).
+// "size_parameter", "temperature_c", "axis_ratio", "sun_elevation_deg", "position_deg",
+// "canting_deg") or Error for a theory that cannot make the table (Airy theory has no corona or
+// glory; non-spherical drops need Airy theory and a rainbow table).
 void validate(const LeeSpec& spec);
 
 // The largest radius (um, a whole number, at most kMaxRadiusUm) that validate() accepts for this
