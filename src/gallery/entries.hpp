@@ -32,6 +32,10 @@ std::vector<Entry> drop_entries();
 // against angle, the corona and glory of cloud droplets.
 std::vector<Entry> lee_entries();
 
+// Rainbows of non-spherical drops (issue #25): the bow's arc for spherical and Beard-Chuang drops,
+// and a twinned bow.
+std::vector<Entry> shape_entries();
+
 // Rainbows in a scene (issue #11): hydrolux sky's CPU renders over sun elevation, drop radius and
 // rain rate, a corona, and seed 002's optimisations beside the per-pixel reference.
 std::vector<Entry> sky_entries();

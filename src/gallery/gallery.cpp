@@ -355,6 +355,7 @@ std::vector<Entry> entries() {
                }});
   for (auto& d : detail::drop_entries()) e.push_back(std::move(d));
   for (auto& d : detail::lee_entries()) e.push_back(std::move(d));
+  for (auto& d : detail::shape_entries()) e.push_back(std::move(d));
   for (auto& d : detail::sky_entries()) e.push_back(std::move(d));
   for (auto& d : detail::rain_entries()) e.push_back(std::move(d));
   return e;

@@ -81,10 +81,12 @@ struct Frame {
 
 }  // namespace
 
-SectionRay trace_section(double n, int p, const EllipseSection& e, double b) {
+namespace {
+
+// The trace; the Fresnel factors only when asked (the rainbow ray's search needs the directions).
+template <bool kPower>
+SectionRay trace(double n, int p, const Frame& f, double reach, double b) {
   SectionRay ray;
-  const Frame f{e.semi_u, e.semi_v, std::cos(e.tilt), std::sin(e.tilt)};
-  const double reach = 4 * std::max(e.semi_u, e.semi_v);
   V2 o{-reach, b}, d{1, 0};
   double t0, t1;
   if (!f.roots(o, d, t0, t1)) return ray;
@@ -92,10 +94,15 @@ SectionRay trace_section(double n, int p, const EllipseSection& e, double b) {
   // Entry, from air into the drop.
   V2 nrm = f.normal(at);
   double cos_i = std::clamp(-dot(d, nrm), 0.0, 1.0);
-  const auto in = optics::fresnel_dielectric(cos_i, 1.0, n);
-  double ps = in.T_s, pp = in.T_p;
   const double eta = 1 / n;
-  d = eta * d + (eta * cos_i - in.cos_t) * nrm;
+  double ps = 1, pp = 1;
+  if constexpr (kPower) {
+    const auto in = optics::fresnel_dielectric(cos_i, 1.0, n);
+    ps = in.T_s;
+    pp = in.T_p;
+  }
+  const double cos_t = std::sqrt(std::max(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
+  d = eta * d + (eta * cos_i - cos_t) * nrm;
   for (int k = 0; k < p; ++k) {
     // The far side along d (the near root is the point the ray starts from).
     if (!f.roots(at, d, t0, t1)) return ray;
@@ -103,16 +110,23 @@ SectionRay trace_section(double n, int p, const EllipseSection& e, double b) {
     at = at + t1 * d;
     nrm = f.normal(at);
     cos_i = std::clamp(dot(d, nrm), 0.0, 1.0);
-    const auto fr = optics::fresnel_dielectric(cos_i, n, 1.0);
     if (k + 1 < p) {  // an internal reflection
-      ps *= fr.R_s;
-      pp *= fr.R_p;
+      if constexpr (kPower) {
+        const auto fr = optics::fresnel_dielectric(cos_i, n, 1.0);
+        ps *= fr.R_s;
+        pp *= fr.R_p;
+      }
       d = d + (-2 * dot(d, nrm)) * nrm;
     } else {  // leaving
-      if (fr.tir) return ray;
-      ps *= fr.T_s;
-      pp *= fr.T_p;
-      d = n * d + (fr.cos_t - n * cos_i) * nrm;
+      const double s2 = n * n * (1 - cos_i * cos_i);
+      if (s2 >= 1) return ray;  // totally reflected
+      const double cos_out = std::sqrt(1 - s2);
+      if constexpr (kPower) {
+        const auto fr = optics::fresnel_dielectric(cos_i, n, 1.0);
+        ps *= fr.T_s;
+        pp *= fr.T_p;
+      }
+      d = n * d + (cos_out - n * cos_i) * nrm;
     }
   }
   const double len = std::hypot(d.x, d.y);
@@ -124,11 +138,20 @@ SectionRay trace_section(double n, int p, const EllipseSection& e, double b) {
   return ray;
 }
 
+Frame frame_of(const EllipseSection& e) { return {e.semi_u, e.semi_v, std::cos(e.tilt), std::sin(e.tilt)}; }
+double reach_of(const EllipseSection& e) { return 4 * std::max(e.semi_u, e.semi_v); }
+
+}  // namespace
+
+SectionRay trace_section(double n, int p, const EllipseSection& e, double b) {
+  return trace<true>(n, p, frame_of(e), reach_of(e), b);
+}
+
 namespace {
 
 // The scattering angle of the ray at height b when it leaves on the observer's side (out_y < 0).
-std::optional<double> angle_at(double n, int p, const EllipseSection& e, double b) {
-  const SectionRay r = trace_section(n, p, e, b);
+std::optional<double> angle_at(double n, int p, const Frame& f, double reach, double b) {
+  const SectionRay r = trace<false>(n, p, f, reach, b);
   if (!r.exits || !(r.out_y < 0)) return std::nullopt;
   return std::acos(std::clamp(r.out_x, -1.0, 1.0));
 }
@@ -139,17 +162,19 @@ std::optional<SectionRainbow> section_rainbow(double n, int p, const EllipseSect
   // The side of the extremum from the sphere's rainbow of the same order: a minimum of theta for
   // the primary (rays at larger angles), a maximum for the secondary.
   const int side = rainbow_ray(n, p).side;
+  const Frame fr = frame_of(e);
+  const double reach = reach_of(e);
   const double half = std::sqrt(sqr(e.semi_u * std::sin(e.tilt)) + sqr(e.semi_v * std::cos(e.tilt)));
   // A coarse scan for the extremal sample among rays on the observer's side, then golden-section
   // refinement inside the bracket of its neighbours. The scan is fine enough that a fold between
   // neighbours is not missed for the flattening of rain drops (the deviation's extremum is broad).
-  constexpr int kScan = 192;
+  constexpr int kScan = 96;
   std::array<double, kScan> ang{};
   std::array<bool, kScan> ok{};
   const auto b_of = [&](int i) { return half * (-1 + (2 * i + 1) / double(kScan)); };
   int best = -1;
   for (int i = 0; i < kScan; ++i) {
-    const auto a = angle_at(n, p, e, b_of(i));
+    const auto a = angle_at(n, p, fr, reach, b_of(i));
     ok[std::size_t(i)] = a.has_value();
     ang[std::size_t(i)] = a.value_or(0);
   }
@@ -161,7 +186,7 @@ std::optional<SectionRainbow> section_rainbow(double n, int p, const EllipseSect
   }
   if (best < 0) return std::nullopt;
   const auto f = [&](double b) {
-    const auto a = angle_at(n, p, e, b);
+    const auto a = angle_at(n, p, fr, reach, b);
     return a ? side * *a : 1e300;
   };
   double lo = b_of(best - 1), hi = b_of(best + 1);
