@@ -582,15 +582,24 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
         wavelengths: int = 0, temperature_c: Optional[float] = _LEE["temperature_c"]["default"],
         medium: str = "water", sun: str = "astm-g173-direct", color_space: str = "rec709",
         sampling: float = _LEE["sampling"]["default"], seed: int = _LEE["seed"]["default"],
-        threads: int = _LEE["threads"]["default"]) -> LeeTable:
+        threads: int = _LEE["threads"]["default"], shape: str = "sphere",
+        sun_elevation_deg: float = _LEE["sun_elevation_deg"]["default"],
+        position_deg: float = _LEE["position_deg"]["default"],
+        canting_deg: float = _LEE["canting_deg"]["default"]) -> LeeTable:
     """A Lee diagram, corona or glory table, computed spectrally (``hydrolux lee``; docs/lee.md).
 
     ``table``: "rainbow" (90-180 deg, 5-800 um), "corona" (0-20 deg, 1-50 um) or "glory"
     (160-180 deg, 1-50 um). ``theory``: "mie", "debye:P", "airy" ("airy:3" secondary) or
     "geometric[:P]". ``radius_um``: (A, B) in [0.1, 5000] um or one radius; ``angle_deg``: (A, B) in
     [0, 180]; ``size``: (columns, rows), default (512, 1024), (1, rows) for one radius.
-    ``wavelengths``: samples over ``wavelengths_nm`` (0: one every 10 nm / sampling). Other
-    arguments as the CLI's flags of the same names. Long: the GIL is released and Ctrl-C stops it.
+    ``wavelengths``: samples over ``wavelengths_nm`` (0: one every 10 nm / sampling). ``shape``:
+    "sphere", "spheroid:Q" (oblate, axis ratio Q = polar / equatorial in [0.7, 1], axis vertical)
+    or "beard-chuang" (falling drops, Q from the radius); non-spherical drops need theory "airy" or
+    "airy:3" and a rainbow table, and take ``sun_elevation_deg`` [0, 89], ``position_deg`` (the
+    bow's position angle around the antisolar point: 0 top, 90 side, 180 bottom) and
+    ``canting_deg`` [0, 30] (docs/non-spherical.md); ``info["drop_shape"]`` holds the shape's name
+    and, for those, the three angles and ``axis_ratio`` per column. Other arguments as the CLI's
+    flags of the same names. Long: the GIL is released and Ctrl-C stops it.
 
     Example:
 
@@ -601,6 +610,10 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     >>> bow = hydrolux.lee(theory="airy", radius_um=500, angle_deg=(135, 145), size=(1, 11), wavelengths=8)
     >>> bow.rgb.shape   # one radius: one column
     (11, 1, 3)
+    >>> flat = hydrolux.lee(theory="airy", shape="beard-chuang", position_deg=0, radius_um=1000,
+    ...                     angle_deg=(135, 145), size=(1, 11), wavelengths=8)   # the top of the bow
+    >>> flat.info["drop_shape"]["name"], flat.info["drop_shape"]["axis_ratio"].round(3)
+    ('beard-chuang', array([0.926]))
     """
     # Each argument's type is checked in the signature's order; the declared ones go to _core by name.
     table = _text(table, "table", "rainbow, corona or glory")
@@ -616,9 +629,13 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     medium, sun = _text(medium, "medium", _MEDIUM), _text(sun, "sun", "a spectrum name as the CLI's --sun")
     color_space = _text(color_space, "color_space", "an RGB space as the CLI's --color-space")
     options.update(sampling=_real(sampling, "sampling"), seed=seed, threads=threads)
-    d = _core.lee(table, theory, radius_um, angle_deg, size, radius_scale, axis, wavelengths_nm, wavelengths, medium,
-                  sun, color_space, options)
-    info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations")}
+    # The drops' shape and the bow's point: last in the signature, so positional calls keep working.
+    shape = _text(shape, "shape", "sphere, spheroid:Q or beard-chuang")
+    options.update(sun_elevation_deg=_real(sun_elevation_deg, "sun_elevation_deg"),
+                   position_deg=_real(position_deg, "position_deg"), canting_deg=_real(canting_deg, "canting_deg"))
+    d = _core.lee(table, theory, radius_um, angle_deg, size, radius_scale, axis, wavelengths_nm, wavelengths, shape,
+                  medium, sun, color_space, options)
+    info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape")}
     return LeeTable(d["rgb"], d["xyz"], d["display"], d["radius_um"], d["angle_deg"], d["cos_angle"],
                     d["wavelengths_nm"], info)
 

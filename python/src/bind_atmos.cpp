@@ -25,12 +25,16 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
              std::optional<std::pair<double, double>> angle_deg,
              std::optional<std::pair<py::object, py::object>> size_arg, const std::string& radius_scale,
              const std::string& axis, std::pair<double, double> wavelengths_nm, py::handle wavelengths_arg,
-             const std::string& medium, const std::string& sun, const std::string& color_space, const py::dict& options) {
+             const std::string& shape, const std::string& medium, const std::string& sun,
+             const std::string& color_space, const py::dict& options) {
   // The table's named values (atmos::LeeRequest), whose rules and errors the CLI shares
   // (atmos::make_lee_spec); the whole numbers first, as the CLI's flags (--size's [1, 16384]), then
   // the declared values (atmos/lee_params.hpp): seed and threads in the table's ranges; the reals'
   // ranges checked by atmos::validate (which reads them from the table) and the temperature's by the
-  // medium, below. None is a value only where the parameter has no default (temperature_c).
+  // medium, below. None is a value only where the parameter has no default (temperature_c). The
+  // drops' shape is parsed by make_lee_spec ("shape 'egg': expected sphere, spheroid:Q ..."), and
+  // validate refuses a non-spherical shape without Airy theory of a rainbow ("shape beard-chuang:
+  // ..."): both messages name the argument and its value.
   atmos::LeeRequest req;
   if (size_arg)
     req.size = {int(whole_arg(size_arg->first, "size[0] (columns)", 1, 16384)),
@@ -52,6 +56,7 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
     req.angle_deg = {angle_deg->first, angle_deg->second};
   }
   req.radius_scale = radius_scale, req.axis = axis;
+  req.shape = shape;
   atmos::LeeSpec s = atmos::make_lee_spec(req);
   if (wavelengths_nm.second < wavelengths_nm.first) throw Error("wavelengths_nm: expected (A, B) with A <= B");
   s.wavelength_min_nm = wavelengths_nm.first, s.wavelength_max_nm = wavelengths_nm.second;
@@ -102,6 +107,20 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
   d["color_space"] = std::string(color::rgb_space_name(s.rgb_space));
   d["exposure"] = im.exposure, d["white"] = im.white;
   d["evaluations"] = t.work.evaluations;
+  // The drops' shape as the JSON sidecar states it (atmos/lee_files.cpp): its name, and for
+  // non-spherical drops the bow's point, the canting and each column's axis ratio.
+  py::dict shape_info;
+  shape_info["name"] = atmos::drop_shape_name(s.shape);
+  if (!s.shape.spherical()) {
+    shape_info["sun_elevation_deg"] = s.sun_elevation_deg;
+    shape_info["position_deg"] = s.position_deg;
+    shape_info["canting_deg"] = s.canting_deg;
+    py::array_t<double> q(py::ssize_t(t.radius_um.size()));
+    for (std::size_t c = 0; c < t.radius_um.size(); ++c)
+      q.mutable_data()[c] = atmos::drop_axis_ratio(s.shape, t.radius_um[c]);
+    shape_info["axis_ratio"] = q;
+  }
+  d["drop_shape"] = shape_info;
   return d;
 }
 
@@ -110,7 +129,7 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
 void bind_atmos(py::module_& m) {
   m.def("lee", &lee, py::arg("table"), py::arg("theory"), py::arg("radius_um"), py::arg("angle_deg"), py::arg("size"),
         py::arg("radius_scale"), py::arg("axis"), py::arg("wavelengths_nm"), py::arg("wavelengths"),
-        py::arg("medium"), py::arg("sun"), py::arg("color_space"), py::arg("options"));
+        py::arg("shape"), py::arg("medium"), py::arg("sun"), py::arg("color_space"), py::arg("options"));
 }
 
 }  // namespace hydrolux::py_bind

@@ -138,6 +138,72 @@ def test_lee_table_axes():
     t = h.lee(table="corona", size=(8, 16), wavelengths=8)
     assert t.rgb.shape == (16, 8, 3) and np.all(np.diff(t.radius_um) > 0) and t.angle_deg[0] == 0
     assert t.wavelengths_nm.shape == (8,) and t.info["theory"] == "mie"
+    assert t.info["drop_shape"] == {"name": "sphere"}
+
+
+def _flat_bow(position_deg, **kw):
+    return h.lee(theory="airy", shape="spheroid:0.95", position_deg=position_deg, radius_um=500,
+                 angle_deg=(130, 150), size=(1, 81), wavelengths=8, **kw)
+
+
+def test_lee_flattened_drops_shift_the_top_of_the_bow_not_its_feet():
+    """Oblate drops (docs/non-spherical.md): at the top of the bow (position 0) the plane section is
+    the flattened one and the primary's minimum deviation moves towards the antisolar point, a
+    larger scattering angle; at the side (position 90, sun on the horizon) the section is the
+    drop's circular equator and the bow stays where the sphere's is."""
+    top, side = _flat_bow(0), _flat_bow(90)
+    sphere = h.lee(theory="airy", radius_um=500, angle_deg=(130, 150), size=(1, 81), wavelengths=8)
+    peak = {n: t.angle_deg[np.argmax(t.xyz[:, 0, 1])] for n, t in (("top", top), ("side", side), ("sphere", sphere))}
+    assert peak["top"] > peak["side"] + 2, peak
+    assert abs(peak["side"] - peak["sphere"]) <= 0.25, peak
+    d = top.info["drop_shape"]
+    assert d["name"] == "spheroid:0.95" and d["position_deg"] == 0 and d["sun_elevation_deg"] == 0
+    assert d["canting_deg"] == 0 and d["axis_ratio"].shape == (1,) and d["axis_ratio"][0] == 0.95
+    assert sphere.info["drop_shape"] == {"name": "sphere"}
+
+
+def test_lee_drop_shape_profile_matches_cli(cli):
+    kw = dict(theory="airy", shape="beard-chuang", radius_um=800, angle_deg=(132, 148), size=(1, 33), wavelengths=8,
+              sun_elevation_deg=20, position_deg=30, canting_deg=5)
+    t = h.lee(**kw)
+    j = cli("lee", "--theory", "airy", "--shape", "beard-chuang", "--radius-um", 800, "--angle-deg", "132:148",
+            "--size", "1x33", "--wavelengths-nm", "380:780:8", "--sun-elevation-deg", 20, "--position-deg", 30,
+            "--canting-deg", 5, "--json", "-q", json_out=True)
+    np.testing.assert_array_equal(t.angle_deg, j["angle_deg"])
+    np.testing.assert_allclose(t.xyz[:, 0, :], np.array(j["xyz"]), rtol=1e-12, atol=0)
+    np.testing.assert_allclose(t.rgb[:, 0, :], np.array(j["rgb"]), rtol=1e-12, atol=0)
+    np.testing.assert_allclose(t.xyz[:, 0, 1], np.array(j["luminance"]), rtol=1e-12, atol=0)
+    d, jd = t.info["drop_shape"], j["drop_shape"]
+    assert d["name"] == jd["name"] == "beard-chuang"
+    for k in ("sun_elevation_deg", "position_deg", "canting_deg"):
+        assert d[k] == jd[k] == kw[k]
+    np.testing.assert_allclose(d["axis_ratio"], jd["axis_ratio"], rtol=1e-12, atol=0)
+    assert 0.7 < d["axis_ratio"][0] < 0.99  # an 800 um falling drop is flattened by a few percent
+    # Another position angle gives another profile: the options reach the library.
+    assert not np.array_equal(t.xyz, h.lee(**{**kw, "position_deg": 90}).xyz)
+
+
+@pytest.mark.parametrize("kw, names", [
+    (dict(shape="egg"), "shape 'egg'"),
+    (dict(shape="spheroid:0.2"), "shape 'spheroid:0.2'"),
+    (dict(shape="spheroid:0.5", theory="airy"), "shape 'spheroid:0.5'"),
+    (dict(shape="beard-chuang"), "shape beard-chuang"),  # the default theory, mie
+    (dict(shape="spheroid:0.9", table="corona"), "shape spheroid:0.9"),
+    (dict(position_deg=200), "position_deg = 200 is outside [0, 180]"),
+    (dict(sun_elevation_deg=90), "sun_elevation_deg = 90 is outside [0, 89]"),
+    (dict(canting_deg=-1), "canting_deg = -1 is outside [0, 30]"),
+])
+def test_lee_bad_drop_shape_options_raise_value_error_naming_them(kw, names):
+    with pytest.raises(ValueError) as e:
+        h.lee(**kw)
+    assert names in str(e.value)
+
+
+def test_lee_signature_defaults_are_the_declared_ones():
+    sig = inspect.signature(h.lee).parameters
+    assert sig["shape"].default == "sphere"
+    for p in h._core.params("lee"):
+        assert sig[p["name"]].default == p["default"], p["name"]
 
 
 # ---- the drop -------------------------------------------------------------------------------------

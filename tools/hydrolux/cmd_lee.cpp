@@ -79,6 +79,12 @@ int run_lee(const LeeArgs& a) {
     throw Error(fmt::format("--angle-deg {}: a table of {} rows needs A < B (or --size Wx1 for one angle)",
                             a.angle_deg ? *a.angle_deg : "", e.rows()));
   }
+  if (!s.shape.spherical() &&
+      (s.table != atmos::LeeTableKind::rainbow || s.theory.kind != scatter::TheoryKind::Airy || s.theory.p > 3))
+    throw Error(fmt::format("--shape {}: non-spherical drops are computed by Airy theory of their plane section "
+                            "(docs/non-spherical.md): give --theory airy (primary) or airy:3 (secondary) with "
+                            "--table rainbow, not --table {} --theory {}",
+                            req.shape, a.table, a.theory));
   set_wavelengths_flag(s, a.wavelengths);
   s.drop_medium = a.medium;
   const auto drop = medium_flag("--medium", a.medium);
