@@ -464,19 +464,11 @@ void validate(const LeeSpec& s) {
     if (s.shape.kind == DropShapeSpec::Kind::beard_chuang) {
       // The flattest drop of the population must keep a bow (docs/non-spherical.md).
       const double q = drop_axis_ratio(s.shape, largest_radius_m(s) * 1e6);
-      if (q < kMinBowAxisRatio) {
-        double hi = s.radius_max_um;
-        for (double lo = kMinRadiusUm; hi - lo > 1;) {
-          const double mid = 0.5 * (lo + hi);
-          LeeSpec t = s;
-          t.radius_max_um = mid;
-          (drop_axis_ratio(s.shape, largest_radius_m(t) * 1e6) < kMinBowAxisRatio ? hi : lo) = mid;
-        }
-        throw DomainError("radius_um", s.radius_max_um, kMinRadiusUm, std::floor(hi - 1),
+      if (q < kMinBowAxisRatio)
+        throw DomainError("radius_um", s.radius_max_um, kMinRadiusUm, max_shape_radius_um(s),
                           fmt::format("beard-chuang drops (axis ratio {:.3f} at the population's largest drop; the "
                                       "plane-section method needs at least {:g})",
                                       q, kMinBowAxisRatio));
-      }
     }
   }
   // The work arrays: the cells per evaluation (the rows, and the sun's disk beyond the ends) and
@@ -502,6 +494,23 @@ void validate(const LeeSpec& s) {
   if (nodes * s.columns > kMaxArrayValues)
     throw DomainError("columns", s.columns, 1, std::floor(kMaxArrayValues / nodes),
                       fmt::format("a table whose radius grid has {:g} nodes (the work arrays are limited to 1 GiB)", nodes));
+}
+
+double max_shape_radius_um(const LeeSpec& s) {
+  const auto flat = [&](double r_um) {
+    LeeSpec t = s;
+    t.radius_max_um = r_um;
+    t.radius_min_um = std::min(t.radius_min_um, r_um);
+    return drop_axis_ratio(s.shape, largest_radius_m(t) * 1e6) < kMinBowAxisRatio;
+  };
+  if (!flat(kMaxRadiusUm)) return kMaxRadiusUm;
+  double lo = std::ceil(kMinRadiusUm), hi = kMaxRadiusUm;  // whole micrometres: lo keeps a bow, hi does not
+  if (flat(lo)) return kMinRadiusUm;
+  while (hi - lo > 1) {
+    const double mid = std::floor(0.5 * (lo + hi));
+    (flat(mid) ? hi : lo) = mid;
+  }
+  return lo;
 }
 
 double max_radius_um(const LeeSpec& s) {

@@ -289,11 +289,25 @@ void CubeMap::lookup(const V3f& d, float out[3]) const {
 
 // ---- the compositor -------------------------------------------------------------------------
 
-SkyCompositor::SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowSlice corona,
+SkyCompositor::SkyCompositor(const SkySettings& settings, RainbowSlices rainbow, BowSlice corona,
                              std::shared_ptr<const Environment> environment, double environment_scale)
-    : s_(settings), rainbow_(std::move(rainbow)), corona_(std::move(corona)), env_(std::move(environment)),
-      env_scale_(environment_scale) {
+    : s_(settings), corona_(std::move(corona)), env_(std::move(environment)), env_scale_(environment_scale) {
   validate(s_);
+  auto& slices = rainbow.by_position;
+  if (slices.size() == 1) {
+    rainbow_ = std::move(slices.front());
+  } else if (slices.size() > 1) {
+    const BowSlice& a = slices.front();
+    for (std::size_t k = 1; k < slices.size(); ++k) {
+      const BowSlice& b = slices[k];
+      if (b.kind != a.kind || b.cosine_axis != a.cosine_axis || b.first != a.first || b.last != a.last ||
+          b.rows != a.rows || b.rgb.size() != a.rgb.size())
+        throw Error(fmt::format("the rainbow's slice at position {} of {} differs from the first in its kind or rows "
+                                "(the slices by position angle must share them)",
+                                k, slices.size()));
+    }
+    by_position_ = std::move(slices);
+  }
   const Param& scale = sky_param("environment_scale");  // the declared range (sky_params.cpp)
   if (!(environment_scale >= scale.lo && std::isfinite(environment_scale)))
     throw DomainError("environment_scale", environment_scale, scale.lo, scale.hi);
@@ -302,6 +316,16 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowS
   fwd_ = direction_from_angles(s_.camera.azimuth_deg, s_.camera.elevation_deg);
   right_ = glm::normalize(glm::cross(Vec3{0, 1, 0}, fwd_));
   up_ = glm::cross(fwd_, right_);
+  {
+    // The position angle's frame: the antisolar direction and the zenith projected normal to it
+    // (undefined, and left zero, for a sun at the zenith).
+    const Vec3 a = -sun_;
+    const Vec3 u = Vec3{0, 1, 0} - a.y * a;
+    if (glm::length(u) > 1e-9) {
+      position_up_ = to_f(glm::normalize(u));
+      position_side_ = to_f(glm::normalize(glm::cross(a, u)));
+    }
+  }
   beta_geo_ = rain_beta_geo_per_m(s_.rain_rate_mmh);
   sky_zenith_factor_.resize(std::size_t(kSkyTable + 1) * 3);
   sky_sun_factor_.resize(std::size_t(kSkyTable + 1) * 3);
@@ -327,7 +351,7 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowS
         const float c = std::clamp(glm::dot(d, sun), -1.0f, 1.0f);
         float v[3];
         const float theta = std::acos(c) * kDegPerRad;
-        rainbow_term(c, theta, v);
+        rainbow_term(d, c, theta, v);
         add_corona_term(c, theta, v);
         float* o = &cube_.rgb[((std::size_t(face) * n + y) * n + x) * 3];
         o[0] = v[0], o[1] = v[1], o[2] = v[2];
@@ -356,9 +380,29 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowS
   bake_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The rainbow table's part at theta, the secondary window applied.
-void SkyCompositor::rainbow_term(float c, float theta_deg, float out[3]) const {
-  rainbow_.lookup(c, theta_deg, out);
+float SkyCompositor::position_angle_deg(const V3f& d) const {
+  // From d's two components normal to the antisolar direction, by atan2: no cancellation near the
+  // antisolar point, where an arccosine of their ratio to sqrt(1 - cos^2) would lose degrees in
+  // float. atan2(0, 0) = 0 there and for a sun at the zenith.
+  return std::atan2(std::abs(glm::dot(d, position_side_)), glm::dot(d, position_up_)) * kDegPerRad;
+}
+
+// The rainbow table's part at theta (in the direction d, for the position angle of non-spherical
+// drops' slices), the secondary window applied.
+void SkyCompositor::rainbow_term(const V3f& d, float c, float theta_deg, float out[3]) const {
+  if (by_position_.empty()) {
+    rainbow_.lookup(c, theta_deg, out);
+  } else {
+    // Linear between the two nearest positions.
+    const int n = int(by_position_.size());
+    const float p = std::clamp(position_angle_deg(d) * float(n - 1) / 180.0f, 0.0f, float(n - 1));
+    const int k = std::min(int(p), n - 2);
+    const float f = p - float(k);
+    float a[3], b[3];
+    by_position_[std::size_t(k)].lookup(c, theta_deg, a);
+    by_position_[std::size_t(k) + 1].lookup(c, theta_deg, b);
+    for (int i = 0; i < 3; ++i) out[i] = a[i] + f * (b[i] - a[i]);
+  }
   const float w = secondary_weight(s_.secondary, theta_deg);
   out[0] *= w, out[1] *= w, out[2] *= w;
 }
@@ -426,10 +470,12 @@ void SkyCompositor::bow_pixel(const V3f& d, float c, float theta, float o[3]) co
     bool covered = false;
     const float t = dome_theta(d, covered);
     o[0] = o[1] = o[2] = 0;
-    if (covered) rainbow_term(std::cos(t / kDegPerRad), t, o);
+    // The position angle, for non-spherical drops, from the view ray (a shader's interpolated
+    // direction), theta from the dome.
+    if (covered) rainbow_term(d, std::cos(t / kDegPerRad), t, o);
     add_corona_term(c, theta, o);
   } else {
-    rainbow_term(c, theta, o);
+    rainbow_term(d, c, theta, o);
     add_corona_term(c, theta, o);
   }
 }

@@ -79,9 +79,38 @@ int run_sky(const SkyArgs& a) {
   s.mode = a.mode == "cube-map" ? scene::BowMode::cube_map
                                 : a.mode == "half-dome" ? scene::BowMode::half_dome : scene::BowMode::per_pixel;
   scene::validate(s);
+  atmos::DropShapeSpec shape;
+  try {
+    shape = atmos::parse_drop_shape(a.o->shape);
+  } catch (const Error& e) {
+    throw Error(fmt::format("--{}", e.what()));  // the library's message starts "shape '<value>': "
+  }
+  const bool shaped = !shape.spherical();
+  if (shaped) {
+    // Non-spherical drops: their bow, which changes along its arc, is computed here for the scene's
+    // sun at kShapePositions position angles (Airy theory of the plane section).
+    if (!a.luts.empty())
+      throw Error(fmt::format("--shape {}: non-spherical drops' bow changes along its arc and is computed here at {} "
+                              "position angles, while --lut tables hold one bow for all of it (omit --lut or --shape)",
+                              a.o->shape, scene::kShapePositions));
+    if (s.sun_elevation_deg > scene::max_shape_sun_elevation_deg())
+      throw Error(fmt::format("--shape {}: non-spherical drops' bow is computed for a sun at most {:g} degrees up "
+                              "(--sun-elevation-deg {:g}; the bow is below the horizon anyway)",
+                              a.o->shape, scene::max_shape_sun_elevation_deg(), s.sun_elevation_deg));
+    const double rmax = scene::max_sky_radius_um(shape);
+    if (s.radius_um > rmax)
+      throw Error(fmt::format(
+          "--radius-um {:g} is outside the valid range [{:g}, {:g}] um of --shape {} drops ({})", s.radius_um,
+          atmos::kMinRadiusUm, rmax, a.o->shape,
+          shape.kind == atmos::DropShapeSpec::Kind::beard_chuang
+              ? fmt::format("beyond, the largest drops of the 10% spread are flatter than the axis ratio {:g} the "
+                            "plane-section method needs: docs/non-spherical.md",
+                            atmos::kMinBowAxisRatio)
+              : std::string("Airy theory's size parameter limit at 380 nm")));
+  }
   // The tables computed here are Mie's, whose size parameter limit caps the radius; given tables
   // (--lut, e.g. geometric optics up to 5000 um) cover what they cover.
-  if (a.luts.empty() && s.radius_um > scene::max_sky_radius_um())
+  if (!shaped && a.luts.empty() && s.radius_um > scene::max_sky_radius_um())
     throw Error(fmt::format("--radius-um {:g} is outside the valid range [{:g}, {:g}] um of the tables computed "
                             "without --lut (Mie's size parameter limit at 380 nm); give tables that cover it with --lut",
                             s.radius_um, atmos::kMinRadiusUm, scene::max_sky_radius_um()));
@@ -133,18 +162,24 @@ int run_sky(const SkyArgs& a) {
 
   ProgressBar bar("sky", a.quiet);
   const auto start = std::chrono::steady_clock::now();
+  scene::RainbowSlices shaped_rainbow;
   if (a.luts.empty()) {  // this radius's tables, computed now
     const bool need_corona = s.corona && s.radius_um <= scene::kCoronaMaxRadiusUm;
     const int jobs = need_corona ? 2 : 1;
     int done = 0;
     const auto sub = [&](double f, std::string_view label) { bar.update((done + f) / jobs, label); };
     const auto spec = [&](atmos::LeeTableKind kind) { return scene::sky_profile_spec(kind, s.radius_um, a.o->sampling); };
-    tables.rainbow = scene::compute_bow_slice(spec(atmos::LeeTableKind::rainbow), sub);
+    if (shaped)
+      shaped_rainbow =
+          scene::compute_shaped_rainbow(shape, s.radius_um, a.o->sampling, s.sun_elevation_deg, s.secondary, sub);
+    else
+      tables.rainbow = scene::compute_bow_slice(spec(atmos::LeeTableKind::rainbow), sub);
     ++done;
     if (need_corona) tables.corona = scene::compute_bow_slice(spec(atmos::LeeTableKind::corona), sub);
   }
 
-  const scene::SkyCompositor comp(s, std::move(tables.rainbow), std::move(tables.corona), env, a.o->environment_scale);
+  const scene::SkyCompositor comp(s, shaped ? std::move(shaped_rainbow) : scene::RainbowSlices(std::move(tables.rainbow)),
+                                  std::move(tables.corona), env, a.o->environment_scale);
   const auto t0 = std::chrono::steady_clock::now();
   const Image radiance = comp.render(moisture ? &*moisture : nullptr);
   const double render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -155,9 +190,13 @@ int run_sky(const SkyArgs& a) {
     const double tau = comp.beta_geo_per_m() * (s.curtain_far_m - s.curtain_near_m);
     fmt::print(stderr,
                "sky: wrote {} ({}x{}, {}, {} blend); rain {:g} mm/h: optical depth {:.3g} (projected area) over the "
-               "curtain; sun {:.0f} klux; frame {:.1f} ms{}; {:.1f} s in all\n",
+               "curtain; sun {:.0f} klux;{} frame {:.1f} ms{}; {:.1f} s in all\n",
                printable(a.output), s.camera.width, s.camera.height, scene::bow_mode_name(s.mode),
-               scene::blend_name(s.blend), s.rain_rate_mmh, tau, comp.sun_sky().sun_illuminance_lux / 1000, render_ms,
+               scene::blend_name(s.blend), s.rain_rate_mmh, tau, comp.sun_sky().sun_illuminance_lux / 1000,
+               shaped ? fmt::format(" {} drops: the bow at {} position angles (Airy theory);",
+                                    atmos::drop_shape_name(shape), comp.rainbow_positions())
+                      : std::string(),
+               render_ms,
                s.mode == scene::BowMode::per_pixel ? "" : fmt::format(" (bake {:.1f} ms)", comp.bake_seconds() * 1e3),
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
@@ -194,6 +233,16 @@ Command add_sky(CLI::App& app) {
   declared("environment_scale", "environment_scale");
   sub->add_option("--light-color", a->light_color, "R,G,B multiplier on the sun's light in the bow [1,1,1]");
   declared("corona", "secondary");
+  sub->add_option("--shape", a->o->shape,
+                  fmt::format("Drop shape: sphere (the Mie tables), spheroid:Q (axis ratio Q = polar / equatorial in "
+                              "[{:g}, 1], axis vertical) or beard-chuang (falling drops, Q from the radius; radii up to "
+                              "{:g} um). Non-spherical drops' bow changes along its arc: computed by Airy theory of the "
+                              "drops' plane section (primary, and the secondary unless --no-secondary) for the sun's "
+                              "elevation at position angles 0, 10, ..., 180 degrees around the antisolar point and "
+                              "interpolated between them; not with --lut (docs/sky.md)",
+                              atmos::kMinBowAxisRatio,
+                              scene::max_sky_radius_um(atmos::parse_drop_shape("beard-chuang"))))
+      ->capture_default_str();
   sub->add_option("--blend", a->blend, "physical (attenuation + in-scattering) or whitepaper (scene + bow (1 - scene))")
       ->check(CLI::IsMember({"physical", "whitepaper"}))->capture_default_str();
   sub->add_option("--mode", a->mode, "per-pixel (reference), cube-map (baked bow) or half-dome (tessellated, 1D lookup)")

@@ -196,6 +196,10 @@ void validate(const LeeSpec& spec);
 // shortest wavelength must stay within the theory's limit (1e5 for Mie and Debye). With the
 // defaults (Mie, spread 0.1, 380 nm) that is 2695 um; with no spread 6048, so kMaxRadiusUm.
 double max_radius_um(const LeeSpec& spec);
+// The largest whole radius (um) whose population keeps the method's axis ratio (kMinBowAxisRatio)
+// at its largest drop: for beard-chuang drops ~1114 um with the 10% spread; kMaxRadiusUm for other
+// shapes. validate() refuses larger columns with this bound.
+double max_shape_radius_um(const LeeSpec& spec);
 
 // The peak memory, in bytes, of computing the table and writing its files (hydrolux lee, export),
 // so that a table too large for the machine is refused before the work: the arrays

@@ -37,4 +37,32 @@ double max_sky_radius_um();
 // A profile's table (one column) computed and sliced at its radius, for the compositor.
 BowSlice compute_bow_slice(const atmos::LeeSpec& profile, const ProgressFn& progress = {});
 
+// ---- non-spherical drops (hydrolux sky --shape; docs/sky.md, "Drop shapes") ----
+//
+// Their bow changes along its arc (docs/non-spherical.md): the scene computes it at
+// kShapePositions position angles 0, 10, ..., 180 degrees and the compositor interpolates
+// linearly between the two nearest (RainbowSlices).
+inline constexpr int kShapePositions = 19;
+inline constexpr double kShapePositionStepDeg = 180.0 / (kShapePositions - 1);
+// The largest sun elevation the non-spherical tables take (atmos::lee_param("sun_elevation_deg")).
+double max_shape_sun_elevation_deg();
+
+// The rainbow profile of `shape` drops at one position angle: sky_profile_spec's rainbow profile
+// (the radius, its 10% spread, the rows, `sampling`) in Airy theory of the drops' plane section,
+// order `p` (2 the primary, 3 the secondary), with the sun's elevation and the position angle; the
+// drops' axes vertical (no canting). Not validated.
+atmos::LeeSpec sky_shape_profile_spec(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
+                                      double sun_elevation_deg, double position_deg, int p = 2);
+// The largest radius those profiles allow (whole micrometres): Airy theory's size parameter limit,
+// and for beard-chuang the flattest drop of the spread keeping an axis ratio of at least
+// atmos::kMinBowAxisRatio (about 1.1 mm). For spheres, max_sky_radius_um().
+double max_sky_radius_um(const atmos::DropShapeSpec& shape);
+
+// The rainbow of `shape` drops of `radius_um` for a sun `sun_elevation_deg` up: the profiles at the
+// kShapePositions position angles, the primary (airy) and, when `secondary`, the secondary (airy:3)
+// added, each sliced at the radius. Validates each spec (atmos::validate). `progress` rises from 0
+// to 1 over all of them.
+RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
+                                     double sun_elevation_deg, bool secondary, const ProgressFn& progress = {});
+
 }  // namespace hydrolux::scene

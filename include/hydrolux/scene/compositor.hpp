@@ -80,6 +80,18 @@ struct BowSlice {
 };
 BowSlice slice_at_radius(const BowTable& t, double radius_um, bool outside_is_empty = false);
 
+// The rainbow side of a scene: one slice, the same all round the bow (spherical drops), or slices
+// at position angles spread evenly over [0, 180] degrees (slice k at 180 k / (n - 1); n >= 2), the
+// bow of non-spherical drops, whose radius and width change along the arc. The position angle
+// (docs/sky.md, "Drop shapes") runs around the antisolar point from the zenith side (0, the top of
+// the bow) to the nadir side (180, the bottom), the same on the left and the right.
+struct RainbowSlices {
+  std::vector<BowSlice> by_position;  // empty: no rainbow; one: spherical drops
+  RainbowSlices() = default;
+  RainbowSlices(BowSlice one) { by_position.push_back(std::move(one)); }  // NOLINT: a slice is the round bow
+  explicit RainbowSlices(std::vector<BowSlice> slices) : by_position(std::move(slices)) {}
+};
+
 // ---- the scene ----------------------------------------------------------------------------
 
 struct Camera {
@@ -138,10 +150,14 @@ struct CubeMap {
 
 class SkyCompositor {
  public:
-  // `rainbow` covers the bow side (90-180 degrees); `corona` the forward side, empty when absent.
-  // `environment`, when given, replaces the analytic sky and ground (its radiance x
-  // environment_scale, taken as cd/m^2). Bakes the cube map or builds the dome when `mode` asks.
-  SkyCompositor(const SkySettings& settings, BowSlice rainbow, BowSlice corona,
+  // `rainbow` covers the bow side (90-180 degrees): one slice (spherical drops), or slices by
+  // position angle, between which each direction interpolates linearly by its own position angle
+  // (in every mode: the cube map bakes it, the half dome takes it from the view ray); `corona` the
+  // forward side, empty when absent. All slices of the rainbow must share their kind, axis and
+  // rows (Error otherwise). `environment`, when given, replaces the analytic sky and ground (its
+  // radiance x environment_scale, taken as cd/m^2). Bakes the cube map or builds the dome when
+  // `mode` asks.
+  SkyCompositor(const SkySettings& settings, RainbowSlices rainbow, BowSlice corona,
                 std::shared_ptr<const Environment> environment = nullptr, double environment_scale = 1);
 
   // The composited frame (RGB, cd/m^2). `moisture` (optional, channel 0 in [0, 1], any size:
@@ -154,6 +170,13 @@ class SkyCompositor {
   // what the optimisations approximate.
   Image bow_colour() const;
 
+  // The position angle of direction `d` around the antisolar point, degrees in [0, 180] (0 towards
+  // the zenith, 180 towards the nadir; 0 at the antisolar point itself and for a sun at the zenith,
+  // where it is undefined).
+  float position_angle_deg(const Vec3T<float>& d) const;
+  // How many position-angle slices the rainbow has (1: the bow is the same all round).
+  int rainbow_positions() const { return by_position_.empty() ? 1 : int(by_position_.size()); }
+
   const SkySettings& settings() const { return s_; }
   const SunSky& sun_sky() const { return sky_; }
   Vec3 sun_direction() const { return sun_; }
@@ -161,13 +184,17 @@ class SkyCompositor {
   double bake_seconds() const { return bake_seconds_; }
 
  private:
-  void rainbow_term(float c, float theta_deg, float out[3]) const;
+  void rainbow_term(const Vec3T<float>& d, float c, float theta_deg, float out[3]) const;
   void add_corona_term(float c, float theta_deg, float out[3]) const;
   void bow_pixel(const Vec3T<float>& d, float c, float theta_deg, float out[3]) const;
   float dome_theta(const Vec3T<float>& d, bool& covered) const;
 
   SkySettings s_;
-  BowSlice rainbow_, corona_;
+  BowSlice rainbow_, corona_;           // rainbow_: the one slice of spherical drops
+  std::vector<BowSlice> by_position_;    // non-spherical drops: >= 2 slices over [0, 180] degrees
+  // The position angle's frame: its 0 direction (the zenith projected normal to the antisolar
+  // direction) and its 90 direction (normal to both); zero for a sun at the zenith.
+  Vec3T<float> position_up_{0}, position_side_{0};
   std::shared_ptr<const Environment> env_;
   double env_scale_ = 1;
   SunSky sky_;

@@ -3,9 +3,11 @@
 // declared once (core/params.hpp): the numbers and switches, each with its name, unit, range,
 // default and help. The defaults are SkySettings' (compositor.hpp) and the option structs'
 // initializers; validate(SkySettings) reads the ranges from here. The texts (the size, the curtain's
-// span, the light's colour, the blend, the mode, the theory) and the files stay with the door.
+// span, the light's colour, the blend, the mode, the theory, the drops' shape) and the files stay with
+// the door.
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "hydrolux/core/params.hpp"
@@ -18,6 +20,9 @@ struct SkyOptions {
   SkySettings settings;
   double environment_scale = 1;  // multiplier on an environment map's values
   double sampling = 1;           // of the tables computed for one radius (sky_profile_spec)
+  // The drops' shape, atmos::parse_drop_shape's names (a text, not a declared row): non-spherical
+  // drops' bow is computed per position angle (bow_tables.hpp, compute_shaped_rainbow).
+  std::string shape = "sphere";
 };
 
 // The assets hydrolux export writes: the scene's tables (bow_tables.hpp) and sky.json.
