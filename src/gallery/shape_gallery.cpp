@@ -124,8 +124,8 @@ std::vector<Entry> shape_entries() {
       "exposure. Left: spherical drops, the same bow all round, its supernumeraries washed out by the spread of "
       "sizes. Right: the same drops with Beard & Chuang's flattening (axis ratio 0.998 at 0.1 mm to 0.94 at 1.1 "
       "mm): the sides are unchanged, but towards the top the larger drops' bows move inward and spread (the "
-      "Moebius shift, about a degree per percent of flattening) so the top is dimmer and narrower, and the small "
-      "drops whose Moebius shift offsets their Airy offset leave pink and green supernumeraries inside it: the "
+      "Moebius shift, about a degree per percent of flattening) so the top is dimmer and broader, and the small "
+      "drops whose Moebius shift offsets their Airy offset leave faint supernumeraries inside it: the "
       "natural rainbow, supernumeraries at the top and none at the sides (compare the photographs in Haussmann, "
       "Appl. Opt. 54(4), B117, 2015, and Koennen's explanation there).",
       [] {

@@ -13,6 +13,7 @@
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/scene/compositor.hpp"
 #include "hydrolux/scene/sky_model.hpp"
+#include "support/bow_slices.hpp"
 
 namespace {
 
@@ -23,20 +24,7 @@ using scene::SkySettings;
 
 constexpr double kRad = 180.0 / kPi<double>;
 
-// A slice on the angle axis over [a0, a1] with `rows` rows whose RGB is f(theta).
-template <typename F>
-BowSlice synthetic_slice(double a0, double a1, int rows, F f) {
-  BowSlice s;
-  s.first = float(a0);
-  s.last = float(a1);
-  s.rows = rows;
-  s.rgb.resize(std::size_t(rows) * 3);
-  for (int i = 0; i < rows; ++i) {
-    const auto v = f(a0 + (a1 - a0) * i / (rows - 1));
-    for (int k = 0; k < 3; ++k) s.rgb[std::size_t(i) * 3 + k] = float(v[k]);
-  }
-  return s;
-}
+using test::synthetic_slice;
 
 // A 500 um rainbow profile (Airy theory, primary and secondary with supernumeraries: the
 // structure the optimisations must keep), computed once.
