@@ -1,9 +1,12 @@
 #include "hydrolux/io/sky_report.hpp"
 
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <string_view>
 
+#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/core/embedded_data.hpp"
 #include "hydrolux/scene/compositor.hpp"
 #include "hydrolux/version.hpp"
@@ -75,6 +78,56 @@ nlohmann::json sky_parameters_json(double turbidity) {
   j["perez_y"] = pyc;
   j["perez_at_sun"] = pat;
   return j;
+}
+
+nlohmann::json write_shaped_rainbow_table(OutputDirectory& dir, const std::string& name,
+                                          const scene::ShapedRainbowTable& t) {
+  static_assert(std::endian::native == std::endian::little, "the .f32 tables are little-endian");
+  const atmos::LeeTable& f = t.first;
+  // The Lee table sidecar's description of the radii, the rows, the spectrum and the colours (shared
+  // by every layer), without what belongs to a 2-D table's images.
+  nlohmann::json j = atmos::lee_sidecar(f, atmos::lee_images(f), "", "");
+  for (const char* k : {"files", "png", "work", "channels"}) j.erase(k);
+  j["format"] = "hydrolux-lee-table-3d";
+  j["format_version"] = 1;
+  j["theory"] = "airy + airy:3";
+  j["orders"] = "the primary (Airy theory of the plane section, p = 2) and the secondary (p = 3), each gamut-mapped "
+                "as a Lee table's RGB, then added: without the secondary, apply w(theta) = smoothstep(132, 136, "
+                "theta) as for the spheres' table";
+  j["files"] = {{"f32", name + ".f32"}};
+  j["width"] = t.columns();
+  j["height"] = t.rows();
+  j["depth"] = t.positions();
+  j["position_deg"] = atmos::to_json(t.position_deg);
+  j["sun_elevation_deg"] = t.sun_elevation_deg;
+  j["drop_shape"].erase("position_deg");  // one per layer: position_deg
+  j["layout"]["z"] =
+      "position angle: layer k holds position_deg[k] (0, 10, ..., 180), the angle around the antisolar point a = "
+      "-sun from the zenith side (0, the bow's top) to the nadir side (180, its bottom), the same left and right: "
+      "u0 = normalize(up - dot(up, a) a), u90 = normalize(cross(a, u0)), psi = atan2(|dot(v, u90)|, dot(v, u0)); "
+      "interpolate linearly between the two nearest layers";
+  j["layout"]["sample"] =
+      "texel (i, j, k) is centred on radius_um[i], its row's angle and position_deg[k]; as a Lee table's pixel it is "
+      "averaged over the sun's disk and its row's cell; each column is one size distribution";
+  j["f32_layout"] =
+      "little-endian float32, depth x height x width x 3 (positions x rows x columns x R, G, B): value (layer k, row "
+      "j, column i, channel c) at index ((k * height + j) * width + i) * 3 + c; a 3-D texture of width x height x "
+      "depth texels";
+  j["channels"] = {{"R,G,B", "linear RGB, gamut-mapped as the Lee tables' (per order, then added)"}};
+  std::string bytes(t.rgb.size() * sizeof(float), '\0');
+  std::memcpy(bytes.data(), t.rgb.data(), bytes.size());
+  dir.write(name + ".f32", bytes);
+  dir.write(name + ".json", j.dump(1) + "\n");
+  return {{"kind", atmos::table_kind_name(f.spec.table)},
+          {"shape", atmos::drop_shape_name(t.shape)},
+          {"sun_elevation_deg", t.sun_elevation_deg},
+          {"columns", t.columns()},
+          {"rows", t.rows()},
+          {"positions", t.positions()},
+          {"radius_um", {f.radius_um.front(), f.radius_um.back()}},
+          {"angle_deg", {f.angle_deg.front(), f.angle_deg.back()}},
+          {"position_deg", {t.position_deg.front(), t.position_deg.back()}},
+          {"files", {name + ".f32", name + ".json"}}};
 }
 
 nlohmann::json write_engine_shaders(OutputDirectory& dir) {

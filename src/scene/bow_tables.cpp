@@ -41,15 +41,20 @@ BowSlice compute_bow_slice(const atmos::LeeSpec& profile, const ProgressFn& prog
 
 double max_shape_sun_elevation_deg() { return atmos::lee_param("sun_elevation_deg").hi; }
 
+atmos::LeeSpec shape_table_spec(atmos::LeeSpec base, const atmos::DropShapeSpec& shape, double sun_elevation_deg,
+                                double position_deg, int p) {
+  base.theory = scatter::Theory{scatter::TheoryKind::Airy, p};
+  base.shape = shape;
+  base.sun_elevation_deg = sun_elevation_deg;
+  base.position_deg = position_deg;
+  base.canting_deg = 0;
+  return base;
+}
+
 atmos::LeeSpec sky_shape_profile_spec(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
                                       double sun_elevation_deg, double position_deg, int p) {
-  atmos::LeeSpec spec = sky_profile_spec(atmos::LeeTableKind::rainbow, radius_um, sampling);
-  spec.theory = scatter::Theory{scatter::TheoryKind::Airy, p};
-  spec.shape = shape;
-  spec.sun_elevation_deg = sun_elevation_deg;
-  spec.position_deg = position_deg;
-  spec.canting_deg = 0;
-  return spec;
+  return shape_table_spec(sky_profile_spec(atmos::LeeTableKind::rainbow, radius_um, sampling), shape,
+                          sun_elevation_deg, position_deg, p);
 }
 
 double max_sky_radius_um(const atmos::DropShapeSpec& shape) {
@@ -84,6 +89,59 @@ RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double r
       auto& v = out.by_position.back().rgb;
       for (std::size_t j = 0; j < v.size(); ++j) v[j] += s.rgb[j];
     }
+  }
+  return out;
+}
+
+atmos::LeeSpec shaped_table_spec(const atmos::LeeSpec& rainbow, const atmos::DropShapeSpec& shape,
+                                 double sun_elevation_deg) {
+  atmos::LeeSpec spec = shape_table_spec(rainbow, shape, sun_elevation_deg, 0, 2);
+  spec.columns = std::min(spec.columns, kShapedTableMaxColumns);
+  return spec;
+}
+
+ShapedRainbowTable compute_shaped_rainbow_table(const atmos::LeeSpec& rainbow, const atmos::DropShapeSpec& shape,
+                                                double sun_elevation_deg, const ProgressFn& progress) {
+  if (shape.spherical())
+    throw Error("the position-dependent rainbow table is for non-spherical drops (spheres' bow is the same all round)");
+  const atmos::LeeSpec first = shaped_table_spec(rainbow, shape, sun_elevation_deg);
+  if (first.rows > kShapedTableMaxRows)
+    throw Error(fmt::format("the position-dependent rainbow table has at most {} rows (a 3-D texture's side); {} asked",
+                            kShapedTableMaxRows, first.rows));
+  std::vector<atmos::LeeSpec> specs;
+  for (int k = 0; k < kShapePositions; ++k)
+    for (int p = 2; p <= 3; ++p) {
+      atmos::LeeSpec s = first;
+      s.position_deg = k * kShapePositionStepDeg;
+      s.theory.p = p;
+      atmos::validate(s);
+      specs.push_back(s);
+    }
+  ShapedRainbowTable out;
+  out.shape = shape;
+  out.sun_elevation_deg = sun_elevation_deg;
+  const double jobs = double(specs.size());
+  std::size_t layer = 0;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    ProgressFn sub;
+    if (progress)
+      sub = [&, i](double f, std::string_view label) {
+        progress((double(i) + f) / jobs, fmt::format("position {:g} deg, {} {}", specs[i].position_deg,
+                                                      specs[i].theory.p == 2 ? "primary" : "secondary", label));
+      };
+    atmos::LeeTable t = atmos::compute_lee_table(specs[i], sub);
+    const BowTable b = bow_table(t);  // the gamut-mapped RGB as float, as the compositor's slices hold it
+    if (i == 0) {
+      out.first = std::move(t);
+      out.rgb.assign(std::size_t(kShapePositions) * b.rgb.size(), 0.f);
+    }
+    if (specs[i].theory.p == 2) {
+      layer = out.position_deg.size();
+      out.position_deg.push_back(specs[i].position_deg);
+    }
+    // The secondary added to its position's primary, in float, as compute_shaped_rainbow does.
+    float* dst = &out.rgb[layer * b.rgb.size()];
+    for (std::size_t j = 0; j < b.rgb.size(); ++j) dst[j] += b.rgb[j];
   }
   return out;
 }

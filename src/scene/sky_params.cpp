@@ -87,6 +87,7 @@ std::span<const Field<ExportOptions>> export_params() {
         atmos::max_radius_um(atmos::default_lee_spec(atmos::LeeTableKind::rainbow)), atmos::max_radius_um(geometric));
   }();
   const Param& sampling = atmos::lee_param("sampling");
+  const Param& shape_sun = atmos::lee_param("sun_elevation_deg");  // the non-spherical tables' range
   static const Field<ExportOptions> table[] = {
       {{"radius_um", "--radius-um", "tables", K::real, "um", atmos::kMinRadiusUm, atmos::kMaxRadiusUm, radius_help},
        HYDROLUX_PARAM_OPTIONAL(radius_um)},
@@ -96,6 +97,10 @@ std::span<const Field<ExportOptions>> export_params() {
       {{"turbidity", "--turbidity", "sky", K::real, "", kMinTurbidity, kMaxTurbidity,
         "Turbidity of sky.json's sky and sun (Preetham)"},
        HYDROLUX_PARAM_MEMBER(turbidity)},
+      {{"sun_elevation_deg", "--sun-elevation-deg", "sun", K::real, "deg", shape_sun.lo, shape_sun.hi,
+        "The sun's elevation above the horizon, degrees, that the non-spherical drops' table is computed for "
+        "(--shape only: the bow of such drops depends on it)"},
+       HYDROLUX_PARAM_MEMBER(sun_elevation_deg)},
   };
   return table;
 }

@@ -8,7 +8,10 @@
 //   - the frame matches `hydrolux sky` (the CPU reference) with the same settings: PSNR over the
 //     whole 640x360 frame (and the cube-map and half-dome modes against the CPU's own);
 //   - a sky.json that lacks keys stops the page with an error naming them (no fallback constants);
-// then saves a screenshot of the default scene (objects on) to --out and prints the frame times.
+//   - the "real drops" toggle (Beard-Chuang drops, the assets' 3-D table) against `hydrolux sky
+//     --shape beard-chuang`, the top of its bow where the physics puts it, the toggle in the panel;
+// then saves screenshots of the default scene (objects on) and of the real drops to --out and
+// prints the frame times.
 //
 //   node tests/web/e2e.mjs --hydrolux build/bin/hydrolux [--out DIR] [--work DIR] [--web DIR]
 //        [--assets DIR (use these instead of exporting)] [--screenshot-only] [--chromium PATH]
@@ -33,7 +36,21 @@ const screenshotOnly = 'screenshot-only' in args;
 const W = 640, H = 360;
 const VIEW = { sun_el: 25, sun_az: 180, radius: 500, fov: 90, view_az: 0, view_el: 10, rain: 5, curtain: [1000, 3000] };
 // Measured on SwiftShader: 71-83 dB (max |diff| 1/255); the bounds leave room for other GL drivers.
-const PSNR_MIN = { 'per-pixel': 45, whitepaper: 45, 'no-secondary': 45, corona: 40, 'cube-map': 40, 'half-dome': 40 };
+// The "real drops" cases (Beard-Chuang drops) compare the page with `hydrolux sky --shape`, which
+// computes its own profile (it takes no --lut): on a one-radius export of that very profile
+// (measured 80-81 dB, the sphere's bounds; without the secondary the page windows the table, which
+// holds both bows, while the CPU leaves the secondary out: 81 dB at 800 um) and, as
+// 'real-drops-table', on the 128 x 512 table the
+// demo loads, whose rows (512 against the profile's 1024) and shared radius grid make the
+// difference (measured 60 dB, max |diff| 6/255). The half dome at this 120 degree view differs at
+// the frame's corners, beyond 90 degrees from the antisolar point, for spheres alike (measured 62 dB).
+const PSNR_MIN = { 'per-pixel': 45, whitepaper: 45, 'no-secondary': 45, corona: 40, 'cube-map': 40, 'half-dome': 40,
+  'real-drops': 45, 'real-drops-cube-map': 40, 'real-drops-half-dome': 40, 'real-drops-no-secondary': 45,
+  'real-drops-table': 45 };
+// The "real drops" view: 800 um drops under a low sun, whose bow's top is flattened towards the
+// antisolar point (radius 34.9 degrees against 41.8 at its sides); a 120 degree lens shows the
+// whole arc above the ground.
+const REAL = { ...VIEW, sun_el: 5, radius: 800, fov: 120, view_el: 15 };
 
 const failures = [];
 const fail = (msg) => {
@@ -193,11 +210,24 @@ async function main() {
   if (!args.assets) {
     fs.rmSync(assetsDir, { recursive: true, force: true });
     const t0 = Date.now();
-    run(args.hydrolux, ['export', '--dir', assetsDir, '--size', '128x512', '--sampling', '0.5', '-q']);
+    // With the non-spherical drops' 3-D table (the "real drops" toggle) for the REAL view's sun.
+    run(args.hydrolux, ['export', '--dir', assetsDir, '--size', '128x512', '--sampling', '0.5',
+      '--shape', 'beard-chuang', '--sun-elevation-deg', String(REAL.sun_el), '-q']);
     info(`exported the assets in ${((Date.now() - t0) / 1000).toFixed(1)} s: ${fs.readdirSync(assetsDir).join(' ')}`);
   }
-  for (const f of ['rainbow.f32', 'rainbow.json', 'corona.f32', 'corona.json', 'sky.json', 'glsl/example.frag'])
+  for (const f of ['rainbow.f32', 'rainbow.json', 'corona.f32', 'corona.json', 'rainbow_shaped.f32', 'rainbow_shaped.json',
+    'sky.json', 'glsl/example.frag'])
     if (!fs.existsSync(path.join(assetsDir, f))) fail(`the assets lack ${f}`);
+  // The real drops' profile itself: an export of REAL's one radius (its 3-D table one column of
+  // 1024 rows, as hydrolux sky --shape computes it; no corona table for such drops).
+  const exactDir = path.join(workDir, 'assets-real-drops');
+  if (!screenshotOnly) {
+    fs.rmSync(exactDir, { recursive: true, force: true });
+    const t0 = Date.now();
+    run(args.hydrolux, ['export', '--dir', exactDir, '--radius-um', String(REAL.radius), '--sampling', '0.5',
+      '--shape', 'beard-chuang', '--sun-elevation-deg', String(REAL.sun_el), '-q']);
+    info(`exported the ${REAL.radius} um real drops' assets in ${((Date.now() - t0) / 1000).toFixed(1)} s`);
+  }
   if (failures.length) return;
 
   // the page, built into the work dir (the source tree stays clean)
@@ -211,7 +241,8 @@ async function main() {
   delete badSky.rain;
   delete badSky.camera_height_m;
   fs.writeFileSync(path.join(badAssetsDir, 'sky.json'), JSON.stringify(badSky));
-  const server = await serve([['/assets/', assetsDir], ['/badassets/', badAssetsDir], ['/work/', workDir], ['/', dist]]);
+  const server = await serve([['/assets/', assetsDir], ['/badassets/', badAssetsDir], ['/exact/', exactDir],
+    ['/work/', workDir], ['/', dist]]);
   const base = `http://127.0.0.1:${server.address().port}/`;
 
   const require = createRequire(path.join(webDir, 'package.json'));
@@ -285,10 +316,12 @@ async function main() {
       if (!(sr.theta > 127 && sr.theta < 131)) fail(`secondary red peak at ${sr.theta.toFixed(2)}, expected 127-131`);
 
       // (d) the CPU reference: PSNR over the whole frame, per mode
-      const cpuArgs = (v) => ['sky', '--sun-elevation-deg', v.sun_el, '--sun-azimuth-deg', v.sun_az, '--radius-um', v.radius,
+      const cpuArgs = (v, luts = true) => ['sky', '--sun-elevation-deg', v.sun_el, '--sun-azimuth-deg', v.sun_az, '--radius-um', v.radius,
         '--fov-deg', v.fov, '--view-azimuth-deg', v.view_az, '--view-elevation-deg', v.view_el, '--size', `${W}x${H}`,
         '--rain-rate-mmh', v.rain, '--curtain-distance-m', v.curtain.join(':'),
-        '--lut', path.join(assetsDir, 'rainbow.exr'), '--lut', path.join(assetsDir, 'corona.exr')].map(String);
+        ...(luts ? ['--lut', path.join(assetsDir, 'rainbow.exr'), '--lut', path.join(assetsDir, 'corona.exr')] : [])].map(String);
+      // hydrolux sky --shape computes its own profiles (it takes no --lut): at the export's sampling.
+      const shapeCpu = ['--shape', 'beard-chuang', '--sampling', '0.5'];
       // Looking at the sun through a curtain of 20 um droplets: the corona and the sun's disk.
       const SUNWARD = { ...VIEW, radius: 20, view_az: 180, view_el: 25, fov: 60, curtain: [200, 3000] };
       const cases = [
@@ -298,20 +331,43 @@ async function main() {
         { name: 'corona', view: SUNWARD, page: { corona: true }, cpu: ['--corona'] },
         { name: 'cube-map', view: VIEW, page: { mode: 'cube-map' }, cpu: ['--mode', 'cube-map'] },
         { name: 'half-dome', view: VIEW, page: { mode: 'half-dome' }, cpu: ['--mode', 'half-dome'] },
+        // the "real drops" toggle: the page on the real drops' own export (assets 'exact/'), then on
+        // the demo's table; hydrolux sky --shape without --lut
+        { name: 'real-drops', view: REAL, page: { shape: 'beard-chuang' }, cpu: shapeCpu, luts: false, assets: 'exact/' },
+        { name: 'real-drops-cube-map', view: REAL, page: { shape: 'beard-chuang', mode: 'cube-map' },
+          cpu: [...shapeCpu, '--mode', 'cube-map'], luts: false, assets: 'exact/' },
+        { name: 'real-drops-half-dome', view: REAL, page: { shape: 'beard-chuang', mode: 'half-dome' },
+          cpu: [...shapeCpu, '--mode', 'half-dome'], luts: false, assets: 'exact/' },
+        { name: 'real-drops-no-secondary', view: REAL, page: { shape: 'beard-chuang', secondary: false },
+          cpu: [...shapeCpu, '--no-secondary'], luts: false, assets: 'exact/' },
+        { name: 'real-drops-table', view: REAL, page: { shape: 'beard-chuang' }, cpu: shapeCpu, luts: false },
       ];
+      let pageAssets = 'assets/';
+      const cpuDone = new Map();  // the same hydrolux sky run serves two cases
       for (const c of cases) {
-        const png = path.join(workDir, `cpu_${c.name}.png`);
-        try {
-          run(args.hydrolux, [...cpuArgs(c.view), ...c.cpu, '-o', png]);
-        } catch (e) {
-          fail(`hydrolux sky (${c.name}) failed: ${e.message.split('\n')[0]}`);
-          continue;
+        const argv = [...cpuArgs(c.view, c.luts !== false), ...c.cpu];
+        let png = cpuDone.get(argv.join(' '));
+        if (!png) {
+          png = path.join(workDir, `cpu_${c.name}.png`);
+          try {
+            run(args.hydrolux, [...argv, '-o', png]);
+          } catch (e) {
+            fail(`hydrolux sky (${c.name}) failed: ${e.message.split('\n')[0]}`);
+            continue;
+          }
+          cpuDone.set(argv.join(' '), png);
+        }
+        const want = c.assets ?? 'assets/';
+        if (want !== pageAssets) {
+          if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
+          await open({ test: 1, size: `${W}x${H}`, objects: 0, assets: want, ...c.view });
+          pageAssets = want;
         }
         const cpu = await page.evaluate((u) => window.__hydrolux.loadImageBase64(u), `/work/${path.basename(png)}`);
         if (cpu.width !== W || cpu.height !== H) { fail(`${png} is ${cpu.width}x${cpu.height}`); continue; }
         const cpuPx = Buffer.from(cpu.data, 'base64');
         await page.evaluate((s) => window.__hydrolux.set(s),
-          { mode: 'per-pixel', blend: 'physical', secondary: true, corona: false, ...c.view, ...c.page });
+          { mode: 'per-pixel', blend: 'physical', secondary: true, corona: false, shape: 'sphere', ...c.view, ...c.page });
         const webPx = await frame();
         const { psnr: p, mse } = psnr(webPx, cpuPx);
         let maxd = 0;
@@ -321,15 +377,42 @@ async function main() {
         writePng(path.join(outDir, `diff_${c.name}.png`), W, H, diffImage(webPx, cpuPx));
         if (!(p >= PSNR_MIN[c.name])) fail(`${c.name}: PSNR ${p.toFixed(2)} dB below ${PSNR_MIN[c.name]} dB (diff image: ${path.join(outDir, `diff_${c.name}.png`)})`);
       }
+
+      // The real drops' bow where the physics puts it (the demo's table): at the top of the arc, up
+      // the centre column from the antisolar point, the primary peaks 34.9 degrees from the antisolar
+      // point (theta 145.1; a sphere's at 138, docs/sky.md), and the toggle moves it there.
+      const topPeak = async (shape) => {
+        await page.evaluate((s) => window.__hydrolux.set(s),
+          { mode: 'per-pixel', blend: 'physical', secondary: true, corona: false, ...REAL, shape, light: [1, 1, 1] });
+        const lit = await frame();
+        await page.evaluate(() => window.__hydrolux.set({ light: [0, 0, 0] }));
+        const dark = await frame();
+        await page.evaluate(() => window.__hydrolux.set({ light: [1, 1, 1] }));
+        let best = { lum: -1, theta: 0 };
+        for (let j = 0; j < H; j++) {
+          const th = thetaOf(pixelRay(W / 2, j, REAL), REAL);
+          if (th < 134 || th > 150) continue;
+          const k = (j * W + W / 2) * 4;
+          const bow = [0, 1, 2].map((c) => displayToX(lit[k + c]) - displayToX(dark[k + c]));
+          const lum = 0.2126 * bow[0] + 0.7152 * bow[1] + 0.0722 * bow[2];
+          if (lum > best.lum) best = { lum, theta: th };
+        }
+        return best.theta;
+      };
+      const topReal = await topPeak('beard-chuang'), topSphere = await topPeak('sphere');
+      info(`the bow's top (800 um, sun 5 degrees): real drops at theta ${topReal.toFixed(2)} (34.9 degrees from the antisolar point expected), spheres at ${topSphere.toFixed(2)}`);
+      if (!(Math.abs(180 - topReal - 34.86) < 0.5)) fail(`real drops: the bow's top at ${(180 - topReal).toFixed(2)} degrees from the antisolar point, expected 34.86 +- 0.5`);
+      if (!(topReal > topSphere + 5)) fail('real drops: the toggle does not move the top of the bow towards the antisolar point');
       if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
 
       // frame times (software GL: SwiftShader), per mode, objects on
       await open({ test: 1, size: `${W}x${H}`, ...VIEW });
-      for (const mode of ['per-pixel', 'cube-map', 'half-dome']) {
-        await page.evaluate((m) => window.__hydrolux.set({ mode: m }), mode);
-        const ms = await page.evaluate(() => window.__hydrolux.measure(20));
-        info(`frame time ${W}x${H}, ${mode}, objects on: ${ms.toFixed(2)} ms (SwiftShader, mean of 20 frames, render + GPU sync)`);
-      }
+      for (const shape of ['sphere', 'beard-chuang'])
+        for (const mode of ['per-pixel', 'cube-map', 'half-dome']) {
+          await page.evaluate((s) => window.__hydrolux.set(s), { mode, shape });
+          const ms = await page.evaluate(() => window.__hydrolux.measure(20));
+          info(`frame time ${W}x${H}, ${mode}${shape === 'sphere' ? '' : ', real drops'}, objects on: ${ms.toFixed(2)} ms (SwiftShader, mean of 20 frames, render + GPU sync)`);
+        }
     }
 
     if (!screenshotOnly) {
@@ -348,6 +431,15 @@ async function main() {
       for (const key of ['"rain.coefficient"', '"rain.exponent"', '"camera_height_m"'])
         if (!bad.error.includes(key) || !bad.shown.includes(key)) fail(`the error for an incomplete sky.json does not name ${key}`);
       if (!errors.some((e) => e.includes('camera_height_m'))) fail('the error for an incomplete sky.json is not on the console');
+
+      // a shape the assets hold no table for stops the page with an error naming it (no sphere fallback)
+      errors.length = 0;
+      await page.goto(base + query({ test: 1, size: `${W}x${H}`, ...REAL, shape: 'spheroid:0.9' }));
+      await page.waitForFunction(() => window.__hydroluxReady || window.__hydroluxError, null, { timeout: 120000 });
+      const wrong = await page.evaluate(() => window.__hydroluxError ?? '');
+      info(`shape=spheroid:0.9 on beard-chuang assets: ${wrong}`);
+      if (!wrong.includes('shape=spheroid:0.9') || !wrong.includes('beard-chuang'))
+        fail('a shape the assets hold no table for does not stop the page naming it');
     }
 
     // (f) the screenshot of the default scene (objects on), the control panel beside the canvas
@@ -359,6 +451,23 @@ async function main() {
     await page.screenshot({ path: shot });
     info(`frame time 1280x720, per-pixel, objects on: ${ms.toFixed(2)} ms (SwiftShader)`);
     info(`screenshot: ${shot}`);
+    if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
+
+    // (g) the "real drops" toggle, clicked in the panel: the shape and the sun's elevation follow the
+    // assets' table (beard-chuang, 5 degrees), the address bar says so; the screenshot of REAL's view
+    await open({ test: 1, ui: 1, size: '1280x720', ...REAL, sun_el: VIEW.sun_el });
+    const label = await page.evaluate(() => document.getElementById('ctl-shape').parentElement.textContent);
+    await page.click('#ctl-shape');
+    const after = await page.evaluate(() => ({ shape: window.__hydrolux.params.shape, sun_el: window.__hydrolux.params.sun_el, url: location.search }));
+    info(`toggle "${label}": shape ${after.shape}, sun elevation ${after.sun_el}, address ${after.url}`);
+    if (after.shape !== 'beard-chuang' || after.sun_el !== REAL.sun_el || !after.url.includes('shape=beard-chuang'))
+      fail(`the real drops toggle set shape ${after.shape} and sun elevation ${after.sun_el} (expected beard-chuang, ${REAL.sun_el})`);
+    const msReal = await page.evaluate(() => window.__hydrolux.measure(10));
+    await page.evaluate((t) => { document.getElementById('frame-ms').textContent = t; }, msReal.toFixed(1));
+    const shotReal = path.join(outDir, 'web_demo_real_drops.png');
+    await page.screenshot({ path: shotReal });
+    info(`frame time 1280x720, per-pixel, real drops, objects on: ${msReal.toFixed(2)} ms (SwiftShader)`);
+    info(`screenshot: ${shotReal}`);
     if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
   } finally {
     await browser.close();

@@ -28,6 +28,7 @@ namespace hydrolux::cli {
 namespace {
 
 struct ExportArgs {
+  CLI::App* sub = nullptr;
   std::string dir;
   std::optional<std::string> size;
   std::string theory = "mie";
@@ -73,8 +74,43 @@ int run_export(const ExportArgs& a) {
   rainbow.sampling = corona.sampling = o.sampling;
   atmos::validate(rainbow);
   if (with_corona) atmos::validate(corona);
+
+  // Non-spherical drops: the position-dependent rainbow table besides the spheres' (scene/bow_tables.hpp).
+  atmos::DropShapeSpec shape;
+  try {
+    shape = atmos::parse_drop_shape(o.shape);
+  } catch (const Error& e) {
+    throw Error(fmt::format("--{}", e.what()));  // the library's message starts "shape '<value>': "
+  }
+  const bool shaped = !shape.spherical();
+  const auto* sun_flag = a.sub->get_option_no_throw("--sun-elevation-deg");
+  if (!shaped && sun_flag && sun_flag->count() > 0)
+    throw Error(fmt::format("--sun-elevation-deg {:g}: sets the sun of the non-spherical drops' table (--shape); the "
+                            "spheres' tables do not depend on it (omit it or give --shape)",
+                            o.sun_elevation_deg));
+  std::optional<atmos::LeeSpec> shaped_spec;
+  if (shaped) {
+    // The table's own radii (5-800 um) are within every shape's range; one --radius-um may not be.
+    const double rmax = scene::max_sky_radius_um(shape);
+    if (rainbow.radius_max_um > rmax)
+      throw Error(fmt::format(
+          "--radius-um {:g} is outside the valid range [{:g}, {:g}] um of --shape {} drops ({})",
+          rainbow.radius_max_um, atmos::kMinRadiusUm, rmax, o.shape,
+          shape.kind == atmos::DropShapeSpec::Kind::beard_chuang
+              ? fmt::format("beyond, the largest drops of the 10% spread are flatter than the axis ratio {:g} the "
+                            "plane-section method needs: docs/non-spherical.md",
+                            atmos::kMinBowAxisRatio)
+              : std::string("Airy theory's size parameter limit at 380 nm")));
+    if (rainbow.rows > scene::kShapedTableMaxRows)
+      throw Error(fmt::format("--size {}: with --shape the rainbow's rows are also the 3-D table's, whose side is at "
+                              "most {} (a 3-D texture's); H is at most {} with --shape",
+                              a.size.value_or(""), scene::kShapedTableMaxRows, scene::kShapedTableMaxRows));
+    shaped_spec = scene::shaped_table_spec(rainbow, shape, o.sun_elevation_deg);
+    atmos::validate(*shaped_spec);
+  }
   std::vector<const atmos::LeeSpec*> specs = {&rainbow};
   if (with_corona) specs.push_back(&corona);
+  if (shaped_spec) specs.push_back(&*shaped_spec);
   check_table_memory(specs, a.size ? *a.size : fmt::format("{}x{} (the default)", rainbow.columns, rainbow.rows));
   (void)scene::make_sun_sky(0, o.turbidity);  // checks the turbidity
 
@@ -85,8 +121,10 @@ int run_export(const ExportArgs& a) {
 
   ProgressBar bar("export", a.quiet);
   const auto start = std::chrono::steady_clock::now();
-  // The rainbow table is most of the work (larger drops, more partial waves).
-  const double share = with_corona ? 0.85 : 1.0;
+  // The rainbow table is most of the work (larger drops, more partial waves); the 3-D table's 38
+  // Airy tables of at most 128 columns about 30% of the whole (82 s against 57 s by default).
+  const double shaped_share = shaped ? 0.3 : 0.0;
+  const double share = (with_corona ? 0.85 : 1.0) * (1 - shaped_share);
   nlohmann::json manifest;
   manifest["format"] = "hydrolux-rainbow-assets";
   manifest["format_version"] = 1;
@@ -99,7 +137,13 @@ int run_export(const ExportArgs& a) {
                                       }));
   };
   write_table(rainbow, "rainbow", 0, share);
-  if (with_corona) write_table(corona, "corona", share, 1);
+  if (with_corona) write_table(corona, "corona", share, 1 - shaped_share);
+  if (shaped)
+    tables["rainbow_shaped"] = io::write_shaped_rainbow_table(
+        top, "rainbow_shaped",
+        scene::compute_shaped_rainbow_table(rainbow, shape, o.sun_elevation_deg, [&](double f, std::string_view label) {
+          bar.update(1 - shaped_share + f * shaped_share, label);
+        }));
   bar.finish();
 
   top.write("sky.json", io::sky_parameters_json(o.turbidity).dump(1) + "\n");
@@ -112,8 +156,11 @@ int run_export(const ExportArgs& a) {
   top.write("manifest.json", manifest.dump(1) + "\n");
   files.commit();
   if (!a.quiet)
-    fmt::print(stderr, "export: wrote {} ({} files, tables {}) in {:.1f} s\n", printable(a.dir),
+    fmt::print(stderr, "export: wrote {} ({} files, tables {}{}) in {:.1f} s\n", printable(a.dir),
                top.files().size(), with_corona ? "rainbow, corona" : "rainbow",
+               shaped ? fmt::format(", rainbow_shaped ({} drops, sun {:g} deg, {} positions)", o.shape,
+                                    o.sun_elevation_deg, scene::kShapePositions)
+                      : "",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;
 }
@@ -122,18 +169,29 @@ int run_export(const ExportArgs& a) {
 
 Command add_export(CLI::App& app) {
   auto a = std::make_shared<ExportArgs>();
-  auto* sub = app.add_subcommand(
+  auto* sub = a->sub = app.add_subcommand(
       "export",
       "Engine assets for rainbows in a scene: the rainbow (5-800 um, 90-180 deg) and corona (1-50 um, 0-90 deg) Lee "
       "tables as EXR, PNG, raw float32 and JSON axes; the sun and sky parameters for every sun elevation (sky.json); "
       "GLSL and HLSL that evaluate the sky, the bow, the secondary, the corona and the blend; a README for "
-      "integrators. The folder appears complete or not at all.");
+      "integrators. With --shape, also the bow of non-spherical drops as a 3-D table (radius x angle x 19 position "
+      "angles, for one sun elevation) that the shaders read instead. The folder appears complete or not at all.");
   sub->add_option("--dir", a->dir, "Output folder (created; files of the same names in it are replaced)")->required();
   Command cmd{sub, [a] { return run_export(*a); }, {}};
-  const auto params = scene::export_params();  // --radius-um; then --sampling, --turbidity
+  const auto params = scene::export_params();  // --radius-um; then --sampling, --turbidity, --sun-elevation-deg
   add_params(*sub, a->o, params.first(1), cmd.flags_for_quantity);
   sub->add_option("--size", a->size, "Table size WxH: W radii, H angles of the rainbow table (the corona table has 2H) [512x1024]")->check(size_validator());
-  sub->add_option("--theory", a->theory, "mie, debye:P, airy or geometric[:P] (hydrolux lee --help)")->capture_default_str();
+  sub->add_option("--theory", a->theory, "mie, debye:P, airy or geometric[:P] (hydrolux lee --help) of the spheres' tables")->capture_default_str();
+  sub->add_option("--shape", a->o->shape,
+                  fmt::format("Drop shape: sphere (the spheres' tables only), spheroid:Q (axis ratio Q = polar / "
+                              "equatorial in [{:g}, 1], axis vertical) or beard-chuang (falling drops, Q from the "
+                              "radius; radii up to {:g} um): also rainbow_shaped.f32/.json, the bow of such drops by "
+                              "Airy theory of their plane section (primary and secondary added) over the rainbow "
+                              "table's radii (at most {} columns) and rows and position angles 0, 10, ..., 180 "
+                              "degrees, for --sun-elevation-deg (docs/sky.md)",
+                              atmos::kMinBowAxisRatio, scene::max_sky_radius_um(atmos::parse_drop_shape("beard-chuang")),
+                              scene::kShapedTableMaxColumns))
+      ->capture_default_str();
   add_params(*sub, a->o, params.subspan(1), cmd.flags_for_quantity);
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
   cmd.flags_for_quantity.insert({{"columns", "--size"},

@@ -68,6 +68,7 @@ async function main() {
     const s = q.toString();
     history.replaceState(null, '', s ? '?' + s : location.pathname);
   };
+  shapedTable = assets.shaped;
   if (p.ui) buildUi(p, changed);
   setupPointer(canvas, p, hx, changed);
 
@@ -181,6 +182,10 @@ const TOGGLES = [
   { key: 'objects', label: 'objects' },
 ];
 const inputs = {};
+// The assets' non-spherical drops' table (null without one): the "real drops" toggle.
+let shapedTable = null;
+const shapeLabel = (name) =>
+  name === 'beard-chuang' ? 'Beard-Chuang' : name.startsWith('spheroid:') ? `spheroids, Q ${name.slice(9)}` : name;
 
 const getV = (p, key) => (key === 'curtain0' ? p.curtain[0] : key === 'curtain1' ? p.curtain[1] : p[key]);
 const setV = (p, key, v) => {
@@ -197,6 +202,17 @@ function syncUi(p) {
     const v = getV(p, c.key);
     el.input.value = c.log ? Math.log(v / c.min) / Math.log(c.max / c.min) : v;
     el.value.textContent = fmt(v) + (c.unit ? ' ' + c.unit : '');
+  }
+  const box = $('ctl-shape');
+  if (box) box.checked = p.shape !== 'sphere';
+  // The table holds the bow for one sun elevation: say so when the sun is elsewhere.
+  const note = $('shape-note');
+  if (note) {
+    const off = p.shape !== 'sphere' && shapedTable && Math.abs(p.sun_el - shapedTable.sunElevationDeg) > 0.05;
+    note.hidden = !off;
+    if (off)
+      note.textContent = `The real drops' bow is tabulated for a sun ${shapedTable.sunElevationDeg}° up ` +
+        `(hydrolux export --sun-elevation-deg): it is drawn as if the sun were there.`;
   }
 }
 
@@ -237,6 +253,30 @@ function buildUi(p, changed) {
       changed();
     });
     label.append(input, t.label);
+    toggles.append(label);
+  }
+  {
+    // "real drops": falling drops' flattened shape, from the assets' 3-D table (hydrolux export
+    // --shape); switching it on puts the sun at the elevation the table was computed for.
+    const t = shapedTable;
+    const label = document.createElement('label');
+    label.className = 'check';
+    const input = document.createElement('input');
+    input.type = 'checkbox';
+    input.id = 'ctl-shape';
+    input.checked = p.shape !== 'sphere';
+    input.disabled = !t;
+    label.title = t
+      ? `Flattened falling drops (${t.shape}): the bow by Airy theory at 19 position angles, for a sun ` +
+        `${t.sunElevationDeg}° up`
+      : 'The assets hold no table of non-spherical drops: export them with hydrolux export --shape beard-chuang';
+    input.addEventListener('change', () => {
+      p.shape = input.checked ? t.shape : 'sphere';
+      if (input.checked) p.sun_el = t.sunElevationDeg;
+      syncUi(p);
+      changed();
+    });
+    label.append(input, t ? `real drops (${shapeLabel(t.shape)})` : 'real drops');
     toggles.append(label);
   }
   root.append(toggles);

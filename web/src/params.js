@@ -18,6 +18,9 @@ export const DEFAULTS = {
   secondary: true,
   corona: false,
   objects: true, // houses and trees that hide the rain behind them
+  // drop shape, as `hydrolux sky --shape`: 'sphere', or the shape of the assets' non-spherical
+  // drops' table (rainbow_shaped.json, `hydrolux export --shape beard-chuang`): the "real drops" toggle
+  shape: 'sphere',
   mode: 'per-pixel',
   blend: 'physical',
   light: [1, 1, 1], // light colour multiplier of the bow
@@ -56,6 +59,11 @@ const PARSERS = {
   secondary: bool,
   corona: bool,
   objects: bool,
+  shape: (s) => {
+    if (!/^(sphere|beard-chuang|spheroid:[0-9.]+)$/.test(s))
+      throw new Error(`shape: sphere, beard-chuang or spheroid:Q (the assets' table of non-spherical drops)`);
+    return s;
+  },
   mode: (s) => {
     if (!MODES.includes(s)) throw new Error(`mode: one of ${MODES.join(', ')}`);
     return s;

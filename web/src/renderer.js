@@ -1,7 +1,8 @@
 // The demo's frame: (1) the opaque objects into a float target (radiance, distance), (2) for the
 // half-dome mode the dome into a float target, for the cube-map mode the cube map (rebaked when
 // the sun, the radius or a toggle changes), (3) example.frag over the whole canvas: sky, sun and
-// ground (or the objects), the rain curtain's bow, the blend and the tone map.
+// ground (or the objects), the rain curtain's bow, the blend and the tone map. With p.shape other
+// than "sphere" every pass reads the bow from the non-spherical drops' 3-D table (u_shaped = 1).
 import * as THREE from 'three';
 import { fragmentSource, PRECISIONS } from './assets.js';
 import { skyAt, betaGeo, dir, cameraBasis } from './sky.js';
@@ -21,10 +22,16 @@ function fullscreenScene(material) {
 }
 
 function tableUniforms(assets) {
+  const shaped = assets.shaped;
   return {
     u_rainbow: { value: assets.rainbow.texture },
     u_rainbow_rows: { value: assets.rainbow.rows },
     u_rainbow_cols: { value: assets.rainbow.cols },
+    // non-spherical drops (hydrolux export --shape): the 3-D table, used when u_shaped is 1
+    u_shaped: { value: 0 },
+    u_rainbow_shaped: { value: shaped ? shaped.texture : null },
+    u_rainbow_shaped_rows: { value: shaped ? shaped.rows : new THREE.Vector4() },
+    u_rainbow_shaped_cols: { value: shaped ? shaped.cols : new THREE.Vector4(1, 1, 1, 0) },
     u_corona: { value: assets.corona.texture },
     u_corona_rows: { value: assets.corona.rows },
     u_corona_cols: { value: assets.corona.cols },
@@ -124,7 +131,11 @@ export class HydroluxRenderer {
       depthTest: false,
       depthWrite: false,
       side: THREE.DoubleSide,
-      uniforms: { ...tableUniforms(assets), u_view_proj: { value: new THREE.Matrix4() } },
+      uniforms: {
+        ...tableUniforms(assets),
+        u_view_proj: { value: new THREE.Matrix4() },
+        u_sun_dir: { value: new THREE.Vector3() },
+      },
     });
     this.domeMesh = new THREE.Mesh(new THREE.BufferGeometry(), this.domeMaterial);
     this.domeMesh.frustumCulled = false;
@@ -204,7 +215,9 @@ export class HydroluxRenderer {
     cu.u_curtain.value.set(p.curtain[0], p.curtain[1]);
     cu.u_moisture.value = p.moisture;
     cu.u_moisture_noise.value = p.noise;
+    const shaped = this.shaped(p);
     for (const m of [this.composite, this.bake, this.domeMaterial]) {
+      m.uniforms.u_shaped.value = shaped ? 1 : 0;
       m.uniforms.u_radius_um.value = p.radius;
       m.uniforms.u_secondary.value = p.secondary ? 1 : 0;
       m.uniforms.u_corona_on.value = p.corona ? 1 : 0;
@@ -244,6 +257,7 @@ export class HydroluxRenderer {
         0, 0, 0, 1,
       );
       this.domeMaterial.uniforms.u_view_proj.value.multiplyMatrices(cam.projectionMatrix, view);
+      this.domeMaterial.uniforms.u_sun_dir.value.set(...s);
       R.setRenderTarget(this.domeTarget);
       R.setClearColor(0x000000, 0);
       R.clear(true, false, false);
@@ -256,9 +270,22 @@ export class HydroluxRenderer {
     R.render(this.compositeScene, cam);
   }
 
+  // Whether p asks for non-spherical drops (p.shape other than "sphere"); an error when the assets
+  // hold no table of that shape (hydrolux export --shape writes one).
+  shaped(p) {
+    if (!p.shape || p.shape === 'sphere') return false;
+    const t = this.assets.shaped;
+    if (!t || t.shape !== p.shape)
+      throw new Error(
+        `shape=${p.shape}: the assets hold ${t ? `the table of ${t.shape} drops only` : 'no table of non-spherical drops'}` +
+          ` (export them with \`hydrolux export --shape ${p.shape}\`)`,
+      );
+    return true;
+  }
+
   bakeCube(p, s) {
     const n = p.cube;
-    const key = [s.join(), p.radius, p.secondary, p.corona, n].join('|');
+    const key = [s.join(), p.radius, p.secondary, p.corona, p.shape, n].join('|');
     if (key === this.cubeKey && this.cubeTarget) return;
     if (!this.cubeTarget || this.cubeTarget.width !== n) {
       this.cubeTarget?.dispose();

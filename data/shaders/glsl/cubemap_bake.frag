@@ -2,7 +2,8 @@
 // optimisations"): draw a full-screen pass into each face (u_face 0..5 = +X, -X, +Y, -Y, +Z, -Z) of
 // an N x N RGBA16F/32F cube map (u_face_size = N) with linear filtering; every texel gets the bow
 // colour T_rgb(theta) w(theta) of its direction for the current sun and radius (the corona
-// included when on). Rebake when the sun, the radius or a toggle changes; look it up with the view
+// included when on; for non-spherical drops, u_shaped = 1, each texel's rainbow from the 3-D table at
+// its own position angle). Rebake when the sun, the radius or a toggle changes; look it up with the view
 // direction (example.frag, u_bow_source = 1). Needs hydrolux_common.glsl and hydrolux_rainbow.glsl.
 // The cube's directions are the world frame's (+y up, +z north, +x east), texel row 0 at
 // gl_FragCoord.y = 0.5 (the GL and D3D cube-face conventions agree in these terms).
@@ -16,6 +17,10 @@ uniform vec4 u_rainbow_cols;
 uniform sampler2D u_corona;
 uniform vec4 u_corona_rows;
 uniform vec4 u_corona_cols;
+uniform int u_shaped;
+uniform highp sampler3D u_rainbow_shaped;
+uniform vec4 u_rainbow_shaped_rows;
+uniform vec4 u_rainbow_shaped_cols;
 uniform float u_radius_um;
 uniform int u_secondary;
 uniform int u_corona_on;
@@ -37,9 +42,15 @@ void main() {
   vec2 st = gl_FragCoord.xy / u_face_size * 2.0 - 1.0;
   vec3 d = normalize(hx_cube_face_dir(u_face, st));
   float theta = hx_angle_deg(d, u_sun_dir);
-  float column = hx_lee_column(u_rainbow_cols, u_radius_um);
-  vec3 T = hx_rainbow_term(u_rainbow, u_rainbow_rows, column, theta, u_secondary != 0) +
-           hx_corona_term(u_corona, u_corona_rows, u_corona_cols, u_radius_um, theta,
+  vec3 T = hx_corona_term(u_corona, u_corona_rows, u_corona_cols, u_radius_um, theta,
                           u_corona_on != 0);
+  if (u_shaped != 0) {
+    float column = hx_lee_column(u_rainbow_shaped_cols, u_radius_um);
+    T += hx_shaped_rainbow_term(u_rainbow_shaped, u_rainbow_shaped_rows, column, theta,
+                                hx_position_angle_deg(d, u_sun_dir), u_secondary != 0);
+  } else {
+    float column = hx_lee_column(u_rainbow_cols, u_radius_um);
+    T += hx_rainbow_term(u_rainbow, u_rainbow_rows, column, theta, u_secondary != 0);
+  }
   hx_frag_color = vec4(T, 1.0);
 }

@@ -15,6 +15,10 @@
 //   u_light_color       RGB multiplier of the sunlight that makes the bow (1, 1, 1)
 //   u_rainbow, u_rainbow_rows, u_rainbow_cols   the rainbow table (rainbow.f32 + rainbow.json)
 //   u_corona, u_corona_rows, u_corona_cols      the corona table (corona.f32 + corona.json)
+//   u_shaped            0: spherical drops (u_rainbow); 1: non-spherical drops, the rainbow from
+//                       u_rainbow_shaped by each pixel's position angle around the antisolar point
+//   u_rainbow_shaped, u_rainbow_shaped_rows, u_rainbow_shaped_cols   the 3-D table
+//                       (rainbow_shaped.f32 + .json, hydrolux export --shape); unused with u_shaped 0
 //   u_radius_um         the drops' radius (um)
 //   u_secondary         1: keep the secondary bow; 0: remove it (w(theta))
 //   u_corona_on         1: add the corona (for radii within its table)
@@ -47,6 +51,10 @@ uniform vec4 u_rainbow_cols;
 uniform sampler2D u_corona;
 uniform vec4 u_corona_rows;
 uniform vec4 u_corona_cols;
+uniform int u_shaped;
+uniform highp sampler3D u_rainbow_shaped;
+uniform vec4 u_rainbow_shaped_rows;
+uniform vec4 u_rainbow_shaped_cols;
 uniform float u_radius_um;
 uniform int u_secondary;
 uniform int u_corona_on;
@@ -108,6 +116,11 @@ void main() {
     T = texture(u_bow_cube, v).rgb;
   } else if (u_bow_source == 2) {
     T = texelFetch(u_bow_screen, ivec2(gl_FragCoord.xy), 0).rgb + corona;
+  } else if (u_shaped != 0) {
+    float column = hx_lee_column(u_rainbow_shaped_cols, u_radius_um);
+    float psi = hx_position_angle_deg(v, u_sky.sun_dir);
+    T = hx_shaped_rainbow_term(u_rainbow_shaped, u_rainbow_shaped_rows, column, theta, psi,
+                               secondary) + corona;
   } else {
     float column = hx_lee_column(u_rainbow_cols, u_radius_um);
     T = hx_rainbow_term(u_rainbow, u_rainbow_rows, column, theta, secondary) + corona;

@@ -9,13 +9,17 @@
 //   hx_direction  the vertex's unit direction (world)
 //   hx_theta      its scattering angle theta_i (degrees)
 //   u_view_proj   projection x view rotation (the camera at the origin: no translation)
+// v_direction carries the direction across the triangle: at a fragment it points along the view ray
+// (the triangle is drawn around the camera), whose position angle non-spherical drops need.
 
 uniform mat4 u_view_proj;
 in vec3 hx_direction;
 in float hx_theta;
 out float v_theta;
+out vec3 v_direction;
 
 void main() {
   v_theta = hx_theta;
+  v_direction = hx_direction;
   gl_Position = u_view_proj * vec4(hx_direction, 1.0);
 }

@@ -74,3 +74,68 @@ vec3 hx_corona_term(sampler2D corona, vec4 rows, vec4 cols, float radius_um, flo
   if (!corona_on || !hx_lee_radius_in_range(cols, radius_um)) return vec3(0.0);
   return hx_lee_lookup(corona, rows, hx_lee_column(cols, radius_um), theta_deg);
 }
+
+// ---- Non-spherical drops (hydrolux export --shape; docs/sky.md, "Drop shapes") ----------------
+// Flattened drops' bow changes along its arc: rainbow_shaped.f32 holds it at 19 position
+// angles 0, 10, ..., 180 degrees, as a 3-D float texture of columns x rows x positions
+// texels (RGBA32F with A = 1, or RGB32F): texel (c, r, k) holds T_rgb in sr^-1 (the primary and the
+// secondary added) of radius radius_um[c], scattering angle angle_deg[r] and position_deg[k], for
+// the one sun elevation of its JSON (sun_elevation_deg). Its rows and cols vec4 are built from
+// rainbow_shaped.json as a 2-D table's; the positions are the texture's depth, spread evenly over
+// [0, 180] degrees. Read with texelFetch and interpolated here: linear in row and ln(radius) as
+// the 2-D tables, and linear in the position angle between the two nearest layers.
+// Sampler parameters carry highp: GLSL ES 3.00 has no default precision for sampler3D.
+
+// The position angle of the view ray v (degrees, [0, 180]) around the antisolar point a = -s, from
+// the zenith side (0, the bow's top) over its sides (90) to the nadir side (180, its bottom), the
+// same on the left and the right:
+//   u0 = normalize(up - dot(up, a) a),  u90 = normalize(cross(a, u0)),  psi = atan(|v.u90|, v.u0)
+// 0 at the antisolar point itself and for a sun at the zenith (where it is undefined).
+float hx_position_angle_deg(vec3 v, vec3 sun_dir) {
+  vec3 a = -sun_dir;
+  vec3 u = vec3(0.0, 1.0, 0.0) - a.y * a;
+  float l = length(u);
+  if (l < 1e-6) return 0.0;
+  vec3 u0 = u / l;
+  vec3 u90 = normalize(cross(a, u0));
+  float y = abs(dot(v, u90)), x = dot(v, u0);
+  if (y == 0.0 && x == 0.0) return 0.0;  // atan(0, 0) is undefined in GLSL
+  return atan(y, x) * HX_DEG;
+}
+
+// Bilinear interpolation between texel centres at a fractional (column, row) of layer k.
+vec3 hx_lee_fetch_layer(highp sampler3D table, float column, float row, int layer) {
+  ivec3 size = textureSize(table, 0);
+  int c0 = int(floor(column)), r0 = int(floor(row));
+  int c1 = min(c0 + 1, size.x - 1), r1 = min(r0 + 1, size.y - 1);
+  float fc = column - float(c0), fr = row - float(r0);
+  vec3 t00 = texelFetch(table, ivec3(c0, r0, layer), 0).rgb;
+  vec3 t10 = texelFetch(table, ivec3(c1, r0, layer), 0).rgb;
+  vec3 t01 = texelFetch(table, ivec3(c0, r1, layer), 0).rgb;
+  vec3 t11 = texelFetch(table, ivec3(c1, r1, layer), 0).rgb;
+  return mix(mix(t00, t10, fc), mix(t01, t11, fc), fr);
+}
+
+// T_rgb (sr^-1) of the 3-D table at a scattering angle, a fractional column and a position angle
+// (degrees); 0 outside its rows.
+vec3 hx_shaped_lookup(highp sampler3D table, vec4 rows, float column, float theta_deg,
+                      float position_deg) {
+  float row = hx_lee_row(rows, theta_deg);
+  if (row < 0.0) return vec3(0.0);
+  int n = textureSize(table, 0).z;
+  if (n < 2) return hx_lee_fetch_layer(table, column, row, 0);
+  float p = clamp(position_deg * float(n - 1) / 180.0, 0.0, float(n - 1));
+  int k = min(int(p), n - 2);
+  float f = p - float(k);
+  vec3 a = hx_lee_fetch_layer(table, column, row, k);
+  vec3 b = hx_lee_fetch_layer(table, column, row, k + 1);
+  return a + f * (b - a);
+}
+
+// The non-spherical drops' rainbow part: T_rgb(theta, psi) w(theta) for theta in its rows (90-180),
+// else 0; psi = hx_position_angle_deg(v, sun_dir).
+vec3 hx_shaped_rainbow_term(highp sampler3D table, vec4 rows, float column, float theta_deg,
+                            float position_deg, bool secondary) {
+  return hx_shaped_lookup(table, rows, column, theta_deg, position_deg) *
+         hx_secondary_weight(theta_deg, secondary);
+}

@@ -13,10 +13,14 @@ cbuffer HydroluxCubeBake : register(b0) {
   int u_face;
   int u_secondary;
   int u_corona_on;
+  // Non-spherical drops (hydrolux export --shape): each texel at its own position angle.
+  float4 u_rainbow_shaped_rows, u_rainbow_shaped_cols;
+  int u_shaped;
 };
 
 Texture2D<float4> u_rainbow : register(t0);
 Texture2D<float4> u_corona : register(t1);
+Texture3D<float4> u_rainbow_shaped : register(t2);
 
 // The direction through face coordinates (sc, tc) in [-1, 1], tc growing with the texel row.
 float3 hx_cube_face_dir(int face, float2 st) {
@@ -38,9 +42,15 @@ float4 hx_cube_bake_ps(float4 position : SV_Position) : SV_Target {
   float2 st = position.xy / u_face_size * 2.0 - 1.0;
   float3 d = normalize(hx_cube_face_dir(u_face, st));
   float theta = hx_angle_deg(d, u_sun_dir);
-  float column = hx_lee_column(u_rainbow_cols, u_radius_um);
-  float3 T = hx_rainbow_term(u_rainbow, u_rainbow_rows, column, theta, u_secondary != 0) +
-             hx_corona_term(u_corona, u_corona_rows, u_corona_cols, u_radius_um, theta,
+  float3 T = hx_corona_term(u_corona, u_corona_rows, u_corona_cols, u_radius_um, theta,
                             u_corona_on != 0);
+  if (u_shaped != 0) {
+    float column = hx_lee_column(u_rainbow_shaped_cols, u_radius_um);
+    T += hx_shaped_rainbow_term(u_rainbow_shaped, u_rainbow_shaped_rows, column, theta,
+                                hx_position_angle_deg(d, u_sun_dir), u_secondary != 0);
+  } else {
+    float column = hx_lee_column(u_rainbow_cols, u_radius_um);
+    T += hx_rainbow_term(u_rainbow, u_rainbow_rows, column, theta, u_secondary != 0);
+  }
   return float4(T, 1.0);
 }

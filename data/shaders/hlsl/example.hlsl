@@ -31,6 +31,9 @@ cbuffer HydroluxConstants : register(b0) {
   int u_bow_source;           // 0 per pixel, 1 cube map, 2 screen texture (half dome)
   int u_has_scene;            // 1: u_scene holds opaque objects (rgb radiance, a distance m; 0 none)
   int u_output;               // 0 tone-mapped sRGB, 1 linear radiance
+  // Non-spherical drops (hydrolux export --shape): appended, the fields above keep their offsets.
+  float4 u_rainbow_shaped_rows, u_rainbow_shaped_cols;
+  int u_shaped;               // 1: the rainbow from u_rainbow_shaped by the position angle
 };
 
 Texture2D<float4> u_rainbow : register(t0);
@@ -38,6 +41,7 @@ Texture2D<float4> u_corona : register(t1);
 TextureCube<float4> u_bow_cube : register(t2);
 Texture2D<float4> u_bow_screen : register(t3);
 Texture2D<float4> u_scene : register(t4);
+Texture3D<float4> u_rainbow_shaped : register(t5);
 SamplerState u_linear_clamp : register(s0);
 
 float hx_hash3(float3 p) {
@@ -88,6 +92,11 @@ float4 hx_example_ps(float4 position : SV_Position) : SV_Target {
     T = u_bow_cube.SampleLevel(u_linear_clamp, v, 0).rgb;
   } else if (u_bow_source == 2) {
     T = u_bow_screen.Load(int3(texel, 0)).rgb + corona;
+  } else if (u_shaped != 0) {
+    float column = hx_lee_column(u_rainbow_shaped_cols, u_radius_um);
+    float psi = hx_position_angle_deg(v, u_sky.sun_dir);
+    T = hx_shaped_rainbow_term(u_rainbow_shaped, u_rainbow_shaped_rows, column, theta, psi,
+                               secondary) + corona;
   } else {
     float column = hx_lee_column(u_rainbow_cols, u_radius_um);
     T = hx_rainbow_term(u_rainbow, u_rainbow_rows, column, theta, secondary) + corona;

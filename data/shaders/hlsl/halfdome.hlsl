@@ -10,9 +10,15 @@ cbuffer HydroluxHalfDome : register(b0) {
   float4 u_rainbow_rows, u_rainbow_cols;
   float u_radius_um;
   int u_secondary;
+  // Non-spherical drops (hydrolux export --shape): the position angle from the interpolated
+  // direction (the view ray) and the sun.
+  float3 u_sun_dir;
+  int u_shaped;
+  float4 u_rainbow_shaped_rows, u_rainbow_shaped_cols;
 };
 
 Texture2D<float4> u_rainbow : register(t0);
+Texture3D<float4> u_rainbow_shaped : register(t1);
 
 struct HxDomeVertex {
   float3 direction : POSITION;   // unit direction (world)
@@ -21,17 +27,27 @@ struct HxDomeVertex {
 struct HxDomeVaryings {
   float4 position : SV_Position;
   float theta : TEXCOORD0;
+  float3 direction : TEXCOORD1;  // along the view ray at each pixel (the dome surrounds the camera)
 };
 
 HxDomeVaryings hx_halfdome_vs(HxDomeVertex input) {
   HxDomeVaryings output;
   output.position = mul(u_view_proj, float4(input.direction, 1.0));
   output.theta = input.theta;
+  output.direction = input.direction;
   return output;
 }
 
 float4 hx_halfdome_ps(HxDomeVaryings input) : SV_Target {
-  float column = hx_lee_column(u_rainbow_cols, u_radius_um);
-  return float4(hx_rainbow_term(u_rainbow, u_rainbow_rows, column, input.theta, u_secondary != 0),
-                1.0);
+  float3 T;
+  if (u_shaped != 0) {
+    float column = hx_lee_column(u_rainbow_shaped_cols, u_radius_um);
+    float psi = hx_position_angle_deg(normalize(input.direction), u_sun_dir);
+    T = hx_shaped_rainbow_term(u_rainbow_shaped, u_rainbow_shaped_rows, column, input.theta, psi,
+                               u_secondary != 0);
+  } else {
+    float column = hx_lee_column(u_rainbow_cols, u_radius_um);
+    T = hx_rainbow_term(u_rainbow, u_rainbow_rows, column, input.theta, u_secondary != 0);
+  }
+  return float4(T, 1.0);
 }

@@ -5,12 +5,22 @@
 // and the shaders beside it.
 #include <nlohmann/json.hpp>
 
+#include <string>
+
 #include "hydrolux/io/files.hpp"
+#include "hydrolux/scene/bow_tables.hpp"
 
 namespace hydrolux::io {
 
 // Throws DomainError for a turbidity outside the model's range (scene::make_sun_sky).
 nlohmann::json sky_parameters_json(double turbidity);
+
+// The non-spherical drops' 3-D rainbow table (scene::compute_shaped_rainbow_table) as engines read
+// it: `name`.f32 (little-endian float32, positions x rows x columns x 3) and `name`.json (the axes:
+// radius_um, angle_deg, position_deg; the shape, the sun's elevation, the layout); returns the
+// manifest's entry for it. data/shaders/README.md describes both.
+nlohmann::json write_shaped_rainbow_table(OutputDirectory& dir, const std::string& name,
+                                          const scene::ShapedRainbowTable& t);
 
 // The shaders that evaluate the scene (data/shaders/: the GLSL and HLSL folders and the files beside
 // them) written into `dir` under their names there; returns the names, for the assets' manifest.

@@ -8,6 +8,7 @@
 // --table corona's default). Otherwise each is its kind's default (atmos::default_lee_spec): the
 // rainbow of 5-800 um drops, the corona of 1-50 um droplets, a 10% gamma spread, Mie theory.
 #include <optional>
+#include <vector>
 
 #include "hydrolux/atmos/lee.hpp"
 #include "hydrolux/core/progress.hpp"
@@ -47,6 +48,11 @@ inline constexpr double kShapePositionStepDeg = 180.0 / (kShapePositions - 1);
 // The largest sun elevation the non-spherical tables take (atmos::lee_param("sun_elevation_deg")).
 double max_shape_sun_elevation_deg();
 
+// The rainbow table `base` (its radii, rows, spread and sampling) for `shape` drops at one position
+// angle: Airy theory of the drops' plane section, order `p` (2 the primary, 3 the secondary), with
+// the sun's elevation and the position angle; the drops' axes vertical (no canting). Not validated.
+atmos::LeeSpec shape_table_spec(atmos::LeeSpec base, const atmos::DropShapeSpec& shape, double sun_elevation_deg,
+                                double position_deg, int p = 2);
 // The rainbow profile of `shape` drops at one position angle: sky_profile_spec's rainbow profile
 // (the radius, its 10% spread, the rows, `sampling`) in Airy theory of the drops' plane section,
 // order `p` (2 the primary, 3 the secondary), with the sun's elevation and the position angle; the
@@ -64,5 +70,44 @@ double max_sky_radius_um(const atmos::DropShapeSpec& shape);
 // to 1 over all of them.
 RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
                                      double sun_elevation_deg, bool secondary, const ProgressFn& progress = {});
+
+// ---- the non-spherical drops' table for engines (hydrolux export --shape; docs/sky.md) ----
+//
+// A 3-D table: the rainbow of `shape` drops over radius (columns), scattering angle (rows) and
+// position angle (kShapePositions layers, 0, 10, ..., 180 degrees), for one sun elevation; the
+// primary and the secondary added, as compute_shaped_rainbow adds them. A shader reads it as a 3-D
+// texture (data/shaders/README.md).
+//
+// At most kShapedTableMaxColumns radius columns (the table is kShapePositions times a 2-D one: 128
+// x 1024 x 19 x RGB float32 is 30 MB) and kShapedTableMaxRows rows (the side of a 3-D texture
+// Direct3D 11 guarantees; WebGL 2 guarantees only 256, most implementations 2048).
+inline constexpr int kShapedTableMaxColumns = 128;
+inline constexpr int kShapedTableMaxRows = 2048;
+
+struct ShapedRainbowTable {
+  atmos::DropShapeSpec shape;
+  double sun_elevation_deg = 0;
+  std::vector<double> position_deg;  // per layer: 180 k / (kShapePositions - 1)
+  // The primary's table at position 0: its spec (radii, rows, axis, sampling, spectrum), axes and
+  // colour metadata, shared by every layer (the values of the layers are in `rgb`).
+  atmos::LeeTable first;
+  // positions x rows x columns x 3 (linear RGB, gamut-mapped per order as the Lee tables' RGB, sr^-1):
+  // value (layer k, row j, column i, channel c) at ((k * rows + j) * columns + i) * 3 + c.
+  std::vector<float> rgb;
+  int columns() const { return first.columns(); }
+  int rows() const { return first.rows(); }
+  int positions() const { return int(position_deg.size()); }
+};
+
+// The spec of the 3-D table's layers for the rainbow table `rainbow` (hydrolux export's): its radii
+// and rows, its columns capped at kShapedTableMaxColumns, the shape's primary at position 0 (the
+// other layers and orders differ in position_deg and theory only). Not validated.
+atmos::LeeSpec shaped_table_spec(const atmos::LeeSpec& rainbow, const atmos::DropShapeSpec& shape,
+                                 double sun_elevation_deg);
+// Computes it: for each of the kShapePositions positions, the primary (airy) and the secondary
+// (airy:3) tables of shaped_table_spec, added. Validates each spec (atmos::validate); Error for a
+// spherical shape or more than kShapedTableMaxRows rows. `progress` rises from 0 to 1.
+ShapedRainbowTable compute_shaped_rainbow_table(const atmos::LeeSpec& rainbow, const atmos::DropShapeSpec& shape,
+                                                double sun_elevation_deg, const ProgressFn& progress = {});
 
 }  // namespace hydrolux::scene

@@ -30,6 +30,11 @@ struct ExportOptions {
   std::optional<double> radius_um;  // one radius: one-column tables
   double sampling = 1;              // the tables' sampling multiplier
   double turbidity = SkySettings{}.turbidity;
+  // Non-spherical drops (a text, not a declared row, as SkyOptions::shape): the position-dependent
+  // rainbow table besides the spheres' (bow_tables.hpp, compute_shaped_rainbow_table), for a sun
+  // sun_elevation_deg up (hydrolux sky's default).
+  std::string shape = "sphere";
+  double sun_elevation_deg = SkySettings{}.sun_elevation_deg;
 };
 
 std::span<const Field<SkyOptions>> sky_params();
