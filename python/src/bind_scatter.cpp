@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdint>
@@ -17,6 +18,7 @@
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/mueller.hpp"
 #include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "hydrolux/scatter/sphere.hpp"
@@ -83,12 +85,14 @@ void check_mie_args(std::complex<double> m, const double* x, py::ssize_t n) {
   }
 }
 
-py::dict mie(std::complex<double> m, py::handle x_arg, py::handle angles_arg, py::handle threads_arg) {
+py::dict mie(std::complex<double> m, py::handle x_arg, py::handle angles_arg, py::handle threads_arg,
+             bool mueller) {
   // threads and x as hydrolux mie takes --threads and --x: the declared parameters (scatter/params.hpp).
   const int threads = int(param_value(scatter::mie_param("threads"), threads_arg));
   const DoubleArray x = c_array<double>(x_arg, "x");
   std::optional<DoubleArray> angles_deg;
   if (!angles_arg.is_none()) angles_deg = c_array<double>(angles_arg, "angles_deg");
+  if (mueller && !angles_deg) throw Error("mueller=True derives from the amplitudes; angles_deg=None computes none");
   const double* xs = x.data();
   const py::ssize_t n = x.size();
   check_mie_args(m, xs, n);
@@ -147,6 +151,17 @@ py::dict mie(std::complex<double> m, py::handle x_arg, py::handle angles_arg, py
     };
     run_sized(work, 2e7, body);
     d["s1"] = s1, d["s2"] = s2;
+    if (mueller) {
+      // The Mueller elements (B&H eq. 4.77) of each size and angle, of the shape of S1.
+      const std::size_t total = std::size_t(n) * std::size_t(na);
+      const auto e = scatter::mueller_elements({p1, total}, {p2, total});
+      const auto array = [&](const std::vector<double>& v) {
+        DoubleArray a(s_shape);
+        std::copy(v.begin(), v.end(), a.mutable_data());
+        return a;
+      };
+      d["s11"] = array(e.s11), d["s12"] = array(e.s12), d["s33"] = array(e.s33), d["s34"] = array(e.s34);
+    }
   }
   for (py::ssize_t i = 0; i < n; ++i) {
     const auto& e = q[std::size_t(i)];
@@ -185,7 +200,8 @@ void bind_scatter(py::module_& m) {
   m.def("simd_target", &sc::simd_target);
   m.def("sphere_problem", &sphere_problem, py::arg("radius_um"), py::arg("wavelength_nm"), py::arg("medium"),
         py::arg("surrounding"), py::arg("temperature_c"));
-  m.def("mie", &mie, py::arg("m"), py::arg("x"), py::arg("angles_deg"), py::arg("threads"));
+  m.def("mie", &mie, py::arg("m"), py::arg("x"), py::arg("angles_deg"), py::arg("threads"),
+        py::arg("mueller") = false);
   m.def("mie_terms", [](double x) {
     sc::mie_param("x").check(x);
     return sc::mie_terms(x);

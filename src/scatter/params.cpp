@@ -35,6 +35,9 @@ const Field<MieRequest> kMie[] = {
       "rainbow, 3 secondary, ...); efficiencies stay the whole sphere's"},
      [](const MieRequest& o) { return o.debye ? double(*o.debye) : kNone; },
      [](MieRequest& o, double v) { o.debye = int(v); }},
+    {{"mueller", "--mueller", "amplitudes", K::flag, "", 0, 1,
+      "Add the Mueller matrix elements S11, S12, S33, S34 (Bohren & Huffman eq. 4.77) to the output"},
+     HYDROLUX_PARAM_MEMBER(mueller)},
     {kThreads, HYDROLUX_PARAM_MEMBER(threads)},
 };
 
@@ -44,6 +47,9 @@ const Field<PhaseRequest> kPhase[] = {
      HYDROLUX_PARAM_MEMBER(nodes)},
     {kTemperature, HYDROLUX_PARAM_OPTIONAL(temperature_c)},
     {kThreads, HYDROLUX_PARAM_MEMBER(threads)},
+    {{"mueller", "--mueller", "output", K::flag, "", 0, 1,
+      "Add the size-averaged Mueller matrix elements S11, S12, S33, S34 (Bohren & Huffman eq. 4.77) as columns"},
+     HYDROLUX_PARAM_MEMBER(mueller)},
 };
 
 }  // namespace

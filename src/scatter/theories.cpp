@@ -103,7 +103,8 @@ Intensities average_intensities(const Theory& t, const RadiusQuadrature& q, doub
                                 const optics::Medium& drop, const optics::Medium& surrounding,
                                 std::optional<double> temperature_c, std::span<const double> theta_rad,
                                 int threads, const ProgressFn& progress) {
-  Intensities out{std::vector<double>(theta_rad.size()), std::vector<double>(theta_rad.size())};
+  Intensities out{std::vector<double>(theta_rad.size()), std::vector<double>(theta_rad.size()),
+                  std::vector<Complex>(theta_rad.size())};
   std::vector<Complex> s1(theta_rad.size()), s2(theta_rad.size());
   double total = 0;
   for (std::size_t k = 0; k < q.radius_m.size(); ++k) {
@@ -112,6 +113,7 @@ Intensities average_intensities(const Theory& t, const RadiusQuadrature& q, doub
     for (std::size_t i = 0; i < theta_rad.size(); ++i) {
       out.i1[i] += q.weight[k] * std::norm(s1[i]);
       out.i2[i] += q.weight[k] * std::norm(s2[i]);
+      out.s2_s1conj[i] += q.weight[k] * (s2[i] * std::conj(s1[i]));
     }
     total += q.weight[k];
     if (progress)
@@ -119,7 +121,11 @@ Intensities average_intensities(const Theory& t, const RadiusQuadrature& q, doub
                fmt::format("radius {:.4g} um ({}/{})", q.radius_m[k] * 1e6, k + 1, q.radius_m.size()));
   }
   if (!(total > 0)) throw Error("size distribution: the quadrature has no weight");
-  for (std::size_t i = 0; i < theta_rad.size(); ++i) out.i1[i] /= total, out.i2[i] /= total;
+  for (std::size_t i = 0; i < theta_rad.size(); ++i) {
+    out.i1[i] /= total;
+    out.i2[i] /= total;
+    out.s2_s1conj[i] /= total;
+  }
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/debye.hpp"
 #include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/mueller.hpp"
 #include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/sphere.hpp"
 #include "params.hpp"
@@ -62,9 +63,10 @@ class Sink {
 };
 
 // The JSON object's members after "angles_deg": the angle array and S1, S2 as [re, im] pairs,
-// streamed (numbers in their shortest round-trip form, as nlohmann::json writes them).
+// then the Mueller elements if given, streamed (numbers in their shortest round-trip form, as
+// nlohmann::json writes them).
 void stream_json_arrays(Sink& sink, const std::vector<double>& angles, const std::vector<scatter::Complex>& s1,
-                        const std::vector<scatter::Complex>& s2) {
+                        const std::vector<scatter::Complex>& s2, const scatter::MuellerElements* mm) {
   auto& b = sink.buffer();
   const auto array = [&](const char* name, const auto& each) {
     fmt::format_to(std::back_inserter(b), ",\"{}\":[", name);
@@ -78,6 +80,11 @@ void stream_json_arrays(Sink& sink, const std::vector<double>& angles, const std
   array("angles_deg", [&](std::size_t i) { fmt::format_to(std::back_inserter(b), "{}", angles[i]); });
   array("s1", [&](std::size_t i) { fmt::format_to(std::back_inserter(b), "[{},{}]", s1[i].real(), s1[i].imag()); });
   array("s2", [&](std::size_t i) { fmt::format_to(std::back_inserter(b), "[{},{}]", s2[i].real(), s2[i].imag()); });
+  if (!mm) return;
+  const std::pair<const char*, const std::vector<double>*> elements[] = {
+      {"s11", &mm->s11}, {"s12", &mm->s12}, {"s33", &mm->s33}, {"s34", &mm->s34}};
+  for (const auto& e : elements)
+    array(e.first, [&](std::size_t i) { fmt::format_to(std::back_inserter(b), "{}", (*e.second)[i]); });
 }
 
 // The efficiencies and the problem as a JSON object's members, without the closing brace.
@@ -118,6 +125,7 @@ int run_mie(const MieArgs& a) {
   if (a.output && a.output->empty()) throw Error("-o: give a file name (.csv, .npy or .json)");
   if (r.no_angles && a.output) throw Error("-o writes the amplitudes; --no-angles computes none");
   if (r.no_angles && r.debye) throw Error("--debye restricts the amplitudes; --no-angles computes none");
+  if (r.no_angles && r.mueller) throw Error("--mueller derives from the amplitudes; --no-angles computes none");
   scatter::Complex m;
   double x = 0;
   if (physical) {
@@ -173,29 +181,36 @@ int run_mie(const MieArgs& a) {
     throw Error(fmt::format("{}: {} = {:g} is {}", flags, e.quantity(), e.value(), e.range_text()));
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::optional<scatter::MuellerElements> mueller;
+  if (r.mueller) mueller = scatter::mueller_elements(s1, s2);
+  const scatter::MuellerElements* mm = mueller ? &*mueller : nullptr;
 
   // The amplitudes to the file, in its format, streamed.
   if (out_file) {
     Sink sink(out_file);
     auto& b = sink.buffer();
     if (format == FileFormat::npy) {
-      const std::size_t shape[2] = {angles.size(), 5};
+      const std::size_t columns = mm ? 9 : 5;
+      const std::size_t shape[2] = {angles.size(), columns};
       b = io::npy_header_f8(shape);
       for (std::size_t i = 0; i < angles.size(); ++i) {
-        const double row[5] = {angles[i], s1[i].real(), s1[i].imag(), s2[i].real(), s2[i].imag()};
-        io::append_f8_le(b, row);
+        double row[9] = {angles[i], s1[i].real(), s1[i].imag(), s2[i].real(), s2[i].imag()};
+        if (mm) row[5] = mm->s11[i], row[6] = mm->s12[i], row[7] = mm->s33[i], row[8] = mm->s34[i];
+        io::append_f8_le(b, std::span<const double>(row, columns));
         sink.flush();
       }
     } else if (format == FileFormat::csv) {
-      b = "theta_deg,s1_re,s1_im,s2_re,s2_im\n";
+      b = mm ? "theta_deg,s1_re,s1_im,s2_re,s2_im,s11,s12,s33,s34\n" : "theta_deg,s1_re,s1_im,s2_re,s2_im\n";
       for (std::size_t i = 0; i < angles.size(); ++i) {
-        fmt::format_to(std::back_inserter(b), "{},{},{},{},{}\n", angles[i], s1[i].real(), s1[i].imag(),
-                       s2[i].real(), s2[i].imag());
+        fmt::format_to(std::back_inserter(b), "{},{},{},{},{}", angles[i], s1[i].real(), s1[i].imag(), s2[i].real(),
+                       s2[i].imag());
+        if (mm) fmt::format_to(std::back_inserter(b), ",{},{},{},{}", mm->s11[i], mm->s12[i], mm->s33[i], mm->s34[i]);
+        b += '\n';
         sink.flush();
       }
     } else {
       b = json_head(x, m, terms, q, r.debye);
-      stream_json_arrays(sink, angles, s1, s2);
+      stream_json_arrays(sink, angles, s1, s2, mm);
       fmt::format_to(std::back_inserter(b), ",\"compute_s\":{}}}\n", seconds);
     }
     sink.flush(true);
@@ -209,7 +224,7 @@ int run_mie(const MieArgs& a) {
     if (out_file)
       fmt::format_to(std::back_inserter(b), ",\"output\":{}", nlohmann::json(*a.output).dump());
     else if (!r.no_angles)
-      stream_json_arrays(sink, angles, s1, s2);
+      stream_json_arrays(sink, angles, s1, s2, mm);
     fmt::format_to(std::back_inserter(b), ",\"compute_s\":{}}}\n", seconds);
     sink.flush(true);
     return 0;
@@ -220,17 +235,24 @@ int run_mie(const MieArgs& a) {
              q.qabs, q.qback, q.g);
   if (r.no_angles) return 0;
   if (out_file) {
-    fmt::print("S1, S2 at {} angles written to {}\n", angles.size(), *a.output);
+    fmt::print("S1, S2{} at {} angles written to {}\n", mm ? " and S11, S12, S33, S34" : "", angles.size(),
+               *a.output);
     return 0;
   }
   if (r.debye) fmt::print("amplitudes of Debye order p = {} alone\n", *r.debye);
   Sink sink(nullptr);
   auto& b = sink.buffer();
-  fmt::format_to(std::back_inserter(b), "{:>10}  {:>16}  {:>16}  {:>16}  {:>16}\n", "theta_deg", "Re S1", "Im S1",
+  fmt::format_to(std::back_inserter(b), "{:>10}  {:>16}  {:>16}  {:>16}  {:>16}", "theta_deg", "Re S1", "Im S1",
                  "Re S2", "Im S2");
+  if (mm) fmt::format_to(std::back_inserter(b), "  {:>16}  {:>16}  {:>16}  {:>16}", "S11", "S12", "S33", "S34");
+  b += '\n';
   for (std::size_t i = 0; i < mu.size(); ++i) {
-    fmt::format_to(std::back_inserter(b), "{:>10.4f}  {:>16.9e}  {:>16.9e}  {:>16.9e}  {:>16.9e}\n", angles[i],
+    fmt::format_to(std::back_inserter(b), "{:>10.4f}  {:>16.9e}  {:>16.9e}  {:>16.9e}  {:>16.9e}", angles[i],
                    s1[i].real(), s1[i].imag(), s2[i].real(), s2[i].imag());
+    if (mm)
+      fmt::format_to(std::back_inserter(b), "  {:>16.9e}  {:>16.9e}  {:>16.9e}  {:>16.9e}", mm->s11[i], mm->s12[i],
+                     mm->s33[i], mm->s34[i]);
+    b += '\n';
     sink.flush();
   }
   sink.flush(true);
@@ -254,7 +276,7 @@ Command add_mie(CLI::App& app) {
                {"radius_um", "--radius-um"},
                {"wavelength_nm", "--wavelength-nm"},
                {"temperature_c", "--temperature-c"}}};
-  // The declared parameters (x; temperature_c; no_angles, debye, threads) among this command's own.
+  // The declared parameters (x; temperature_c; no_angles, debye, mueller, threads) among this command's own.
   const auto params = scatter::mie_params();
   const auto declared = [&](std::size_t from, std::size_t count) {
     add_params(*sub, args->r, params.subspan(from, count), cmd.flags_for_quantity);
@@ -280,14 +302,15 @@ Command add_mie(CLI::App& app) {
                   "Scattering angles, degrees (0 = forward): A:B:N for N angles from A to B (N up to 1e6), or a "
                   "list 0,10,90")
       ->capture_default_str();
-  declared(2, 3);
+  declared(2, 4);
   sub->add_option("-o,--output", args->output,
                   "Write S1, S2 to this file instead of printing them, by extension: .csv (theta_deg,s1_re,s1_im,"
-                  "s2_re,s2_im), .npy (float64 array, one row per angle, the same five columns) or .json (the "
-                  "--json object); written whole or not at all");
+                  "s2_re,s2_im[,s11,s12,s33,s34 with --mueller]), .npy (float64 array, one row per angle, the same "
+                  "five or nine columns) or .json (the --json object); written whole or not at all");
   sub->add_flag("--json", args->json,
                 "Print one JSON object: x, m, n_terms, qext, qsca, qabs, qback, g, [debye_p,] angles_deg, "
-                "s1, s2 ([re, im] pairs; with -o: \"output\", the file, instead), compute_s (seconds of "
+                "s1, s2 ([re, im] pairs), [s11, s12, s33, s34 with --mueller] (with -o: \"output\", the file, "
+                "instead of the arrays), compute_s (seconds of "
                 "computation alone); streamed, so a million angles need no more memory than their values");
   sub->add_flag("-q,--quiet", args->quiet, "No progress bar on stderr");
   return cmd;

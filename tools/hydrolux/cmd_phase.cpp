@@ -9,6 +9,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/scatter/geometric.hpp"
+#include "hydrolux/scatter/mueller.hpp"
 #include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "hydrolux/scatter/sphere.hpp"
@@ -88,9 +89,11 @@ int run_phase(const PhaseArgs& a) {
   const auto result = scatter::average_intensities(theory, quadrature, a.wavelength_nm, *sphere, *outside,
                                                    a.r->temperature_c, theta, a.r->threads, bar.callback());
   bar.finish();
+  std::optional<scatter::MuellerElements> mm;
+  if (a.r->mueller) mm = scatter::mueller_elements(result);
 
   if (a.csv) {
-    fmt::print("theta_deg,i1,i2,i\n");
+    fmt::print("theta_deg,i1,i2,i{}\n", mm ? ",s11,s12,s33,s34" : "");
   } else {
     fmt::print("# theory {}, {}, wavelength {:g} nm: m = {:.6g}{:+.3g}i{}\n", scatter::theory_name(theory), drops,
                a.wavelength_nm, p.m.real(), p.m.imag(),
@@ -104,14 +107,23 @@ int run_phase(const PhaseArgs& a) {
       fmt::print("# geometric optics needs x >> 1 (here x = {:.3g}); use mie\n", p.x);
     fmt::print("# i1 = |S1|^2 (perpendicular), i2 = |S2|^2 (parallel), i = (i1 + i2) / 2 "
                "(Bohren & Huffman normalisation)\n");
-    fmt::print("{:>10}  {:>16}  {:>16}  {:>16}\n", "theta_deg", "i1", "i2", "i");
+    if (mm)
+      fmt::print("# Mueller elements S11 = (i2 + i1) / 2, S12 = (i2 - i1) / 2, S33 = Re <S2 S1*>, S34 = Im <S2 S1*> "
+                 "(Bohren & Huffman eq. 4.77)\n");
+    fmt::print("{:>10}  {:>16}  {:>16}  {:>16}{}\n", "theta_deg", "i1", "i2", "i",
+               mm ? fmt::format("  {:>16}  {:>16}  {:>16}  {:>16}", "S11", "S12", "S33", "S34") : std::string());
   }
   for (std::size_t k = 0; k < theta.size(); ++k) {
     const double i1 = result.i1[k], i2 = result.i2[k];
     if (a.csv)
-      fmt::print("{},{:.10e},{:.10e},{:.10e}\n", angles[k], i1, i2, (i1 + i2) / 2);
+      fmt::print("{},{:.10e},{:.10e},{:.10e}", angles[k], i1, i2, (i1 + i2) / 2);
     else
-      fmt::print("{:>10.4f}  {:>16.9e}  {:>16.9e}  {:>16.9e}\n", angles[k], i1, i2, (i1 + i2) / 2);
+      fmt::print("{:>10.4f}  {:>16.9e}  {:>16.9e}  {:>16.9e}", angles[k], i1, i2, (i1 + i2) / 2);
+    if (mm && a.csv)
+      fmt::print(",{:.10e},{:.10e},{:.10e},{:.10e}", mm->s11[k], mm->s12[k], mm->s33[k], mm->s34[k]);
+    else if (mm)
+      fmt::print("  {:>16.9e}  {:>16.9e}  {:>16.9e}  {:>16.9e}", mm->s11[k], mm->s12[k], mm->s33[k], mm->s34[k]);
+    fmt::print("\n");
   }
   return 0;
 }
@@ -134,7 +146,7 @@ Command add_phase(CLI::App& app) {
                {"wavelength_nm", "--wavelength-nm"},
                {"temperature_c", "--temperature-c"},
                {"p", "--theory (order P)"}}};
-  // The declared parameters (nodes; temperature_c; threads) among this command's own.
+  // The declared parameters (nodes; temperature_c; threads; mueller) among this command's own.
   const auto params = scatter::phase_params();
   const auto declared = [&](std::size_t from) {
     add_params(*sub, args->r, params.subspan(from, 1), cmd.flags_for_quantity);
@@ -162,7 +174,9 @@ Command add_phase(CLI::App& app) {
                   "Scattering angles, degrees (0 = forward): A:B:N or a list 0,10,90")
       ->capture_default_str();
   declared(2);  // --threads
-  sub->add_flag("--csv", args->csv, "Comma-separated output with a header row: theta_deg,i1,i2,i");
+  sub->add_flag("--csv", args->csv,
+                "Comma-separated output with a header row: theta_deg,i1,i2,i[,s11,s12,s33,s34 with --mueller]");
+  declared(3);  // --mueller
   sub->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
   return cmd;
 }

@@ -17,6 +17,7 @@ struct MieRequest {
   std::optional<double> temperature_c;  // of the media, in the physical form
   bool no_angles = false;               // efficiencies alone: no amplitudes
   std::optional<int> debye;             // the amplitudes of this Debye order alone
+  bool mueller = false;                 // the Mueller matrix elements too
   int threads = 0;                      // 0: every core
 };
 
@@ -24,6 +25,7 @@ struct PhaseRequest {
   int nodes = 64;  // radii in the size average
   std::optional<double> temperature_c;
   int threads = 0;
+  bool mueller = false;  // the Mueller matrix elements too
 };
 
 std::span<const Field<MieRequest>> mie_params();

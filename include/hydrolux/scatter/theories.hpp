@@ -49,9 +49,11 @@ RadiusQuadrature intensity_quadrature(const SizeDistribution& d, int nodes);
 // number-weighted mean over the quadrature's radii, each drop solved at its own size parameter
 // (B&H normalisation, so i / k^2 is the intensity per drop per unit incident irradiance at unit
 // distance). Oscillating theories (Mie, Debye) need nodes that resolve the ripple in r, about
-// lambda / 10 apart; `progress` is called after each radius.
+// lambda / 10 apart; `progress` is called after each radius. s2_s1conj is the same mean of the
+// product S2 S1*, whose real and imaginary parts are the Mueller elements S33 and S34 (mueller.hpp).
 struct Intensities {
   std::vector<double> i1, i2;
+  std::vector<Complex> s2_s1conj;
 };
 Intensities average_intensities(const Theory& t, const RadiusQuadrature& q, double wavelength_nm,
                                 const optics::Medium& drop, const optics::Medium& surrounding,
