@@ -28,16 +28,26 @@ void report(benchmark::State& state, const atmos::LeeTable& t) {
       benchmark::Counter(double(t.work.term_angles), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// Arg: 0 = Mie, 1 = Airy theory.
+// Args: theory (0 = Mie, 1 = Airy theory), stokes (0 = intensity only, 1 = with the Stokes Q): the
+// two side by side give Q's cost.
 void BM_StandardTable(benchmark::State& state) {
   atmos::LeeSpec s;  // the defaults are the standard table
   if (state.range(0) == 1) s.theory = scatter::parse_theory("airy");
+  s.stokes = state.range(1) == 1;
   atmos::LeeTable t;
   for (auto _ : state) t = atmos::compute_lee_table(s);
   report(state, t);
-  state.SetLabel(state.range(0) == 1 ? "airy, 512 x 1024, both cores" : "mie, 512 x 1024, both cores");
+  state.SetLabel(std::string(state.range(0) == 1 ? "airy" : "mie") + ", 512 x 1024, both cores" +
+                 (s.stokes ? ", stokes" : ""));
 }
-BENCHMARK(BM_StandardTable)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK(BM_StandardTable)
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
 
 // One wavelength (550 nm) of the standard Mie table on one thread: the per-core rate.
 void BM_StandardTableOneWavelength(benchmark::State& state) {

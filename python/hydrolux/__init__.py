@@ -229,7 +229,9 @@ class MieResult(NamedTuple):
     """Lorenz-Mie results per size parameter (Bohren & Huffman conventions).
 
     qext, qsca, qabs, qback, g: float64 arrays of x's shape; n_terms: int32, the partial waves summed;
-    s1, s2: complex128 of shape x.shape + (angles,), or None when no angles were asked for.
+    s1, s2: complex128 of shape x.shape + (angles,), or None when no angles were asked for;
+    s11, s12, s33, s34: the Mueller matrix elements (Bohren & Huffman eq. 4.77), float64 of S1's
+    shape with ``mueller=True``, else None.
 
     Example:
 
@@ -249,6 +251,10 @@ class MieResult(NamedTuple):
     n_terms: np.ndarray
     s1: Optional[np.ndarray]
     s2: Optional[np.ndarray]
+    s11: Optional[np.ndarray] = None
+    s12: Optional[np.ndarray] = None
+    s33: Optional[np.ndarray] = None
+    s34: Optional[np.ndarray] = None
 
 
 _DEFAULT_ANGLES = "0:180:181"
@@ -257,7 +263,7 @@ _MIE = {p["name"]: p["default"] for p in _core.params("mie")}
 
 
 def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEFAULT_ANGLES,
-        threads: int = _MIE["threads"]) -> MieResult:
+        threads: int = _MIE["threads"], mueller: bool = False) -> MieResult:
     """Lorenz-Mie scattering by homogeneous spheres (``hydrolux mie``), vectorised over sizes.
 
     ``m``: relative complex index n + ik (k >= 0 absorbs; n, k up to 1000, |m| >= 1e-3), e.g.
@@ -265,6 +271,8 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
     ``angles_deg``: scattering angles in [0, 180] degrees (0 = forward) for S1 and S2: an array, or
     ``"A:B:N"`` for N angles from A to B; the default is the CLI's 0:180:181. ``None`` computes the
     efficiencies alone (the fast path for size sweeps, ``--no-angles``). ``threads``: 0 = all cores.
+    ``mueller``: also the Mueller matrix elements S11 = (|S2|^2 + |S1|^2)/2, S12 = (|S2|^2 - |S1|^2)/2,
+    S33 = Re(S2 S1*), S34 = Im(S2 S1*) (Bohren & Huffman eq. 4.77, ``--mueller``); POL = -S12/S11.
 
     Example:
 
@@ -278,6 +286,9 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
     (1000,) 2.023 None
     >>> print(hydrolux.mie(1.333, 10.0, angles_deg="0:180:3").s1.shape)   # the CLI's A:B:N
     (3,)
+    >>> p = hydrolux.mie(1.5, 1e-3, angles_deg=[0, 90, 180], mueller=True)   # Rayleigh's limit
+    >>> print((p.s12 / p.s11).round(6), (p.s33 / p.s11).round(6))   # -sin^2/(1+cos^2), 2cos/(1+cos^2)
+    [ 0. -1.  0.] [ 1.  0. -1.]
     """
     m = _complex(m, "m")
     x_arr = _reals(x, "x")
@@ -287,8 +298,11 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
             angles = _parse_angles(angles_deg)
         else:
             angles = np.atleast_1d(_reals(angles_deg, "angles_deg"))
-    d = _core.mie(m, x_arr, angles, threads)
-    return MieResult(d["qext"], d["qsca"], d["qabs"], d["qback"], d["g"], d["n_terms"], d.get("s1"), d.get("s2"))
+    if not isinstance(mueller, (bool, np.bool_)):
+        raise TypeError(f"mueller: expected True or False, got {_describe(mueller)}")
+    d = _core.mie(m, x_arr, angles, threads, bool(mueller))
+    return MieResult(d["qext"], d["qsca"], d["qabs"], d["qback"], d["g"], d["n_terms"], d.get("s1"), d.get("s2"),
+                     d.get("s11"), d.get("s12"), d.get("s33"), d.get("s34"))
 
 
 def _parse_angles(text: str) -> np.ndarray:
@@ -531,6 +545,10 @@ class LeeTable(NamedTuple):
     xyz: (rows, columns, 3) float64, CIE XYZ (unmapped); display: (rows, columns, 3) float32, the
     tone-mapped display values in [0, 1] (linear; apply the sRGB curve to show them);
     radius_um: (columns,), angle_deg and cos_angle: (rows,), wavelengths_nm: (K,).
+    With ``stokes=True``: q_xyz, (rows, columns, 3) float64, the Stokes Q weighted as xyz, in the
+    scattering-plane basis (Q > 0: polarised tangentially to the bow; U = 0 in this basis); dolp,
+    (rows, columns) float64, Q_Y / I_Y, the luminance-weighted degree of linear polarisation (0 where
+    I_Y = 0). Both None otherwise.
 
     Example:
 
@@ -549,6 +567,8 @@ class LeeTable(NamedTuple):
     cos_angle: np.ndarray
     wavelengths_nm: np.ndarray
     info: dict
+    q_xyz: Optional[np.ndarray] = None
+    dolp: Optional[np.ndarray] = None
 
 
 def _span(value, name):
@@ -585,7 +605,8 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
         threads: int = _LEE["threads"]["default"], shape: str = "sphere",
         sun_elevation_deg: float = _LEE["sun_elevation_deg"]["default"],
         position_deg: float = _LEE["position_deg"]["default"],
-        canting_deg: float = _LEE["canting_deg"]["default"]) -> LeeTable:
+        canting_deg: float = _LEE["canting_deg"]["default"],
+        stokes: bool = _LEE["stokes"]["default"]) -> LeeTable:
     """A Lee diagram, corona or glory table, computed spectrally (``hydrolux lee``; docs/lee.md).
 
     ``table``: "rainbow" (90-180 deg, 5-800 um), "corona" (0-20 deg, 1-50 um) or "glory"
@@ -599,7 +620,8 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     bow's position angle around the antisolar point: 0 top, 90 side, 180 bottom) and
     ``canting_deg`` [0, 30] (docs/non-spherical.md); ``info["drop_shape"]`` holds the shape's name
     and, for those, the three angles and ``axis_ratio`` per column. Other arguments as the CLI's
-    flags of the same names. Long: the GIL is released and Ctrl-C stops it.
+    flags of the same names. ``stokes``: also the Stokes Q (``q_xyz``) and ``dolp`` (docs/lee.md,
+    "Polarisation"). Long: the GIL is released and Ctrl-C stops it.
 
     Example:
 
@@ -633,11 +655,12 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     shape = _text(shape, "shape", "sphere, spheroid:Q or beard-chuang")
     options.update(sun_elevation_deg=_real(sun_elevation_deg, "sun_elevation_deg"),
                    position_deg=_real(position_deg, "position_deg"), canting_deg=_real(canting_deg, "canting_deg"))
+    options["stokes"] = _flag(stokes, "stokes")
     d = _core.lee(table, theory, radius_um, angle_deg, size, radius_scale, axis, wavelengths_nm, wavelengths, shape,
                   medium, sun, color_space, options)
     info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape")}
     return LeeTable(d["rgb"], d["xyz"], d["display"], d["radius_um"], d["angle_deg"], d["cos_angle"],
-                    d["wavelengths_nm"], info)
+                    d["wavelengths_nm"], info, d.get("q_xyz"), d.get("dolp"))
 
 
 # ---- the drop -------------------------------------------------------------------------------------

@@ -121,6 +121,13 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
     shape_info["axis_ratio"] = q;
   }
   d["drop_shape"] = shape_info;
+  if (s.stokes) {  // Q's X, Y, Z (LeeTable::q_xyz) and the luminance-weighted dolp = Q_Y / I_Y
+    py::array_t<double> q({rows, cols, py::ssize_t(3)}), dolp({rows, cols});
+    std::memcpy(q.mutable_data(), t.q_xyz.data(), t.q_xyz.size() * sizeof(double));
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) dolp.mutable_data()[std::size_t(r) * cols + c] = t.dolp(r, c);
+    d["q_xyz"] = q, d["dolp"] = dolp;
+  }
   return d;
 }
 

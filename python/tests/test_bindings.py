@@ -68,6 +68,30 @@ def test_mie_matches_cli_bit_for_bit(cli):
         np.testing.assert_array_equal(r.s2[i], [complex(*v) for v in j["s2"]])
 
 
+def test_mie_mueller_matches_cli_and_definitions(cli):
+    # The Mueller elements (Bohren & Huffman eq. 4.77): the same doubles as hydrolux mie --mueller, the
+    # definitions from S1, S2, and one sphere's pure matrix S11^2 = S12^2 + S33^2 + S34^2 (to rounding).
+    xs = np.array([[0.5, 10.0], [100.0, 5.213]])
+    r = h.mie(1.5 + 0.01j, xs, angles_deg="0:180:19", mueller=True)
+    for k in ("s11", "s12", "s33", "s34"):
+        assert getattr(r, k).shape == (2, 2, 19) and getattr(r, k).dtype == np.float64, k
+    j = cli("mie", "--m", "1.5+0.01i", "--x", 100.0, "--angles-deg", "0:180:19", "--mueller", "--json", json_out=True)
+    for k in ("s11", "s12", "s33", "s34"):
+        np.testing.assert_array_equal(getattr(r, k)[1, 0], j[k])
+    i1, i2, c = np.abs(r.s1) ** 2, np.abs(r.s2) ** 2, r.s2 * np.conj(r.s1)
+    np.testing.assert_allclose(r.s11, (i2 + i1) / 2, rtol=1e-14)
+    for got, want in ((r.s12, (i2 - i1) / 2), (r.s33, c.real), (r.s34, c.imag)):
+        assert np.all(np.abs(got - want) <= 1e-14 * r.s11)
+    np.testing.assert_allclose(r.s12 ** 2 + r.s33 ** 2 + r.s34 ** 2, r.s11 ** 2, rtol=1e-13)
+    plain = h.mie(1.5 + 0.01j, xs, angles_deg="0:180:19")
+    assert plain.s11 is None and plain.s34 is None
+    np.testing.assert_array_equal(plain.s1, r.s1)
+    with pytest.raises(ValueError, match="mueller"):
+        h.mie(1.5, 1.0, angles_deg=None, mueller=True)
+    with pytest.raises(TypeError, match="mueller"):
+        h.mie(1.5, 1.0, mueller="yes")
+
+
 def test_mie_efficiencies_only_matches_cli_no_angles(cli):
     xs = np.geomspace(1e-3, 1e4, 9).reshape(3, 3)
     r = h.mie(1.5 + 0.01j, xs, angles_deg=None)
@@ -197,6 +221,28 @@ def test_lee_bad_drop_shape_options_raise_value_error_naming_them(kw, names):
     with pytest.raises(ValueError) as e:
         h.lee(**kw)
     assert names in str(e.value)
+
+
+def test_lee_stokes_matches_cli_and_leaves_intensity_alone(cli):
+    """stokes=True adds the Stokes Q (scattering-plane basis, > 0 tangential) and dolp = Q_Y / I_Y;
+    I is bit for bit the same; the CLI's --stokes profile gives the same numbers."""
+    kw = dict(radius_um=500, size=(1, 41), angle_deg=(134, 144), wavelengths=8)
+    t, plain = h.lee(stokes=True, **kw), h.lee(**kw)
+    assert plain.q_xyz is None and plain.dolp is None
+    np.testing.assert_array_equal(t.xyz, plain.xyz)
+    assert t.q_xyz.shape == (41, 1, 3) and t.dolp.shape == (41, 1)
+    assert np.all(np.abs(t.q_xyz) <= t.xyz * (1 + 1e-12))
+    np.testing.assert_allclose(t.dolp, t.q_xyz[..., 1] / t.xyz[..., 1], rtol=1e-12)
+    # The primary bow is polarised tangentially: Q > 0 and dolp about 0.9 at its peak.
+    peak = np.argmax(t.xyz[:, 0, 1])
+    assert 0.85 < t.dolp[peak, 0] < 0.93
+    j = cli("lee", "--radius-um", 500, "--size", "1x41", "--angle-deg", "134:144", "--wavelengths-nm", "380:780:8",
+            "--stokes", "--json", "-q", json_out=True)
+    np.testing.assert_array_equal(t.q_xyz[:, 0, :], np.array(j["q_xyz"]))
+    np.testing.assert_array_equal(t.dolp[:, 0], np.array(j["dolp"]))
+    assert "tangential" in j["stokes"]["sign"]
+    with pytest.raises(TypeError, match="stokes: expected True or False"):
+        h.lee(stokes=1, **kw)
 
 
 def test_lee_signature_defaults_are_the_declared_ones():

@@ -368,6 +368,7 @@ LeeSpec make_lee_spec(const LeeRequest& r) {
   s.sun_elevation_deg = r.sun_elevation_deg;
   s.position_deg = r.position_deg;
   s.canting_deg = r.canting_deg;
+  s.stokes = r.stokes;
   return s;
 }
 
@@ -401,8 +402,10 @@ double estimated_bytes(const LeeSpec& s) {
   // compute_lee_table: per column and cell 3 doubles (cell_xyz), per node and cell 1 (node_values),
   // per column and node 1 (column_weight); the table's XYZ (3 doubles a pixel). lee_images: 6 + 3
   // floats and 2 doubles a pixel. Then the encoders' buffers (EXR, PNG): kLeeEncoderBytesPerPixel.
-  return kLeeFixedBytes + 24 * double(s.columns) * w.cells + 8 * w.nodes * w.cells + 8 * double(s.columns) * w.nodes +
-         (24 + 36 + 16 + kLeeEncoderBytesPerPixel) * pixels;
+  const double base = kLeeFixedBytes + 24 * double(s.columns) * w.cells + 8 * w.nodes * w.cells +
+                      8 * double(s.columns) * w.nodes + (24 + 36 + 16 + kLeeEncoderBytesPerPixel) * pixels;
+  // Stokes: Q's cell_xyz, node values and table (as I's), and 3 more EXR channels (floats).
+  return s.stokes ? base + 24 * double(s.columns) * w.cells + 8 * w.nodes * w.cells + (24 + 12) * pixels : base;
 }
 
 void validate(const LeeSpec& s) {
@@ -556,6 +559,17 @@ std::vector<double> row_angles_deg(const LeeSpec& s) {
 color::Xyz LeeTable::at(int row, int column) const {
   const std::size_t i = (std::size_t(row) * radius_um.size() + std::size_t(column)) * 3;
   return {xyz[i], xyz[i + 1], xyz[i + 2]};
+}
+
+color::Xyz LeeTable::q_at(int row, int column) const {
+  if (q_xyz.empty()) throw Error("the table has no Stokes Q (compute it with stokes on)");
+  const std::size_t i = (std::size_t(row) * radius_um.size() + std::size_t(column)) * 3;
+  return {q_xyz[i], q_xyz[i + 1], q_xyz[i + 2]};
+}
+
+double LeeTable::dolp(int row, int column) const {
+  const double q = q_at(row, column).Y, i = at(row, column).Y;
+  return i > 0 ? q / i : 0.0;
 }
 
 color::Rgb LeeTable::rgb(int row, int column, bool into_gamut) const {
@@ -748,12 +762,14 @@ void check_drop_index(const LeeSpec& spec, const std::vector<double>& wavelength
 
 // The work arrays, reused from one wavelength to the next.
 struct WorkArrays {
-  WorkArrays(std::size_t J, std::size_t R, std::size_t cols)
-      : node_ln(J), node_a(J), node_width(J), cell_xyz(cols * R * 3, 0.0), node_values(J * R), node_used(J, 1),
-        column_first(cols), column_count(cols) {}
+  WorkArrays(std::size_t J, std::size_t R, std::size_t cols, bool stokes)
+      : node_ln(J), node_a(J), node_width(J), cell_xyz(cols * R * 3, 0.0), node_values(J * R),
+        cell_q_xyz(stokes ? cols * R * 3 : 0, 0.0), node_q(stokes ? J * R : 0), node_used(J, 1), column_first(cols),
+        column_count(cols) {}
   std::vector<double> node_ln, node_a, node_width;  // this wavelength's nodes
   std::vector<double> cell_xyz;                     // per column and cell, before the disk kernel
   std::vector<double> node_values;                  // T at each node and cell, this wavelength
+  std::vector<double> cell_q_xyz, node_q;           // the same for Q (stokes only; else empty)
   std::vector<char> node_used;
   std::vector<double> column_weight;  // (column, node) area weights, this wavelength
   std::vector<std::size_t> column_first, column_count;
@@ -840,17 +856,30 @@ std::vector<Orientation> drop_orientations(const LeeSpec& spec) {
 // One non-spherical drop (equal-volume radius radius_um, size parameter x): the plane-section Airy
 // bow of each orientation, weighted; T = i / (pi x^2) per the equal-volume sphere's cross-section.
 // A section without a bow of this order adds nothing.
+// With `out_q`, Q as well: each orientation's intensity times its degree of polarisation
+// (w_perpendicular - w_parallel) / (w_perpendicular + w_parallel), the section's two weights.
 void section_bow(const LeeSpec& spec, const std::vector<Orientation>& orientations, scatter::Complex m, double x,
-                 double radius_um, const std::vector<double>& theta, double norm, double* out) {
+                 double radius_um, const std::vector<double>& theta, double norm, double* out, double* out_q) {
   const double q = drop_axis_ratio(spec.shape, radius_um);
   const double e = deg_to_rad(spec.sun_elevation_deg), psi = deg_to_rad(spec.position_deg);
   std::fill(out, out + theta.size(), 0.0);
+  if (out_q) std::fill(out_q, out_q + theta.size(), 0.0);
   for (const auto& o : orientations) {
     const auto bow = scatter::section_rainbow(m.real(), spec.theory.p, scatter::spheroid_section(q, o.axis, e, psi));
     if (!bow) continue;
     const scatter::SectionAiry a = scatter::section_airy(*bow, x, m.imag());
-    for (std::size_t i = 0; i < theta.size(); ++i)
-      out[i] += o.weight * norm * scatter::section_airy_intensity(a, theta[i]);
+    if (!out_q) {
+      for (std::size_t i = 0; i < theta.size(); ++i)
+        out[i] += o.weight * norm * scatter::section_airy_intensity(a, theta[i]);
+      continue;
+    }
+    const double wsum = a.weight_perpendicular + a.weight_parallel;
+    const double pol = wsum > 0 ? (a.weight_perpendicular - a.weight_parallel) / wsum : 0.0;
+    for (std::size_t i = 0; i < theta.size(); ++i) {
+      const double v = o.weight * norm * scatter::section_airy_intensity(a, theta[i]);
+      out[i] += v;
+      out_q[i] += v * pol;
+    }
   }
 }
 
@@ -871,6 +900,7 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
       sc.resize(R);
       for (std::size_t j = range.begin(); j != range.end(); ++j) {
         double* out = &wa.node_values[j * R];
+        double* out_q = wa.node_q.empty() ? nullptr : &wa.node_q[j * R];
         if (!wa.node_used[j]) continue;
         const double x = wl.wavenumber * wa.node_a[j];
         // Each node's evaluations are consecutive in the sequences (wavelength fastest), so the
@@ -896,20 +926,30 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
             scatter::mie_amplitudes(sc.coef, sc.mu, sc.s1, sc.s2, 1);
             terms += sc.coef.terms();
             for (std::size_t i = 0; i < R; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
+            if (out_q)
+              for (std::size_t i = 0; i < R; ++i) out_q[i] = 0.5 * (std::norm(sc.s1[i]) - std::norm(sc.s2[i])) * norm;
             break;
           }
           case scatter::TheoryKind::Airy: {
             if (!spec.shape.spherical()) {
-              section_bow(spec, orientations, m, x, wa.node_a[j] * 1e6, sc.theta, norm, out);
+              section_bow(spec, orientations, m, x, wa.node_a[j] * 1e6, sc.theta, norm, out, out_q);
               break;
             }
             const scatter::AiryRainbow rb = scatter::airy_rainbow(m.real(), x, spec.theory.p, m.imag());
             for (std::size_t i = 0; i < R; ++i) out[i] = scatter::airy_intensity(rb, sc.theta[i]) * norm;
+            if (out_q) {
+              // Q = (|eps_1|^2 - |eps_2|^2) / 2 * amplitude^2 Ai^2: I times the ratio of the two.
+              const double e1 = std::norm(rb.eps.perpendicular), e2 = std::norm(rb.eps.parallel);
+              const double pol = e1 + e2 > 0 ? (e1 - e2) / (e1 + e2) : 0.0;
+              for (std::size_t i = 0; i < R; ++i) out_q[i] = out[i] * pol;
+            }
             break;
           }
           case scatter::TheoryKind::Geometric: {
             scatter::geometric_amplitudes(m, x, spec.theory.p, sc.theta, sc.s1, sc.s2, /*diffraction=*/true);
             for (std::size_t i = 0; i < R; ++i) out[i] = 0.5 * (std::norm(sc.s1[i]) + std::norm(sc.s2[i])) * norm;
+            if (out_q)
+              for (std::size_t i = 0; i < R; ++i) out_q[i] = 0.5 * (std::norm(sc.s1[i]) - std::norm(sc.s2[i])) * norm;
             break;
           }
         }
@@ -923,8 +963,10 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
 // with this wavelength's weight `wk`. Neighbouring columns share most of their nodes, so a block of
 // them is summed together: each node's values are read once per block (memory traffic, not
 // arithmetic, bounds this).
+// `values` (J x R, I or Q) into `cell_xyz` (columns x cells x 3).
 void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, const color::Xyz& wk,
-                        tbb::task_arena& arena, WorkArrays& wa) {
+                        tbb::task_arena& arena, const WorkArrays& wa, const std::vector<double>& values,
+                        std::vector<double>& cell_xyz) {
   const std::size_t J = pop.nodes;
   constexpr std::size_t kBlock = 8;
   arena.execute([&] {
@@ -935,7 +977,7 @@ void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, 
         const std::size_t c0 = b * kBlock, c1 = std::min(cols, c0 + kBlock);
         std::fill(acc.begin(), acc.end(), 0.0);
         if (pop.per_column) {
-          for (std::size_t c = c0; c < c1; ++c) std::copy_n(&wa.node_values[c * R], R, &acc[(c - c0) * R]);
+          for (std::size_t c = c0; c < c1; ++c) std::copy_n(&values[c * R], R, &acc[(c - c0) * R]);
         } else {
           std::size_t first = J, last = 0;
           for (std::size_t c = c0; c < c1; ++c) {
@@ -943,7 +985,7 @@ void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, 
             last = std::max(last, wa.column_first[c] + wa.column_count[c] - 1);
           }
           for (std::size_t j = first; j <= last; ++j) {
-            const double* v = &wa.node_values[j * R];
+            const double* v = &values[j * R];
             for (std::size_t c = c0; c < c1; ++c) {
               const double wj = wa.column_weight[c * J + j];
               if (wj == 0) continue;
@@ -954,7 +996,7 @@ void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, 
         for (std::size_t c = c0; c < c1; ++c) {
           const double* col = &acc[(c - c0) * R];
           for (std::size_t i = 0; i < R; ++i) {
-            double* px = &wa.cell_xyz[(c * R + i) * 3];
+            double* px = &cell_xyz[(c * R + i) * 3];
             px[0] += wk.X * col[i];
             px[1] += wk.Y * col[i];
             px[2] += wk.Z * col[i];
@@ -966,13 +1008,14 @@ void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, 
 }
 
 // The sun's disk: each row is its kernel's weighted sum of the cells (one row: its cell).
-void apply_disk(const AngleCells& cells, const std::vector<double>& cell_xyz, LeeTable& t) {
+void apply_disk(const AngleCells& cells, const std::vector<double>& cell_xyz, const LeeTable& t,
+                std::vector<double>& xyz) {
   const std::size_t rows = t.angle_deg.size(), cols = t.radius_um.size(), R = std::size_t(cells.count);
-  t.xyz.assign(rows * cols * 3, 0.0);
+  xyz.assign(rows * cols * 3, 0.0);
   for (std::size_t c = 0; c < cols; ++c) {
     const double* col = &cell_xyz[c * R * 3];
     for (std::size_t i = 0; i < rows; ++i) {
-      double* dst = &t.xyz[(i * cols + c) * 3];
+      double* dst = &xyz[(i * cols + c) * 3];
       if (cells.per_evaluation_disk) {
         std::copy_n(col, 3, dst);
         continue;
@@ -1004,7 +1047,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   const std::size_t R = std::size_t(cells.count);
   double total_work = 0;
   const std::vector<double> k_work = work_per_wavelength(t, pop, seq, is_wave_theory(spec.theory), total_work);
-  WorkArrays wa(J, R, cols);
+  WorkArrays wa(J, R, cols, spec.stokes);
   std::atomic<std::int64_t> terms{0}, evaluations{0};
   check_drop_index(spec, t.wavelengths_nm, *drop, *air);
 
@@ -1019,12 +1062,14 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
     place_nodes(pop, t, shift, wa);
     if (!pop.per_column) weigh_columns(pop, t, spec.size_spread, shift, arena, wa);
     scatter_nodes(spec, t, sin_angle, cells, seq, wl, arena, wa, terms, evaluations);
-    accumulate_columns(pop, cols, R, weight[std::size_t(k)], arena, wa);
+    accumulate_columns(pop, cols, R, weight[std::size_t(k)], arena, wa, wa.node_values, wa.cell_xyz);
+    if (spec.stokes) accumulate_columns(pop, cols, R, weight[std::size_t(k)], arena, wa, wa.node_q, wa.cell_q_xyz);
     done_work += k_work[std::size_t(k)];
     if (progress) progress(done_work / total_work, fmt::format("{:.0f} nm", nm));
   }
 
-  apply_disk(cells, wa.cell_xyz, t);
+  apply_disk(cells, wa.cell_xyz, t, t.xyz);
+  if (spec.stokes) apply_disk(cells, wa.cell_q_xyz, t, t.q_xyz);
   t.work.evaluations = evaluations.load();
   t.work.terms = terms.load();
   t.work.term_angles = t.work.terms * std::int64_t(R);

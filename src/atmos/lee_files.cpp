@@ -36,6 +36,17 @@ nlohmann::json drop_shape_json(const LeeTable& t) {
   return j;
 }
 
+// The Stokes Q's basis and sign (LeeTable::q_xyz).
+nlohmann::json stokes_json() {
+  return {{"basis", "the scattering plane (sun, drop, observer): Q = (|S1|^2 - |S2|^2) / 2 in the normalisation of "
+                    "I = (|S1|^2 + |S2|^2) / 2, S1 perpendicular and S2 parallel to that plane (Bohren & Huffman); "
+                    "integrated exactly as I (spectrum x CIE observer, sizes, the sun's disk); U = 0 and V = 0 in "
+                    "this basis"},
+          {"sign", "Q > 0: polarised perpendicular to the scattering plane, i.e. tangential to the bow (a "
+                   "rainbow's usual state); Q < 0: radial"},
+          {"dolp", "Q_Y / I_Y: the luminance-weighted degree of linear polarisation, signed as Q"}};
+}
+
 }  // namespace
 
 nlohmann::json lee_profile_json(const LeeTable& t) {
@@ -57,6 +68,17 @@ nlohmann::json lee_profile_json(const LeeTable& t) {
   j["rgb"] = rgb;
   j["luminance"] = lum;
   j["xyz"] = xyz;
+  if (t.spec.stokes) {
+    nlohmann::json q = nlohmann::json::array(), dolp = nlohmann::json::array();
+    for (int r = 0; r < t.rows(); ++r) {
+      const auto c = t.q_at(r, 0);
+      q.push_back({c.X, c.Y, c.Z});
+      dolp.push_back(t.dolp(r, 0));
+    }
+    j["stokes"] = stokes_json();
+    j["q_xyz"] = q;
+    j["dolp"] = dolp;
+  }
   return j;
 }
 
@@ -99,6 +121,12 @@ nlohmann::json lee_sidecar(const LeeTable& t, const LeeImages& im, const std::st
       {"exr", {"R", "G", "B", "XYZ.X", "XYZ.Y", "XYZ.Z"}},
       {"R,G,B", "linear RGB, desaturated into the gamut toward the white point at constant luminance"},
       {"XYZ", "CIE 1931 X, Y, Z, unmapped, relative to the sun's luminance (Y = luminance in sr^-1)"}};
+  if (s.stokes) {
+    j["channels"]["exr"] = {"R", "G", "B", "XYZ.X", "XYZ.Y", "XYZ.Z", "Q.X", "Q.Y", "Q.Z"};
+    j["channels"]["Q"] = "the Stokes Q weighted as XYZ (x_bar, y_bar, z_bar), signed, sr^-1: Q.Y / XYZ.Y is the "
+                         "luminance-weighted degree of linear polarisation (see stokes)";
+    j["stokes"] = stokes_json();
+  }
   j["color_space"] = {
       {"rgb", color::rgb_space_name(s.rgb_space)},
       {"white", "D65"},
@@ -142,9 +170,18 @@ nlohmann::json lee_sidecar(const LeeTable& t, const LeeImages& im, const std::st
 LeeFileBytes encode_lee_files(const LeeTable& t, const LeeImages& im, const LeeImageEncoder& encode) {
   static_assert(std::endian::native == std::endian::little, "the .f32 tables are little-endian");
   LeeFileBytes out;
-  Image lin(t.columns(), t.rows(), 6);
-  lin.pixels.assign(im.linear.begin(), im.linear.end());
+  Image lin(t.columns(), t.rows(), t.spec.stokes ? 9 : 6);
   lin.channel_names = {"R", "G", "B", "XYZ.X", "XYZ.Y", "XYZ.Z"};
+  if (!t.spec.stokes) {
+    lin.pixels.assign(im.linear.begin(), im.linear.end());
+  } else {  // Q.X, Q.Y, Q.Z after the six
+    const std::size_t n = std::size_t(t.columns()) * std::size_t(t.rows());
+    for (std::size_t p = 0; p < n; ++p) {
+      for (std::size_t c = 0; c < 6; ++c) lin.pixels[p * 9 + c] = im.linear[p * 6 + c];
+      for (std::size_t c = 0; c < 3; ++c) lin.pixels[p * 9 + 6 + c] = float(t.q_xyz[p * 3 + c]);
+    }
+    lin.channel_names.insert(lin.channel_names.end(), {"Q.X", "Q.Y", "Q.Z"});
+  }
   Image disp(t.columns(), t.rows(), 3);
   disp.pixels.assign(im.display.begin(), im.display.end());
   out.exr = encode(lin, io::ImageFormat::exr, {});

@@ -42,6 +42,10 @@ const Field<LeeRequest> kLee[] = {
     {{"seed", "--seed", "sampling", K::integer, "", 0, double(rain::kMaxSeed), "Seed of the sampling pattern"},
      HYDROLUX_PARAM_MEMBER(seed)},
     {{"threads", "--threads", "sampling", K::integer, "", 0, kMaxThreads, "Threads (0: every core)"}, HYDROLUX_PARAM_MEMBER(threads)},
+    {{"stokes", "--stokes", "output", K::flag, "", 0, 1,
+      "Also the Stokes Q in the scattering-plane basis (> 0 tangential to the bow; U = 0): EXR channels Q.X, Q.Y, "
+      "Q.Z, and the profile's dolp = Q_Y / I_Y"},
+     HYDROLUX_PARAM_MEMBER(stokes)},
 };
 
 }  // namespace

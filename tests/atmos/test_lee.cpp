@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "support/asan.hpp"
 #include "hydrolux/atmos/lee.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/scatter/geometric.hpp"
@@ -20,17 +21,7 @@ using namespace hydrolux;
 using atmos::LeeSpec;
 using atmos::LeeTable;
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
+constexpr bool kSanitized = HYDROLUX_TEST_ASAN;  // smaller tables under the sanitizers
 
 // One column of drops of one radius over [a0, a1] degrees in `rows` rows: white sunlight (ASTM G173
 // direct, 380-780 nm), the sun's disk, Mie theory (the defaults of LeeSpec otherwise).

@@ -199,7 +199,10 @@ Command add_lee(CLI::App& app) {
       ->check(CLI::IsMember({"rec709", "srgb", "rec2020"}))
       ->capture_default_str();
   declared("sampling", "threads");
-  sub->add_flag("--json", args->json, "Print one radius's profile (angle, RGB, luminance, XYZ) as JSON on stdout");
+  sub->add_flag("--json", args->json,
+                "Print one radius's profile (angle, RGB, luminance, XYZ; with --stokes Q's XYZ and dolp) as JSON on "
+                "stdout");
+  declared("stokes", "stokes");
   sub->add_option("-o,--output", args->output, "Output .exr (the .png and .json are written beside it)");
   sub->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
   cmd.flags_for_quantity.insert({{"radius_um", "--radius-um"},

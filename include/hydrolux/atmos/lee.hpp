@@ -121,6 +121,8 @@ struct LeeSpec {
   // Gaussian of standard deviation canting_deg per component. Spheres ignore all three.
   DropShapeSpec shape;
   double sun_elevation_deg = 0, position_deg = 0, canting_deg = 0;
+  // Also the Stokes Q (LeeTable::q_xyz). Off: the table, its files and its cost are those without.
+  bool stokes = false;
 };
 
 // The defaults of each kind: rainbow 5-800 um over 90-180 degrees; corona 1-50 um over 0-20; glory
@@ -154,6 +156,7 @@ struct LeeRequest {
   std::optional<double> temperature_c;  // the drop medium's default when unset
   std::string shape = "sphere";         // parse_drop_shape's names
   double sun_elevation_deg = 0, position_deg = 0, canting_deg = 0;
+  bool stokes = false;  // LeeSpec::stokes
   // One radius given (A == B): the table has one column.
   bool one_radius() const { return radius_um && (*radius_um)[0] == (*radius_um)[1]; }
 };
@@ -232,6 +235,15 @@ struct LeeTable {
   std::vector<double> cos_angle;  // per row
   // X, Y, Z per pixel, (row * columns + column) * 3, relative to the sun's luminance (sr^-1).
   std::vector<double> xyz;
+  // With spec.stokes (else empty): the Stokes Q, in the same layout and units as xyz and integrated
+  // exactly as I (spectrum x observer, sizes, the sun's disk). Basis: the scattering plane (the
+  // plane of the sun, the drop and the observer), Q = (|S1|^2 - |S2|^2) / 2 per the same
+  // normalisation as I = (|S1|^2 + |S2|^2) / 2 (S1 perpendicular, S2 parallel: Bohren & Huffman):
+  // Q > 0 when the light is polarised perpendicular to the scattering plane, i.e. tangential to the
+  // bow. U = 0 in this basis (spheres, and the plane-section Airy bows of non-spherical drops, which
+  // keep the two polarisations' weights only), and V = 0. Its X, Y, Z are Q weighted by x_bar,
+  // y_bar, z_bar like I's; Q_Y / I_Y (dolp) is the luminance-weighted degree of linear polarisation.
+  std::vector<double> q_xyz;
   color::Xyz sun_white;                // the sun's XYZ over the sampled wavelengths, Y = 1
   color::Mat3 xyz_to_rgb{};            // Bradford (sun -> D65) then XYZ -> linear RGB
   std::vector<double> wavelengths_nm;  // the K sampled wavelengths
@@ -240,6 +252,10 @@ struct LeeTable {
   int columns() const { return int(radius_um.size()); }
   int rows() const { return int(angle_deg.size()); }
   color::Xyz at(int row, int column) const;
+  // With stokes: Q's X, Y, Z, and dolp = Q_Y / I_Y (signed: > 0 tangential to the bow; 0 where
+  // I_Y = 0). Without: Error.
+  color::Xyz q_at(int row, int column) const;
+  double dolp(int row, int column) const;
   // Linear RGB, unmapped (may have negative components) or desaturated into the gamut.
   color::Rgb rgb(int row, int column, bool into_gamut = true) const;
 };
