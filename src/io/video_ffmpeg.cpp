@@ -35,6 +35,7 @@ extern "C" {
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <type_traits>
 #include <exception>
 #include <mutex>
 #include <string>
@@ -467,12 +468,26 @@ class Reader final : public hydrolux::io::VideoReader {
       throw fail(fmt::format("pixel format {} cannot be converted to RGB", av_get_pix_fmt_name(format)
                                                                               ? av_get_pix_fmt_name(format)
                                                                               : "?"));
-    const AVColorSpace space = f->colorspace != AVCOL_SPC_UNSPECIFIED ? f->colorspace : stream_->codecpar->color_space;
-    const AVColorRange range = f->color_range != AVCOL_RANGE_UNSPECIFIED ? f->color_range
-                                                                          : stream_->codecpar->color_range;
-    const AVChromaLocation siting = f->chroma_location != AVCHROMA_LOC_UNSPECIFIED
-                                        ? f->chroma_location
-                                        : stream_->codecpar->chroma_location;
+    // The frame's own tags, else the stream's; a hostile file can make a decoder store a value outside
+    // the enum (chroma location 33 was seen by fuzz_video), which is read as its integer and taken as
+    // unspecified.
+    const auto frame_or_stream = [](const auto& from_frame, const auto& from_stream, auto unspecified, auto count) {
+      const auto tag = [&](const auto& field) {
+        using E = std::decay_t<decltype(field)>;
+        std::underlying_type_t<E> raw;
+        std::memcpy(&raw, &field, sizeof raw);
+        const long long v = static_cast<long long>(raw);
+        return v >= 0 && v < static_cast<long long>(count) ? static_cast<E>(raw) : unspecified;
+      };
+      const auto own = tag(from_frame);
+      return own != unspecified ? own : tag(from_stream);
+    };
+    const AVColorSpace space =
+        frame_or_stream(f->colorspace, stream_->codecpar->color_space, AVCOL_SPC_UNSPECIFIED, AVCOL_SPC_NB);
+    const AVColorRange range =
+        frame_or_stream(f->color_range, stream_->codecpar->color_range, AVCOL_RANGE_UNSPECIFIED, AVCOL_RANGE_NB);
+    const AVChromaLocation siting = frame_or_stream(f->chroma_location, stream_->codecpar->chroma_location,
+                                                    AVCHROMA_LOC_UNSPECIFIED, AVCHROMA_LOC_NB);
     const Conversion key{f->width, f->height, format, yuv_matrix(space, f->width, f->height), full_range(format, range),
                          siting};
     if (!sws_ || !(key == conversion_)) {
