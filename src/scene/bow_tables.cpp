@@ -64,6 +64,19 @@ double max_sky_radius_um(const atmos::DropShapeSpec& shape) {
   return std::min(atmos::max_radius_um(spec), atmos::max_shape_radius_um(spec));
 }
 
+void check_shape_radius(const atmos::DropShapeSpec& shape, double radius_um) {
+  const double rmax = max_sky_radius_um(shape);
+  if (radius_um <= rmax) return;
+  throw DomainError("radius_um", radius_um, atmos::kMinRadiusUm, rmax,
+                    fmt::format("shape {} drops ({})", atmos::drop_shape_name(shape),
+                                shape.kind == atmos::DropShapeSpec::Kind::beard_chuang
+                                    ? fmt::format("beyond, the largest drops of the 10% spread are flatter than the "
+                                                  "axis ratio {:g} the plane-section method needs: "
+                                                  "docs/non-spherical.md",
+                                                  atmos::kMinBowAxisRatio)
+                                    : std::string("Airy theory's size parameter limit at 380 nm")));
+}
+
 RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
                                      double sun_elevation_deg, bool secondary, const ProgressFn& progress) {
   std::vector<atmos::LeeSpec> specs;

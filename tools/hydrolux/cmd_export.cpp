@@ -91,16 +91,7 @@ int run_export(const ExportArgs& a) {
   std::optional<atmos::LeeSpec> shaped_spec;
   if (shaped) {
     // The table's own radii (5-800 um) are within every shape's range; one --radius-um may not be.
-    const double rmax = scene::max_sky_radius_um(shape);
-    if (rainbow.radius_max_um > rmax)
-      throw Error(fmt::format(
-          "--radius-um {:g} is outside the valid range [{:g}, {:g}] um of --shape {} drops ({})",
-          rainbow.radius_max_um, atmos::kMinRadiusUm, rmax, o.shape,
-          shape.kind == atmos::DropShapeSpec::Kind::beard_chuang
-              ? fmt::format("beyond, the largest drops of the 10% spread are flatter than the axis ratio {:g} the "
-                            "plane-section method needs: docs/non-spherical.md",
-                            atmos::kMinBowAxisRatio)
-              : std::string("Airy theory's size parameter limit at 380 nm")));
+    scene::check_shape_radius(shape, rainbow.radius_max_um);
     if (rainbow.rows > scene::kShapedTableMaxRows)
       throw Error(fmt::format("--size {}: with --shape the rainbow's rows are also the 3-D table's, whose side is at "
                               "most {} (a 3-D texture's); H is at most {} with --shape",
@@ -195,6 +186,7 @@ Command add_export(CLI::App& app) {
   add_params(*sub, a->o, params.subspan(1), cmd.flags_for_quantity);
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
   cmd.flags_for_quantity.insert({{"columns", "--size"},
+                                 {"shape", "--shape"},
                                  {"rows", "--size"},
                                  {"size_parameter", "--radius-um (the size parameter 2 pi r / lambda)"},
                                  {"p", "--theory"}});

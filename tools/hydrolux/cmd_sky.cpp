@@ -97,16 +97,7 @@ int run_sky(const SkyArgs& a) {
       throw Error(fmt::format("--shape {}: non-spherical drops' bow is computed for a sun at most {:g} degrees up "
                               "(--sun-elevation-deg {:g}; the bow is below the horizon anyway)",
                               a.o->shape, scene::max_shape_sun_elevation_deg(), s.sun_elevation_deg));
-    const double rmax = scene::max_sky_radius_um(shape);
-    if (s.radius_um > rmax)
-      throw Error(fmt::format(
-          "--radius-um {:g} is outside the valid range [{:g}, {:g}] um of --shape {} drops ({})", s.radius_um,
-          atmos::kMinRadiusUm, rmax, a.o->shape,
-          shape.kind == atmos::DropShapeSpec::Kind::beard_chuang
-              ? fmt::format("beyond, the largest drops of the 10% spread are flatter than the axis ratio {:g} the "
-                            "plane-section method needs: docs/non-spherical.md",
-                            atmos::kMinBowAxisRatio)
-              : std::string("Airy theory's size parameter limit at 380 nm")));
+    scene::check_shape_radius(shape, s.radius_um);
   }
   // The tables computed here are Mie's, whose size parameter limit caps the radius; given tables
   // (--lut, e.g. geometric optics up to 5000 um) cover what they cover.
@@ -251,6 +242,7 @@ Command add_sky(CLI::App& app) {
   sub->add_option("-o,--output", a->output, "Output .png (tone-mapped) or .exr (cd/m^2)");
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
   cmd.flags_for_quantity.insert({{"width", "--size"},
+                                 {"shape", "--shape"},
                                  {"height", "--size"},
                                  {"curtain_near_m", "--curtain-distance-m"},
                                  {"curtain_far_m", "--curtain-distance-m"},

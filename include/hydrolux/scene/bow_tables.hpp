@@ -63,6 +63,9 @@ atmos::LeeSpec sky_shape_profile_spec(const atmos::DropShapeSpec& shape, double 
 // and for beard-chuang the flattest drop of the spread keeping an axis ratio of at least
 // atmos::kMinBowAxisRatio (about 1.1 mm). For spheres, max_sky_radius_um().
 double max_sky_radius_um(const atmos::DropShapeSpec& shape);
+// DomainError ("radius_um"; its range "of shape <name> drops (why)") when radius_um exceeds max_sky_radius_um(shape):
+// the one check hydrolux sky and hydrolux export make before computing the shaped profiles.
+void check_shape_radius(const atmos::DropShapeSpec& shape, double radius_um);
 
 // The rainbow of `shape` drops of `radius_um` for a sun `sun_elevation_deg` up: the profiles at the
 // kShapePositions position angles, the primary (airy) and, when `secondary`, the secondary (airy:3)
