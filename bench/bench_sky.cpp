@@ -16,6 +16,7 @@ const scene::BowSlice& rainbow_slice() {
   static const scene::BowSlice s = [] {
     atmos::LeeSpec spec = scene::bow_table_spec(atmos::LeeTableKind::rainbow, 500);
     spec.theory = scatter::parse_theory("airy:3");  // the fast theory: the cost under test is the frame's
+    spec.stokes = true;                              // for the polariser's frames (unused by the others)
     return scene::compute_bow_slice(spec);
   }();
   return s;
@@ -44,6 +45,22 @@ void BM_SkyFrame(benchmark::State& state) {
   state.counters["pixels_per_s"] = benchmark::Counter(1280.0 * 720.0, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_SkyFrame)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The same through a polariser (hydrolux sky --polarizer-deg 30): each pixel's filter angle, the
+// sky's degree of polarisation and the bow's Q looked up besides I.
+void BM_SkyFramePolarizer(benchmark::State& state) {
+  scene::SkySettings s = settings(int(state.range(0)));
+  s.polarizer_deg = 30;
+  const scene::SkyCompositor comp(s, rainbow_slice(), {});
+  Image frame;
+  for (auto _ : state) {
+    comp.render_into(frame);
+    benchmark::DoNotOptimize(frame.pixels.data());
+  }
+  state.SetLabel(label(int(state.range(0))));
+  state.counters["pixels_per_s"] = benchmark::Counter(1280.0 * 720.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_SkyFramePolarizer)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_BowColour(benchmark::State& state) {
   const scene::SkyCompositor comp(settings(int(state.range(0))), rainbow_slice(), {});

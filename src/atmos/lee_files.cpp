@@ -3,7 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <utility>
 
@@ -217,6 +219,20 @@ LeeSidecarAxes parse_lee_sidecar(std::string_view json_text) {
     a.radius_scale = scale == "log" ? atmos::RadiusScale::log : atmos::RadiusScale::linear;
     a.radius_um = j.at("radius_um").get<std::vector<double>>();
     a.rows = j.at(a.axis == atmos::AngleAxis::angle ? "angle_deg" : "cos_angle").get<std::vector<double>>();
+    if (j.contains("stokes")) {
+      const auto m = j.at("color_space").at("xyz_to_rgb").get<std::vector<std::vector<double>>>();
+      color::Mat3 mat{};
+      if (m.size() != 3) throw Error("color_space.xyz_to_rgb is not a 3 x 3 matrix");
+      for (std::size_t r = 0; r < 3; ++r) {
+        if (m[r].size() != 3) throw Error("color_space.xyz_to_rgb is not a 3 x 3 matrix");
+        for (std::size_t c = 0; c < 3; ++c) {
+          if (!std::isfinite(m[r][c]) || std::abs(m[r][c]) > 100)
+            throw Error(fmt::format("color_space.xyz_to_rgb holds {:g} (finite, |x| <= 100)", m[r][c]));
+          mat[r][c] = m[r][c];
+        }
+      }
+      a.stokes_xyz_to_rgb = mat;
+    }
   } catch (const nlohmann::json::exception& e) {
     throw Error(fmt::format("the table's axes are missing or malformed ({})", e.what()));
   }
@@ -235,10 +251,35 @@ scene::BowTable lee_bow_table(LeeSidecarAxes axes, const io::DecodedImage& decod
   if (im.width != int(radii.size()) || im.height != int(rows.size()))
     throw Error(fmt::format("the EXR is {}x{} but its sidecar describes {} radii x {} rows", im.width, im.height,
                             radii.size(), rows.size()));
-  std::vector<float> rgb(std::size_t(im.width) * im.height * 3);
-  for (std::size_t q = 0; q < std::size_t(im.width) * im.height; ++q)
+  const std::size_t n = std::size_t(im.width) * im.height;
+  std::vector<float> rgb(n * 3);
+  for (std::size_t q = 0; q < n; ++q)
     for (int c = 0; c < 3; ++c) rgb[q * 3 + c] = im.pixels[q * std::size_t(im.channels) + c];
-  return scene::bow_table(axes.kind, axes.axis, std::move(radii), rows, std::move(rgb), axes.radius_scale);
+  std::vector<float> q_rgb;
+  if (axes.stokes_xyz_to_rgb) {
+    // The channels by name: Y's and Q's XYZ.
+    const auto& names = decoded.channel_names;
+    const auto channel = [&](const char* name) {
+      const auto it = std::find(names.begin(), names.end(), name);
+      if (it == names.end())
+        throw Error(fmt::format("the sidecar says the table has the Stokes Q, but the EXR has no channel {}", name));
+      return std::size_t(it - names.begin());
+    };
+    const std::size_t qx = channel("Q.X"), qy = channel("Q.Y"), qz = channel("Q.Z"), iy = channel("XYZ.Y");
+    const auto& m = *axes.stokes_xyz_to_rgb;
+    q_rgb.resize(n * 3);
+    for (std::size_t p = 0; p < n; ++p) {
+      const float* v = &im.pixels[p * std::size_t(im.channels)];
+      // |Q| <= I in every band: Q_Y against I_Y (a small slack for the half floats' rounding).
+      if (!(std::abs(v[qy]) <= std::abs(v[iy]) * 1.001f + 1e-30f))
+        throw Error(fmt::format("the Stokes Q_Y {:g} exceeds the intensity Y {:g} at row {}, column {} (|Q| <= I)",
+                                v[qy], v[iy], p / std::size_t(im.width), p % std::size_t(im.width)));
+      for (std::size_t c = 0; c < 3; ++c)
+        q_rgb[p * 3 + c] = float(m[c][0] * v[qx] + m[c][1] * v[qy] + m[c][2] * v[qz]);
+    }
+  }
+  return scene::bow_table(axes.kind, axes.axis, std::move(radii), rows, std::move(rgb), axes.radius_scale,
+                          std::move(q_rgb));
 }
 
 }  // namespace hydrolux::atmos

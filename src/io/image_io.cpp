@@ -196,6 +196,7 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
     throw codec_failure(in->geterror());
   in->close();
   result.warnings = captured.finish();
+  result.channel_names.assign(spec.channelnames.begin(), spec.channelnames.end());
   if (!spec.format.is_floating_point()) {
     const int alpha = spec.alpha_channel;
     for (std::size_t i = 0; i < img.pixels.size(); ++i)

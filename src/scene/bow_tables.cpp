@@ -78,11 +78,13 @@ void check_shape_radius(const atmos::DropShapeSpec& shape, double radius_um) {
 }
 
 RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
-                                     double sun_elevation_deg, bool secondary, const ProgressFn& progress) {
+                                     double sun_elevation_deg, bool secondary, const ProgressFn& progress,
+                                     bool stokes) {
   std::vector<atmos::LeeSpec> specs;
   for (int k = 0; k < kShapePositions; ++k)
     for (int p = 2; p <= (secondary ? 3 : 2); ++p) {
       specs.push_back(sky_shape_profile_spec(shape, radius_um, sampling, sun_elevation_deg, k * kShapePositionStepDeg, p));
+      specs.back().stokes = stokes;
       atmos::validate(specs.back());
     }
   RainbowSlices out;
@@ -101,6 +103,8 @@ RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double r
     } else {  // the secondary, on the same rows: added
       auto& v = out.by_position.back().rgb;
       for (std::size_t j = 0; j < v.size(); ++j) v[j] += s.rgb[j];
+      auto& q = out.by_position.back().q;
+      for (std::size_t j = 0; j < q.size(); ++j) q[j] += s.q[j];
     }
   }
   return out;
@@ -147,6 +151,7 @@ ShapedRainbowTable compute_shaped_rainbow_table(const atmos::LeeSpec& rainbow, c
     if (i == 0) {
       out.first = std::move(t);
       out.rgb.assign(std::size_t(kShapePositions) * b.rgb.size(), 0.f);
+      out.q.assign(b.has_q() ? out.rgb.size() : 0, 0.f);
     }
     if (specs[i].theory.p == 2) {
       layer = out.position_deg.size();
@@ -155,6 +160,10 @@ ShapedRainbowTable compute_shaped_rainbow_table(const atmos::LeeSpec& rainbow, c
     // The secondary added to its position's primary, in float, as compute_shaped_rainbow does.
     float* dst = &out.rgb[layer * b.rgb.size()];
     for (std::size_t j = 0; j < b.rgb.size(); ++j) dst[j] += b.rgb[j];
+    if (!out.q.empty()) {
+      float* dq = &out.q[layer * b.q.size()];
+      for (std::size_t j = 0; j < b.q.size(); ++j) dq[j] += b.q[j];
+    }
   }
   return out;
 }

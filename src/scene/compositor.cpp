@@ -106,12 +106,20 @@ BowTable bow_table(const atmos::LeeTable& t) {
       const auto v = t.rgb(r, c);
       for (int k = 0; k < 3; ++k) b.rgb[(std::size_t(r) * t.columns() + c) * 3 + k] = float(v[k]);
     }
+  if (!t.q_xyz.empty()) {
+    b.q.resize(b.rgb.size());
+    for (int r = 0; r < t.rows(); ++r)
+      for (int c = 0; c < t.columns(); ++c) {
+        const auto v = color::matmul(t.xyz_to_rgb, t.q_at(r, c));
+        for (int k = 0; k < 3; ++k) b.q[(std::size_t(r) * t.columns() + c) * 3 + k] = float(v[k]);
+      }
+  }
   return b;
 }
 
 BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<double> radius_um,
                    const std::vector<double>& row_values, std::vector<float> rgb,
-                   std::optional<atmos::RadiusScale> radius_scale) {
+                   std::optional<atmos::RadiusScale> radius_scale, std::vector<float> q) {
   if (radius_um.empty() || row_values.empty()) throw Error("a Lee table needs at least one radius and one row");
   for (std::size_t i = 0; i < radius_um.size(); ++i)
     if (!(radius_um[i] >= atmos::kMinRadiusUm && radius_um[i] <= atmos::kMaxRadiusUm))
@@ -168,7 +176,16 @@ BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<
   b.row_first = first;
   b.row_last = last;
   b.rows = n;
+  if (!q.empty()) {
+    if (q.size() != rgb.size())
+      throw Error(fmt::format("the table's Stokes Q holds {} values where its intensity holds {}", q.size(), rgb.size()));
+    for (std::size_t i = 0; i < q.size(); ++i)
+      if (!std::isfinite(q[i]))
+        throw Error(fmt::format("the table's Stokes Q holds {:g} at row {}, column {} (finite values only)", q[i],
+                                i / 3 / b.radius_um.size(), i / 3 % b.radius_um.size()));
+  }
   b.rgb = std::move(rgb);
+  b.q = std::move(q);
   return b;
 }
 
@@ -181,7 +198,6 @@ BowSlice slice_at_radius(const BowTable& t, double radius_um, bool outside_is_em
   s.first = float(t.row_first);
   s.last = float(t.row_last);
   s.rows = t.rows;
-  s.rgb.resize(std::size_t(t.rows) * 3);
   const int cols = t.columns();
   int c0 = 0;
   double f = 0;
@@ -191,12 +207,17 @@ BowSlice slice_at_radius(const BowTable& t, double radius_um, bool outside_is_em
     c0 = std::clamp(c0, 0, cols - 2);
     f = std::clamp((x - std::log(r[c0])) / (std::log(r[c0 + 1]) - std::log(r[c0])), 0.0, 1.0);
   }
-  for (int row = 0; row < t.rows; ++row)
-    for (int k = 0; k < 3; ++k) {
-      const float a = t.rgb[(std::size_t(row) * cols + c0) * 3 + k];
-      const float b = cols > 1 ? t.rgb[(std::size_t(row) * cols + c0 + 1) * 3 + k] : a;
-      s.rgb[std::size_t(row) * 3 + k] = float(a + f * (b - a));
-    }
+  const auto column = [&](const std::vector<float>& table, std::vector<float>& out) {
+    out.resize(std::size_t(t.rows) * 3);
+    for (int row = 0; row < t.rows; ++row)
+      for (int k = 0; k < 3; ++k) {
+        const float a = table[(std::size_t(row) * cols + c0) * 3 + k];
+        const float b = cols > 1 ? table[(std::size_t(row) * cols + c0 + 1) * 3 + k] : a;
+        out[std::size_t(row) * 3 + k] = float(a + f * (b - a));
+      }
+  };
+  column(t.rgb, s.rgb);
+  if (t.has_q()) column(t.q, s.q);
   return s;
 }
 
@@ -229,6 +250,8 @@ void validate(const SkySettings& s) {
   declared("cube_face_size", s.cube_face_size);
   declared("dome_rings", s.dome_rings);
   declared("dome_segments", s.dome_segments);
+  if (s.polarizer_deg) declared("polarizer_deg", *s.polarizer_deg);
+  declared("sky_max_dolp", s.sky_max_dolp);
 }
 
 double estimated_bytes(const SkySettings& s) {
@@ -308,6 +331,17 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, RainbowSlices rainbow,
     }
     by_position_ = std::move(slices);
   }
+  if (s_.polarizer_deg) {
+    const bool rainbow_q = by_position_.empty() ? (rainbow_.empty() || rainbow_.has_q())
+                                                 : std::all_of(by_position_.begin(), by_position_.end(),
+                                                               [](const BowSlice& b) { return b.has_q(); });
+    if (!rainbow_q)
+      throw Error("a polariser needs the rainbow's Stokes Q, and its table has none (compute it with stokes on: "
+                  "hydrolux lee --stokes, or hydrolux export)");
+    if (s_.corona && !corona_.empty() && !corona_.has_q())
+      throw Error("a polariser needs the corona's Stokes Q, and its table has none (compute it with stokes on: "
+                  "hydrolux lee --stokes, or hydrolux export)");
+  }
   const Param& scale = sky_param("environment_scale");  // the declared range (sky_params.cpp)
   if (!(environment_scale >= scale.lo && std::isfinite(environment_scale)))
     throw DomainError("environment_scale", environment_scale, scale.lo, scale.hi);
@@ -342,6 +376,11 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, RainbowSlices rainbow,
     const int n = s_.cube_face_size;
     cube_.size = n;
     cube_.rgb.assign(std::size_t(6) * n * n * 3, 0.f);
+    const bool bake_q = s_.polarizer_deg.has_value();
+    if (bake_q) {
+      cube_q_.size = n;
+      cube_q_.rgb.assign(cube_.rgb.size(), 0.f);
+    }
     const V3f sun = to_f(sun_);
     tbb::parallel_for(0, 6 * n, [&](int fy) {
       const int face = fy / n, y = fy % n;
@@ -349,12 +388,16 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, RainbowSlices rainbow,
         const float sc = 2 * (float(x) + 0.5f) / float(n) - 1, tc = 2 * (float(y) + 0.5f) / float(n) - 1;
         const V3f d = glm::normalize(face_direction(face, sc, tc));
         const float c = std::clamp(glm::dot(d, sun), -1.0f, 1.0f);
-        float v[3];
+        float v[3], vq[3];
         const float theta = std::acos(c) * kDegPerRad;
-        rainbow_term(d, c, theta, v);
-        add_corona_term(c, theta, v);
+        rainbow_term(d, c, theta, v, bake_q ? vq : nullptr);
+        add_corona_term(c, theta, v, bake_q ? vq : nullptr);
         float* o = &cube_.rgb[((std::size_t(face) * n + y) * n + x) * 3];
         o[0] = v[0], o[1] = v[1], o[2] = v[2];
+        if (bake_q) {
+          float* oq = &cube_q_.rgb[((std::size_t(face) * n + y) * n + x) * 3];
+          oq[0] = vq[0], oq[1] = vq[1], oq[2] = vq[2];
+        }
       }
     });
   } else if (s_.mode == BowMode::half_dome) {
@@ -389,30 +432,34 @@ float SkyCompositor::position_angle_deg(const V3f& d) const {
 
 // The rainbow table's part at theta (in the direction d, for the position angle of non-spherical
 // drops' slices), the secondary window applied.
-void SkyCompositor::rainbow_term(const V3f& d, float c, float theta_deg, float out[3]) const {
+void SkyCompositor::rainbow_term(const V3f& d, float c, float theta_deg, float out[3], float* q_out) const {
   if (by_position_.empty()) {
-    rainbow_.lookup(c, theta_deg, out);
+    rainbow_.lookup_in(c, theta_deg, out, q_out);
   } else {
     // Linear between the two nearest positions.
     const int n = int(by_position_.size());
     const float p = std::clamp(position_angle_deg(d) * float(n - 1) / 180.0f, 0.0f, float(n - 1));
     const int k = std::min(int(p), n - 2);
     const float f = p - float(k);
-    float a[3], b[3];
-    by_position_[std::size_t(k)].lookup(c, theta_deg, a);
-    by_position_[std::size_t(k) + 1].lookup(c, theta_deg, b);
+    float a[3], b[3], qa[3], qb[3];
+    by_position_[std::size_t(k)].lookup_in(c, theta_deg, a, q_out ? qa : nullptr);
+    by_position_[std::size_t(k) + 1].lookup_in(c, theta_deg, b, q_out ? qb : nullptr);
     for (int i = 0; i < 3; ++i) out[i] = a[i] + f * (b[i] - a[i]);
+    if (q_out)
+      for (int i = 0; i < 3; ++i) q_out[i] = qa[i] + f * (qb[i] - qa[i]);
   }
   const float w = secondary_weight(s_.secondary, theta_deg);
   out[0] *= w, out[1] *= w, out[2] *= w;
+  if (q_out) q_out[0] *= w, q_out[1] *= w, q_out[2] *= w;
 }
 
-// The corona table's part at theta, added to `out` when the corona is on.
-void SkyCompositor::add_corona_term(float c, float theta_deg, float out[3]) const {
+// The corona table's part at theta, added to `out` (and its Q to `q_out`) when the corona is on.
+void SkyCompositor::add_corona_term(float c, float theta_deg, float out[3], float* q_out) const {
   if (!s_.corona || corona_.empty()) return;
-  float v[3];
-  corona_.lookup(c, theta_deg, v);
+  float v[3], vq[3];
+  corona_.lookup_in(c, theta_deg, v, q_out ? vq : nullptr);
   out[0] += v[0], out[1] += v[1], out[2] += v[2];
+  if (q_out) q_out[0] += vq[0], q_out[1] += vq[1], q_out[2] += vq[2];
 }
 
 // The half dome: the ray meets the flat triangle of the tessellation whose corners carry theta;
@@ -461,22 +508,24 @@ float SkyCompositor::dome_theta(const V3f& d, bool& covered) const {
   return 0;
 }
 
-// The bow colour at one pixel in the current mode.
-void SkyCompositor::bow_pixel(const V3f& d, float c, float theta, float o[3]) const {
+// The bow colour (and, into `q_out` when given, its Stokes Q) at one pixel in the current mode.
+void SkyCompositor::bow_pixel(const V3f& d, float c, float theta, float o[3], float* q_out) const {
   if (s_.mode == BowMode::cube_map) {
     cube_.lookup(d, o);
+    if (q_out) cube_q_.lookup(d, q_out);
   } else if (s_.mode == BowMode::half_dome) {
     // The dome carries the rainbow side only; the corona stays per pixel.
     bool covered = false;
     const float t = dome_theta(d, covered);
     o[0] = o[1] = o[2] = 0;
+    if (q_out) q_out[0] = q_out[1] = q_out[2] = 0;
     // The position angle, for non-spherical drops, from the view ray (a shader's interpolated
     // direction), theta from the dome.
-    if (covered) rainbow_term(d, std::cos(t / kDegPerRad), t, o);
-    add_corona_term(c, theta, o);
+    if (covered) rainbow_term(d, std::cos(t / kDegPerRad), t, o, q_out);
+    add_corona_term(c, theta, o, q_out);
   } else {
-    rainbow_term(d, c, theta, o);
-    add_corona_term(c, theta, o);
+    rainbow_term(d, c, theta, o, q_out);
+    add_corona_term(c, theta, o, q_out);
   }
 }
 
@@ -531,6 +580,14 @@ void SkyCompositor::render_into(Image& out, const Image* moisture) const {
   const float sky_trans = std::exp(-q * beta * std::max(d1 - d0, 0.0f));
   const float* zt = sky_zenith_factor_.data();
   const float* gt = sky_sun_factor_.data();
+  // The polariser (docs/sky.md, "Polarisation"): its axis a = cos A h + sin A v in each pixel's image
+  // basis (h the camera's right made normal to the ray, v = d x h, up); the sky's and the bow's
+  // polarised light lies normal to the scattering plane, along e = d x sun, so the filter passes
+  // (I + Qp cos 2(chi - A)) / 2 of it, chi e's angle in that basis; the rest passes half.
+  const bool pol = s_.polarizer_deg.has_value();
+  const float pol_cos = pol ? float(std::cos(deg_to_rad(*s_.polarizer_deg))) : 0.0f;
+  const float pol_sin = pol ? float(std::sin(deg_to_rad(*s_.polarizer_deg))) : 0.0f;
+  const float p90 = float(s_.sky_max_dolp);
   const float fa[3] = {f.x, f.y, f.z}, ra[3] = {r.x, r.y, r.z}, ua[3] = {u.x, u.y, u.z}, sa[3] = {sun.x, sun.y, sun.z};
   tbb::enumerable_thread_specific<std::vector<float>> scratch;
 
@@ -547,8 +604,22 @@ void SkyCompositor::render_into(Image& out, const Image* moisture) const {
         const float c = bc[i];
         const float gamma = bg_[i];
         const float theta = gamma * kDegPerRad;
+        // cos 2 (chi - A) with a polariser (0 where the scattering plane is undefined: at the sun and
+        // the antisolar point, where nothing is polarised).
+        float c2 = 0;
+        if (pol) {
+          const V3f e = glm::cross(d, sun);
+          const V3f h = r - glm::dot(r, d) * d;
+          const V3f v = glm::cross(d, h);
+          const float ee = glm::dot(e, e), hh = glm::dot(h, h);
+          if (ee > 1e-12f && hh > 1e-12f) {
+            const float ea = pol_cos * glm::dot(e, h) + pol_sin * glm::dot(e, v);
+            c2 = std::clamp(2 * ea * ea / (ee * hh) - 1, -1.0f, 1.0f);
+          }
+        }
         // The background.
         V3f bg;
+        float bg_dolp = 0;  // the sky's degree of polarisation (the sun, ground and environment: none)
         if (env_) {
           bg = to_f(env_->radiance(Vec3(d)) * env_scale_);
         } else if (d.y >= 0) {
@@ -559,7 +630,10 @@ void SkyCompositor::render_into(Image& out, const Image* moisture) const {
           const float X = x / y * Y, Zc = (1 - x - y) / y * Y;
           bg = {M[0][0] * X + M[0][1] * Y + M[0][2] * Zc, M[1][0] * X + M[1][1] * Y + M[1][2] * Zc,
                 M[2][0] * X + M[2][1] * Y + M[2][2] * Zc};
-          if (c >= cos_sun_radius) bg = sun_disk;
+          if (c >= cos_sun_radius)
+            bg = sun_disk;
+          else if (pol)
+            bg_dolp = float(sky_dolp(c, p90));
         } else {
           bg = ground;
         }
@@ -585,12 +659,17 @@ void SkyCompositor::render_into(Image& out, const Image* moisture) const {
           trans = path > 0 && m > 0 ? std::exp(-q * beta * path * m) : 1.0f;
         }
         float* o = row + std::size_t(i) * 3;
+        if (pol) bg *= 0.5f * (1 + bg_dolp * c2);
         if (trans == 1.0f) {
           o[0] = bg.x, o[1] = bg.y, o[2] = bg.z;
           continue;
         }
-        float t[3];
-        bow_pixel(d, c, theta, t);
+        float t[3], tq[3];
+        bow_pixel(d, c, theta, t, pol ? tq : nullptr);
+        if (pol) {
+          // Q is not gamut-mapped as I is: where the two disagree past |Q| <= I, none passes.
+          for (int k = 0; k < 3; ++k) t[k] = std::max(0.5f * (t[k] + tq[k] * c2), 0.0f);
+        }
         const float scatter = (1 - trans) / q;
         for (int k = 0; k < 3; ++k) {
           const float b = light[k] * t[k] * scatter;

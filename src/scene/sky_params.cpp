@@ -69,6 +69,15 @@ std::span<const Field<SkyOptions>> sky_params() {
       {{"dome_segments", "--dome-segments", "mode", K::integer, "", 3, 8192,
         "Half dome segments around (--mode half-dome only)"},
        HYDROLUX_PARAM_MEMBER(settings.dome_segments)},
+      {{"polarizer_deg", "--polarizer-deg", "camera", K::real, "deg", -180, 180,
+        "A linear polariser in front of the camera: its transmission axis in the image, degrees from the horizontal "
+        "towards up (0 passes the top of the bow, 90 its sides); the bow's and corona's polarisation from Stokes "
+        "tables, the sky's from --sky-max-dolp; none by default"},
+       HYDROLUX_PARAM_OPTIONAL(settings.polarizer_deg)},
+      {{"sky_max_dolp", "--sky-max-dolp", "sun", K::real, "", 0, 1,
+        "The sky's degree of linear polarisation 90 degrees from the sun (Rayleigh with depolarisation: 0.946 for "
+        "air's molecules alone, 0.6-0.85 measured in clear skies; used with --polarizer-deg)"},
+       HYDROLUX_PARAM_MEMBER(settings.sky_max_dolp)},
       {{"sampling", "--sampling", "tables", K::real, "", sampling.lo, sampling.hi,
         "Sampling multiplier of the tables computed without --lut (not with --lut); the time grows as its square: "
         "about 12 s at 1 for 500 um drops on two cores, an hour at 16"},

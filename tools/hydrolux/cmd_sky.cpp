@@ -107,6 +107,8 @@ int run_sky(const SkyArgs& a) {
                             s.radius_um, atmos::kMinRadiusUm, scene::max_sky_radius_um()));
   refuse_unused(a, "sampling", a.luts.empty(),
                 "sets the sampling of the tables computed without --lut; --lut gives the tables (omit --sampling)");
+  refuse_unused(a, "sky_max_dolp", s.polarizer_deg.has_value(),
+                "sets the sky's polarisation, which only a polariser shows (add --polarizer-deg, or omit --sky-max-dolp)");
   refuse_unused(a, "environment_scale", a.environment.has_value(),
                 "scales --environment's values; without --environment there is nothing to scale");
   for (const auto& [name, mode] : {std::pair{"cube_face_size", scene::BowMode::cube_map},
@@ -136,7 +138,16 @@ int run_sky(const SkyArgs& a) {
 
   // The tables: given (--lut), or one radius's profiles computed now.
   SkySlices tables;
-  if (!a.luts.empty()) tables = read_sky_luts(a.luts, s.radius_um, s.corona);
+  const bool polarized = s.polarizer_deg.has_value();
+  if (!a.luts.empty()) {
+    tables = read_sky_luts(a.luts, s.radius_um, s.corona);
+    // A polariser needs the tables' Stokes Q.
+    for (const auto* slice : {&tables.rainbow, &tables.corona})
+      if (polarized && !slice->empty() && !slice->has_q() && (slice == &tables.rainbow || s.corona))
+        throw Error(fmt::format("--polarizer-deg {:g}: the {} table given with --lut has no Stokes Q (make it with "
+                                "hydrolux lee --stokes, or hydrolux export)",
+                                *s.polarizer_deg, slice == &tables.rainbow ? "rainbow" : "corona"));
+  }
 
   // The images are read (and checked) before any work.
   std::shared_ptr<const scene::Environment> env;
@@ -159,10 +170,15 @@ int run_sky(const SkyArgs& a) {
     const int jobs = need_corona ? 2 : 1;
     int done = 0;
     const auto sub = [&](double f, std::string_view label) { bar.update((done + f) / jobs, label); };
-    const auto spec = [&](atmos::LeeTableKind kind) { return scene::sky_profile_spec(kind, s.radius_um, a.o->sampling); };
+    // With a polariser the tables carry the Stokes Q (1.04x the time of I alone, BENCHMARKS.md).
+    const auto spec = [&](atmos::LeeTableKind kind) {
+      atmos::LeeSpec p = scene::sky_profile_spec(kind, s.radius_um, a.o->sampling);
+      p.stokes = polarized;
+      return p;
+    };
     if (shaped)
-      shaped_rainbow =
-          scene::compute_shaped_rainbow(shape, s.radius_um, a.o->sampling, s.sun_elevation_deg, s.secondary, sub);
+      shaped_rainbow = scene::compute_shaped_rainbow(shape, s.radius_um, a.o->sampling, s.sun_elevation_deg,
+                                                     s.secondary, sub, polarized);
     else
       tables.rainbow = scene::compute_bow_slice(spec(atmos::LeeTableKind::rainbow), sub);
     ++done;
@@ -175,15 +191,21 @@ int run_sky(const SkyArgs& a) {
   const Image radiance = comp.render(moisture ? &*moisture : nullptr);
   const double render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   bar.finish();
-  write_output_image(out, out.format == io::ImageFormat::exr ? radiance : scene::tone_map(radiance, comp.sun_sky().l_ref));
+  // The PNG's exposure: a polariser passes half of unpolarised light, for which a camera opens up one
+  // stop; the EXR stays absolute.
+  write_output_image(out, out.format == io::ImageFormat::exr
+                              ? radiance
+                              : scene::tone_map(radiance, comp.sun_sky().l_ref * (polarized ? 0.5 : 1.0)));
   files.commit();
   if (!a.quiet) {
     const double tau = comp.beta_geo_per_m() * (s.curtain_far_m - s.curtain_near_m);
     fmt::print(stderr,
-               "sky: wrote {} ({}x{}, {}, {} blend); rain {:g} mm/h: optical depth {:.3g} (projected area) over the "
+               "sky: wrote {} ({}x{}, {}, {} blend{}); rain {:g} mm/h: optical depth {:.3g} (projected area) over the "
                "curtain; sun {:.0f} klux;{} frame {:.1f} ms{}; {:.1f} s in all\n",
                printable(a.output), s.camera.width, s.camera.height, scene::bow_mode_name(s.mode),
-               scene::blend_name(s.blend), s.rain_rate_mmh, tau, comp.sun_sky().sun_illuminance_lux / 1000,
+               scene::blend_name(s.blend),
+               polarized ? fmt::format(", polariser at {:g} deg", *s.polarizer_deg) : std::string(), s.rain_rate_mmh,
+               tau, comp.sun_sky().sun_illuminance_lux / 1000,
                shaped ? fmt::format(" {} drops: the bow at {} position angles (Airy theory);",
                                     atmos::drop_shape_name(shape), comp.rainbow_positions())
                       : std::string(),

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -47,14 +48,18 @@ struct LeeSidecarAxes {
   AngleAxis axis = AngleAxis::angle;
   RadiusScale radius_scale = RadiusScale::log;
   std::vector<double> radius_um, rows;
+  // A Stokes table's (the sidecar's "stokes" present): its XYZ -> RGB matrix (color_space.xyz_to_rgb),
+  // which takes the EXR's Q.X, Q.Y, Q.Z to the compositor's RGB Q.
+  std::optional<color::Mat3> stokes_xyz_to_rgb;
 };
 LeeSidecarAxes parse_lee_sidecar(std::string_view json_text);
 
 // A table read back for the compositor from its sidecar's axes and its decoded EXR. The image must
 // be OpenEXR by its content (a PNG renamed .exr holds display values, not sr^-1), with at least 3
 // channels and one pixel per radius x row; the axes and the values are checked by scene::bow_table
-// (finite, strictly increasing, uniform on their scale, values non-negative). Throws Error saying
-// what is wrong (without naming the file: the caller does).
+// (finite, strictly increasing, uniform on their scale, values non-negative). A Stokes table's Q
+// (channels Q.X, Q.Y, Q.Z by name) comes along as BowTable::q, its |Q_Y| at most I_Y. Throws Error
+// saying what is wrong (without naming the file: the caller does).
 scene::BowTable lee_bow_table(LeeSidecarAxes axes, const io::DecodedImage& decoded);
 
 }  // namespace hydrolux::atmos

@@ -52,6 +52,9 @@ struct DecodedImage {
   Image image;
   ImageFormat format = ImageFormat::png;
   std::vector<std::string> warnings;  // what the codec said on a successful decode, one line each
+  // The file's channel names in the image's channel order (OpenEXR's, e.g. "Q.X"; the others' as the
+  // codec names them). Kept here, not on the image, so a caller's new image never inherits them.
+  std::vector<std::string> channel_names;
 };
 
 // An image coder passed in by a caller that loads the codecs itself (the CLI's image plugin keeps

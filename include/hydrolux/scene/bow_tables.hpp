@@ -70,9 +70,10 @@ void check_shape_radius(const atmos::DropShapeSpec& shape, double radius_um);
 // The rainbow of `shape` drops of `radius_um` for a sun `sun_elevation_deg` up: the profiles at the
 // kShapePositions position angles, the primary (airy) and, when `secondary`, the secondary (airy:3)
 // added, each sliced at the radius. Validates each spec (atmos::validate). `progress` rises from 0
-// to 1 over all of them.
+// to 1 over all of them. `stokes`: the slices carry the Stokes Q too (for a polariser).
 RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
-                                     double sun_elevation_deg, bool secondary, const ProgressFn& progress = {});
+                                     double sun_elevation_deg, bool secondary, const ProgressFn& progress = {},
+                                     bool stokes = false);
 
 // ---- the non-spherical drops' table for engines (hydrolux export --shape; docs/sky.md) ----
 //
@@ -97,6 +98,8 @@ struct ShapedRainbowTable {
   // positions x rows x columns x 3 (linear RGB, gamut-mapped per order as the Lee tables' RGB, sr^-1):
   // value (layer k, row j, column i, channel c) at ((k * rows + j) * columns + i) * 3 + c.
   std::vector<float> rgb;
+  // The same of the Stokes Q (BowTable::q) when `rainbow` asked for it (LeeSpec::stokes); else empty.
+  std::vector<float> q;
   int columns() const { return first.columns(); }
   int rows() const { return first.rows(); }
   int positions() const { return int(position_deg.size()); }

@@ -28,12 +28,17 @@ struct BowTable {
   double row_first = 0, row_last = 0; // row 0's and the last row's axis value (degrees or cosine)
   int rows = 0;
   std::vector<float> rgb;             // rows x columns x 3, row-major
+  // The Stokes Q of a table computed with stokes on (atmos::LeeSpec::stokes), in the same layout:
+  // Q's XYZ through the table's XYZ -> RGB matrix, not gamut-mapped (signed; > 0 polarised normal to
+  // the scattering plane, tangential to the bow). Empty for an intensity-only table.
+  std::vector<float> q;
+  bool has_q() const { return !q.empty(); }
   int columns() const { return int(radius_um.size()); }
   // The scattering angles the rows span, degrees, increasing.
   std::array<double, 2> angle_range_deg() const;
 };
 
-// From a computed table (its gamut-mapped RGB).
+// From a computed table (its gamut-mapped RGB, and its Q when it has one).
 BowTable bow_table(const atmos::LeeTable& t);
 // From a table's parts (a read EXR and its sidecar), none of which is trusted: checks the sizes
 // agree; the radii are finite, strictly increasing and within [atmos::kMinRadiusUm, kMaxRadiusUm],
@@ -41,10 +46,12 @@ BowTable bow_table(const atmos::LeeTable& t);
 // the span); the rows are finite, within the axis's range ([0, 180] degrees or [-1, 1]), strictly
 // increasing (row 0 the smallest angle or cosine, as hydrolux writes them) and uniform (to 1e-6 of
 // the span); the values are finite and non-negative (the tables' RGB is gamut-mapped, so a negative
-// value is a damaged or forged file). Throws Error naming what is wrong.
+// value is a damaged or forged file). `q`, when not empty, is the table's Stokes Q in the same
+// layout: finite, and |Q| at most the intensity's XYZ allows (checked by the caller, who has the
+// XYZ; here only its size and finiteness). Throws Error naming what is wrong.
 BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<double> radius_um,
                    const std::vector<double>& row_values, std::vector<float> rgb,
-                   std::optional<atmos::RadiusScale> radius_scale = std::nullopt);
+                   std::optional<atmos::RadiusScale> radius_scale = std::nullopt, std::vector<float> q = {});
 
 // One radius's column of a table, interpolated linearly in ln(radius) (the radius clamped to the
 // table's range; `empty` when `outside_is_empty` and the radius lies outside it).
@@ -54,17 +61,29 @@ struct BowSlice {
   float first = 0, last = 0;  // axis values of the first and last row
   int rows = 0;
   std::vector<float> rgb;     // rows x 3
+  std::vector<float> q;       // rows x 3, the Stokes Q (BowTable::q); empty without
   bool empty() const { return rows == 0; }
+  bool has_q() const { return !q.empty(); }
   // Linear between row centres on the axis; 0 outside [first, last]. `cos_theta` and `theta_deg`
   // are the same angle (the caller has both).
-  void lookup(float cos_theta, float theta_deg, float out[3]) const {
+  void lookup(float cos_theta, float theta_deg, float out[3]) const { lookup_in(cos_theta, theta_deg, out, nullptr); }
+  // The same of Q (0 when the slice has none).
+  void lookup_q(float cos_theta, float theta_deg, float out[3]) const {
+    float unused[3];
+    lookup_in(cos_theta, theta_deg, unused, out);
+  }
+  // I into `out` and, when `q_out` is given, Q into it (0 when the slice has none), one search.
+  void lookup_in(float cos_theta, float theta_deg, float out[3], float* q_out) const {
     out[0] = out[1] = out[2] = 0;
+    if (q_out) q_out[0] = q_out[1] = q_out[2] = 0;
     if (rows == 0) return;
     const float a = cosine_axis ? cos_theta : theta_deg;
     const float lo = first < last ? first : last, hi = first < last ? last : first;
     if (!(a >= lo && a <= hi)) return;
+    const bool with_q = q_out && !q.empty();
     if (rows == 1) {
       out[0] = rgb[0], out[1] = rgb[1], out[2] = rgb[2];
+      if (with_q) q_out[0] = q[0], q_out[1] = q[1], q_out[2] = q[2];
       return;
     }
     float p = (a - first) / (last - first) * float(rows - 1);
@@ -76,6 +95,12 @@ struct BowSlice {
     out[0] = v[0] + f * (v[3] - v[0]);
     out[1] = v[1] + f * (v[4] - v[1]);
     out[2] = v[2] + f * (v[5] - v[2]);
+    if (with_q) {
+      const float* w = &q[std::size_t(i) * 3];
+      q_out[0] = w[0] + f * (w[3] - w[0]);
+      q_out[1] = w[1] + f * (w[4] - w[1]);
+      q_out[2] = w[2] + f * (w[5] - w[2]);
+    }
   }
 };
 BowSlice slice_at_radius(const BowTable& t, double radius_um, bool outside_is_empty = false);
@@ -118,6 +143,13 @@ struct SkySettings {
   BowMode mode = BowMode::per_pixel;
   int cube_face_size = 512;          // texels per cube face side
   int dome_rings = 90, dome_segments = 180;
+  // A linear polariser in front of the camera (docs/sky.md, "Polarisation"): its transmission axis
+  // in the image plane, degrees from the image's horizontal towards its up; none by default (the
+  // frame is then bit for bit the one without). Each pixel gets I' = (I + Q cos 2A + U sin 2A) / 2
+  // in the pixel's image basis; the bow's and corona's Q come from Stokes tables, the sky's from
+  // sky_dolp; the sun's disk, the ground and an environment map are unpolarised.
+  std::optional<double> polarizer_deg;
+  double sky_max_dolp = kSkyMaxDolpDefault;  // P90 of the sky's polarisation (sky_dolp)
 };
 // Throws DomainError naming the setting ("fov_deg", "rain_rate_mmh", ...).
 void validate(const SkySettings& s);
@@ -157,6 +189,9 @@ class SkyCompositor {
   // rows (Error otherwise). `environment`, when given, replaces the analytic sky and ground (its
   // radiance x environment_scale, taken as cd/m^2). Bakes the cube map or builds the dome when
   // `mode` asks.
+  //
+  // With a polariser (SkySettings::polarizer_deg) every rainbow slice, and the corona when drawn,
+  // must carry the Stokes Q (BowSlice::q; Error otherwise, saying so).
   SkyCompositor(const SkySettings& settings, RainbowSlices rainbow, BowSlice corona,
                 std::shared_ptr<const Environment> environment = nullptr, double environment_scale = 1);
 
@@ -184,9 +219,10 @@ class SkyCompositor {
   double bake_seconds() const { return bake_seconds_; }
 
  private:
-  void rainbow_term(const Vec3T<float>& d, float c, float theta_deg, float out[3]) const;
-  void add_corona_term(float c, float theta_deg, float out[3]) const;
-  void bow_pixel(const Vec3T<float>& d, float c, float theta_deg, float out[3]) const;
+  // `q_out`, when given: the Stokes Q too (the same interpolation and windows).
+  void rainbow_term(const Vec3T<float>& d, float c, float theta_deg, float out[3], float* q_out = nullptr) const;
+  void add_corona_term(float c, float theta_deg, float out[3], float* q_out = nullptr) const;
+  void bow_pixel(const Vec3T<float>& d, float c, float theta_deg, float out[3], float* q_out = nullptr) const;
   float dome_theta(const Vec3T<float>& d, bool& covered) const;
 
   SkySettings s_;
@@ -200,7 +236,7 @@ class SkyCompositor {
   SunSky sky_;
   Vec3 sun_{0}, fwd_{0}, right_{0}, up_{0};
   double beta_geo_ = 0;
-  CubeMap cube_;
+  CubeMap cube_, cube_q_;  // cube_q_: the bow's Q, baked with a polariser only
   std::vector<Vec3T<float>> dome_;  // (rings + 1) x segments vertices
   Vec3T<float> dome_e1_{0}, dome_e2_{0}, dome_axis_{0};
   double bake_seconds_ = 0;

@@ -61,6 +61,28 @@ SunSky make_sun_sky(double sun_elevation_deg, double turbidity);
 // horizon the horizon's value) with the sun at unit direction `sun`; no sun disk.
 Vec3 sky_radiance(const SunSky& s, const Vec3& sun, const Vec3& view);
 
+// ---- the sky's polarisation (docs/sky.md, "Polarisation") ----
+//
+// Rayleigh single scattering with depolarisation (Chandrasekhar, Radiative Transfer, 1950, ch. I
+// sec. 18; Coulson, Polarization and Intensity of Light in the Atmosphere, 1988): the scattered
+// light is an anisotropic-Rayleigh part, polarised normal to the scattering plane (the plane of the
+// sun, the observer and the sky point), plus an unpolarised part standing for the depolarisation by
+// the molecules' anisotropy, multiple scattering and aerosols. With P90 the degree of linear
+// polarisation at 90 degrees from the sun, the degree at scattering angle gamma is
+//   P(gamma) = P90 sin^2 gamma / (P90 (1 + cos^2 gamma) + 1 - P90),
+// 0 at the sun and at the antisolar point (this model's only neutral points: Arago's, Babinet's and
+// Brewster's come from multiple scattering, which it leaves out). P90 = (1 - rho) / (1 + rho) for a
+// depolarisation ratio rho: 0.946 for air's molecules alone (rho = 0.0279, Young 1980); clear skies
+// measure 0.6-0.85 (Coulson 1988; Pomozi, Horvath & Wehner 2001), hence kSkyMaxDolpDefault.
+inline constexpr double kSkyMaxDolpDefault = 0.8;
+inline constexpr double kAirDepolarizationRatio = 0.0279;
+// P(gamma) for cos gamma = `cos_gamma`, P90 = `max_dolp` in [0, 1].
+inline double sky_dolp(double cos_gamma, double max_dolp) {
+  const double c2 = cos_gamma * cos_gamma;
+  const double den = max_dolp * (1 + c2) + 1 - max_dolp;
+  return den > 0 ? max_dolp * (1 - c2) / den : 0;
+}
+
 // xyY (Y in cd/m^2) -> the scene's linear RGB.
 Vec3 xyY_to_rgb(const SunSky& s, double x, double y, double Y);
 
