@@ -4,6 +4,7 @@ The same physics, defaults, units and validation as the ``hydrolux`` command lin
 
 - :func:`fresnel`, :func:`refractive_index`, :func:`media` -- interface optics and media
 - :func:`mie`, :func:`sphere`, :func:`bulk_optics` -- Lorenz-Mie scattering, vectorised over sizes
+- :func:`phase` -- a drop's or a size distribution's phase function and Mueller elements, by any theory
 - :class:`SizeDistribution` -- monodisperse, gamma, log-normal and Marshall-Palmer drops
 - :func:`lee` -- Lee diagrams, corona and glory tables with their axes
 - :func:`drop_render`, :func:`drop_undistort` -- a rain drop seen by a camera, and its view undone
@@ -31,7 +32,7 @@ __version__: str = _core.__version__
 __all__ = [
     "fresnel", "media", "refractive_index", "sphere", "mie", "mie_terms", "bulk_optics", "SizeDistribution",
     "lee", "LeeTable", "drop_render", "drop_undistort", "rain", "RainResult", "RainRenderer", "builtin_scene",
-    "read_image", "write_image", "simd_target", "set_threads", "MieResult",
+    "read_image", "write_image", "simd_target", "set_threads", "MieResult", "phase", "PhaseResult",
 ]
 
 ArrayLike = Union[float, Sequence[float], np.ndarray]
@@ -380,6 +381,100 @@ def bulk_optics(m: complex, wavelength_nm: float, distribution: "SizeDistributio
     r, w = distribution.quadrature(nodes)
     k = 2 * math.pi * medium_index / (wavelength_nm * 1e-9)
     return _core.bulk_optics(m, k, r, w, threads)
+
+
+# ---- the phase function ---------------------------------------------------------------------------
+
+class PhaseResult(NamedTuple):
+    """A phase function against scattering angle (``hydrolux phase``), averaged over the drops.
+
+    angles_deg: the scattering angles (0 = forward); phase: (i1 + i2) / 2, the CLI's column ``i``
+    (= S11); i1 = <|S1|^2> (perpendicular), i2 = <|S2|^2> (parallel): number-weighted means over the
+    drops, float64 arrays of the angles' length, in Bohren & Huffman's normalisation (i / k^2 is the
+    intensity per drop per unit incident irradiance at unit distance). info: a dict of what the CLI's
+    header states: ``theory`` ("mie", "debye:2", ...), ``drops`` (the distribution in words),
+    ``wavelength_nm``, ``m`` (relative index), ``x`` (the size parameter, for one radius; else None),
+    ``radii``, ``radius_um`` and ``weight`` (the quadrature averaged over) and ``notes`` (where the
+    theory is out of its depth). With ``mueller=True``: s11, s12, s33, s34, the size-averaged
+    Mueller elements (Bohren & Huffman eq. 4.77), and pol = -S12/S11, the degree of linear
+    polarisation; else None.
+
+    Example:
+
+    >>> import hydrolux
+    >>> p = hydrolux.phase(10, 550, angles_deg=[0, 90, 180], mueller=True)
+    >>> isinstance(p, hydrolux.PhaseResult), p.phase.shape, p.info["theory"], round(p.info["x"], 2)
+    (True, (3,), 'mie', 114.27)
+    >>> angles, intensity, i1, i2, info, *mueller = p   # a named tuple: by name or in order
+    >>> bool((p.s11 == p.phase).all()), round(float(p.pol[1]), 4)   # S11 is the phase function
+    (True, -0.1892)
+    """
+    angles_deg: np.ndarray
+    phase: np.ndarray
+    i1: np.ndarray
+    i2: np.ndarray
+    info: dict
+    s11: Optional[np.ndarray] = None
+    s12: Optional[np.ndarray] = None
+    s33: Optional[np.ndarray] = None
+    s34: Optional[np.ndarray] = None
+    pol: Optional[np.ndarray] = None
+
+
+# The phase function's declared parameters (scatter/params.hpp): phase()'s defaults, ranges and checks
+# (in _core, as the CLI's flags).
+_PHASE = {p["name"]: p["default"] for p in _core.params("phase")}
+
+
+def phase(radius_um: Optional[float], wavelength_nm: float, theory: str = "mie", size_distribution: str = "mono",
+          medium: str = "water", surrounding: str = "air", angles_deg: Union[ArrayLike, str] = _DEFAULT_ANGLES,
+          nodes: int = _PHASE["nodes"], temperature_c: Optional[float] = _PHASE["temperature_c"],
+          threads: int = _PHASE["threads"], mueller: bool = _PHASE["mueller"]) -> PhaseResult:
+    """The scattered intensity against angle of one drop or a size distribution (``hydrolux phase``):
+    the same job, checks and numbers as the CLI, as a :class:`PhaseResult` of arrays.
+
+    ``radius_um``: the drop's radius in micrometres, or the mean radius of a gamma or lognormal
+    distribution (ignored, and may be None, for Marshall-Palmer rain). ``wavelength_nm``: in vacuum.
+    ``theory``: "mie", "debye:P" (one Debye order: 0 diffraction + reflection, 2 primary rainbow, 3
+    secondary), "airy" ("airy:P"; near the rainbow angle only) or "geometric" ("geometric:P").
+    ``size_distribution``: "mono", "gamma:W" or "lognormal:W" (relative width W in [0.0001, 1]) or
+    "marshall-palmer:H" (H mm/h, radii 50-3000 um), averaged over ``nodes`` radii.
+    ``medium``, ``surrounding``: names as :func:`media` (or "const:1.49"). ``angles_deg``: scattering
+    angles in [0, 180] degrees (0 = forward), an array or the CLI's text "A:B:N" or "0,10,90" (read
+    by the CLI's parser: the same angles). ``temperature_c``: of the media that model it (water).
+    ``threads``: 0 = all cores. ``mueller``: also the size-averaged Mueller elements and pol.
+    Declared parameters (``nodes``, ``temperature_c``, ``threads``, ``mueller``) take the ranges of
+    the CLI's flags of the same names. A bad argument is a ValueError (a TypeError for a wrong type)
+    naming it. Long jobs release the GIL and stop on Ctrl-C.
+
+    Example:
+
+    >>> import hydrolux
+    >>> p = hydrolux.phase(10, 550, angles_deg="0:180:5")   # one water drop of 10 um, green light
+    >>> print(p.angles_deg, f"forward {p.phase[0]:.4e}, side {p.phase[2]:.4f}")
+    [  0.  45.  90. 135. 180.] forward 4.4646e+07, side 94.9763
+    >>> fog = hydrolux.phase(10, 550, size_distribution="gamma:0.2", nodes=32, angles_deg=[140], mueller=True)
+    >>> fog.info["drops"], fog.info["radii"]
+    ('gamma distribution, mean radius 10 um, relative width 0.2, 32 radii', 32)
+    >>> bool(fog.s11[0] ** 2 > fog.s12[0] ** 2 + fog.s33[0] ** 2 + fog.s34[0] ** 2)   # averaging depolarises
+    True
+    """
+    theory = _text(theory, "theory", "mie, debye:P, airy[:P] or geometric[:P]")
+    radius = None if radius_um is None else _real(radius_um, "radius_um")
+    wavelength = _real(wavelength_nm, "wavelength_nm")
+    size_distribution = _text(size_distribution, "size_distribution", "mono, gamma:W, lognormal:W or marshall-palmer:H")
+    medium, surrounding = _text(medium, "medium", _MEDIUM), _text(surrounding, "surrounding", _MEDIUM)
+    if not isinstance(angles_deg, str):
+        angles_deg = np.atleast_1d(_reals(angles_deg, "angles_deg"))
+    options = {"nodes": nodes, "temperature_c": _opt_real(temperature_c, "temperature_c"), "threads": threads,
+               "mueller": _flag(mueller, "mueller")}
+    d = _core.phase(theory, radius, wavelength, size_distribution, medium, surrounding, angles_deg, options)
+    pol = None
+    if "s11" in d:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            pol = -d["s12"] / d["s11"]
+    return PhaseResult(d["angles_deg"], d["phase"], d["i1"], d["i2"], d["info"], d.get("s11"), d.get("s12"),
+                       d.get("s33"), d.get("s34"), pol)
 
 
 class SizeDistribution:

@@ -1,5 +1,6 @@
 // hydrolux._core: Mie scattering (scatter/mie.hpp, amplitudes.hpp), spheres in a medium
-// (scatter/sphere.hpp), size distributions and bulk optics (scatter/size_distribution.hpp).
+// (scatter/sphere.hpp), size distributions and bulk optics (scatter/size_distribution.hpp), a drop's
+// phase function (scatter/phase_job.hpp).
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -15,11 +17,13 @@
 
 #include "bindings.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/parse.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/mie.hpp"
 #include "hydrolux/scatter/mueller.hpp"
 #include "hydrolux/scatter/params.hpp"
+#include "hydrolux/scatter/phase_job.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "hydrolux/scatter/sphere.hpp"
 #include "params.hpp"
@@ -193,6 +197,110 @@ py::dict bulk_optics(std::complex<double> m, double wavenumber_per_m, py::handle
   return d;
 }
 
+
+// ---- the phase function ---------------------------------------------------------------------
+
+// hydrolux phase's job (scatter/phase_job.hpp): the same checks and numbers as the CLI, said in the
+// keywords' names. The declared numbers (nodes, temperature_c, threads, mueller) come in `options`.
+py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wavelength_arg,
+               const std::string& size_distribution, const std::string& medium, const std::string& surrounding,
+               py::handle angles_arg, const py::dict& options) {
+  scatter::PhaseJob job;
+  // None is a value only where the parameter has no default (temperature_c).
+  for (const auto& f : scatter::phase_params())
+    if (const py::str key(std::string(f.param.name)); options.contains(key) && options[key].is_none() &&
+                                                        !std::isnan(f.get(scatter::PhaseRequest{})))
+      (void)param_value(f.param, options[key]);  // "nodes: expected a whole number in [1, 4096], got None"
+  apply_kwargs(job.numbers, options, scatter::phase_params());
+  if (!radius_arg.is_none()) {
+    const double r = real_arg(radius_arg, "radius_um");
+    require_arg("radius_um", r, 1e-6, 1e6, "um");  // scatter::sphere_problem's range
+    job.radius_um = r;
+  }
+  job.wavelength_nm = real_arg(wavelength_arg, "wavelength_nm");
+  if (!(job.wavelength_nm > 0 && job.wavelength_nm <= 1e6))  // as --wavelength-nm
+    throw Error(fmt::format("wavelength_nm = {:g} is outside (0, 1e+06] nm", job.wavelength_nm));
+  job.theory = theory;
+  job.size_distribution = size_distribution;
+  job.medium = medium_arg("medium", medium);
+  job.surrounding = medium_arg("surrounding", surrounding);
+  if (const auto& t = job.numbers.temperature_c;
+      t && !job.medium->info().temperature_dependent && !job.surrounding->info().temperature_dependent)
+    throw Error(fmt::format("temperature_c {:g}: neither {} nor {} has a temperature model; leave it None", *t,
+                            job.medium->info().name, job.surrounding->info().name));
+  constexpr std::size_t kMaxAngles = 1000000;
+  if (py::isinstance<py::str>(angles_arg)) {  // the CLI's text, read by the same parser: the same angles
+    const std::string text = angles_arg.cast<std::string>();
+    try {
+      job.angles_deg = parse::range_or_list(text, 0, 180, kMaxAngles);
+    } catch (const Error& e) {
+      throw Error(fmt::format("angles_deg '{}': {}; expected A:B:N (N angles from A to B, N in [1, 1000000]) or a "
+                              "list 0,10,90, angles in [0, 180] deg",
+                              text, e.what()));
+    }
+  } else {
+    const DoubleArray a = c_array<double>(angles_arg, "angles_deg");
+    if (a.ndim() != 1) throw Error("angles_deg: expected a 1-D array of angles in degrees");
+    if (std::size_t(a.size()) > kMaxAngles)
+      throw Error(fmt::format("angles_deg: {} angles, more than the limit of {}", a.size(), kMaxAngles));
+    for (py::ssize_t j = 0; j < a.size(); ++j) require_arg("angles_deg", a.data()[j], 0, 180, "deg");
+    job.angles_deg.assign(a.data(), a.data() + a.size());
+  }
+  // The library's quantities in the keywords' names (the CLI's flags_for_quantity, for Python).
+  const std::map<std::string, ArgName> names = {
+      {"x", {"radius_um (size parameter x)"}},
+      {"m_real", {"medium, surrounding (relative index, real part)"}},
+      {"m_imag", {"medium, surrounding (relative index, imaginary part)"}},
+      {"radius_m", {"radius_um", 1e6}},
+      {"mean_radius_m", {"radius_um", 1e6}},
+      {"r_min_m", {"radius_um (smallest radius of the distribution, m)"}},
+      {"r_max_m", {"radius_um (largest radius of the distribution, m)"}},
+      {"p", {"theory (order P)"}}};
+  scatter::PhasePlan plan;
+  try {
+    plan = scatter::plan_phase(std::move(job));
+  } catch (const DomainError& e) {
+    rethrow_named(e, names);
+  }
+  // The work: each radius's amplitudes at every angle, ~(x + 10) terms each.
+  const auto& q = plan.quadrature;
+  double work = 0;
+  for (const double r : q.radius_m)
+    work += (plan.problem.x * r / q.radius_m.front() + 10) * double(plan.job.angles_deg.size() + 1);
+  scatter::PhaseResult res;
+  try {
+    if (work > 2e7) {
+      res = run_cancellable([&](const ProgressFn& progress) { return scatter::compute_phase(plan, progress); });
+    } else {
+      py::gil_scoped_release release;
+      res = scatter::compute_phase(plan);
+    }
+  } catch (const DomainError& e) {
+    rethrow_named(e, names);
+  }
+  const auto array = [](const std::vector<double>& v) { return DoubleArray(py::ssize_t(v.size()), v.data()); };
+  py::dict d;
+  d["angles_deg"] = array(res.angles_deg);
+  d["phase"] = array(res.intensity), d["i1"] = array(res.i1), d["i2"] = array(res.i2);
+  if (res.mueller) {
+    const auto& mm = *res.mueller;
+    d["s11"] = array(mm.s11), d["s12"] = array(mm.s12), d["s33"] = array(mm.s33), d["s34"] = array(mm.s34);
+  }
+  py::dict info;
+  info["theory"] = res.theory, info["drops"] = res.drops, info["wavelength_nm"] = res.wavelength_nm;
+  info["m"] = res.m;
+  info["x"] = res.radii == 1 ? py::object(py::float_(res.x)) : py::object(py::none());
+  info["radii"] = res.radii;
+  std::vector<double> radius_um(q.radius_m.size()), weight = q.weight;
+  for (std::size_t k = 0; k < radius_um.size(); ++k) radius_um[k] = q.radius_m[k] * 1e6;
+  info["radius_um"] = array(radius_um), info["weight"] = array(weight);
+  py::list notes;
+  for (const auto& n : res.notes) notes.append(n);
+  info["notes"] = notes;
+  d["info"] = info;
+  return d;
+}
+
 }  // namespace
 
 void bind_scatter(py::module_& m) {
@@ -202,6 +310,9 @@ void bind_scatter(py::module_& m) {
         py::arg("surrounding"), py::arg("temperature_c"));
   m.def("mie", &mie, py::arg("m"), py::arg("x"), py::arg("angles_deg"), py::arg("threads"),
         py::arg("mueller") = false);
+  m.def("phase", &phase, py::arg("theory"), py::arg("radius_um"), py::arg("wavelength_nm"),
+        py::arg("size_distribution"), py::arg("medium"), py::arg("surrounding"), py::arg("angles_deg"),
+        py::arg("options"));
   m.def("mie_terms", [](double x) {
     sc::mie_param("x").check(x);
     return sc::mie_terms(x);

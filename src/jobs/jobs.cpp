@@ -25,7 +25,7 @@ const std::vector<JobSpec>& job_specs() {
                  describe_fields(drop::drop_render_params()), "hydrolux.drop_render"});
     v.push_back({"mie", "hydrolux mie", "Lorenz-Mie scattering by one sphere", describe_fields(scatter::mie_params())});
     v.push_back({"phase", "hydrolux phase", "Scattered intensity against angle for one drop or a size distribution",
-                 describe_fields(scatter::phase_params())});
+                 describe_fields(scatter::phase_params()), "hydrolux.phase"});
     v.push_back({"lee", "hydrolux lee", "A Lee diagram, corona or glory table, computed spectrally",
                  describe_fields(atmos::lee_params()), "hydrolux.lee"});
     v.push_back({"sky", "hydrolux sky", "A rainbow in a daylight scene, per pixel on the CPU",

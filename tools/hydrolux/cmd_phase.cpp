@@ -1,19 +1,17 @@
-// hydrolux phase: scattered intensity against angle for one drop, by the theory of one's choice.
+// hydrolux phase: scattered intensity against angle for one drop, by the theory of one's choice. The
+// job is the library's (scatter/phase_job.hpp, as Python's hydrolux.phase): this file reads the
+// flags, words the errors with them and prints.
 #include <fmt/format.h>
 
-#include <cmath>
 #include <memory>
 #include <optional>
+#include <string>
+#include <utility>
 
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
-#include "hydrolux/core/math.hpp"
-#include "hydrolux/scatter/geometric.hpp"
-#include "hydrolux/scatter/mueller.hpp"
 #include "hydrolux/scatter/params.hpp"
-#include "hydrolux/scatter/size_distribution.hpp"
-#include "hydrolux/scatter/sphere.hpp"
-#include "hydrolux/scatter/theories.hpp"
+#include "hydrolux/scatter/phase_job.hpp"
 #include "params.hpp"
 #include "progress.hpp"
 
@@ -34,77 +32,44 @@ struct PhaseArgs {
   bool quiet = false;
 };
 
-// Marshall-Palmer rain is averaged over drops of these radii (smaller ones scatter little light
-// and larger ones break up).
-constexpr double kRainMinRadiusUm = 50, kRainMaxRadiusUm = 3000;
-
-// --size-distribution: mono | gamma:W | lognormal:W | marshall-palmer:H. Returns the quadrature
-// over radius and a description.
-std::pair<scatter::RadiusQuadrature, std::string> size_quadrature(const PhaseArgs& a) {
-  using scatter::SizeDistributionKind;
-  scatter::SizeDistributionSpec spec;
-  try {
-    spec = scatter::parse_size_distribution(a.distribution);
-  } catch (const Error& e) {
-    throw Error(fmt::format("--size-distribution {}", e.what()));
-  }
-  if (spec.kind == SizeDistributionKind::marshall_palmer) {
-    const auto d = scatter::SizeDistribution::marshall_palmer(spec.parameter);
-    return {d.quadrature(a.r->nodes, kRainMinRadiusUm * 1e-6, kRainMaxRadiusUm * 1e-6),
-            fmt::format("Marshall-Palmer rain, {:g} mm/h, radii {:g}-{:g} um", spec.parameter, kRainMinRadiusUm,
-                        kRainMaxRadiusUm)};
-  }
-  if (!a.radius_um) throw Error("--radius-um is required (the mean radius for gamma and lognormal)");
-  const double r = *a.radius_um * 1e-6;
-  if (spec.kind == SizeDistributionKind::monodisperse)
-    return {scatter::SizeDistribution::monodisperse(r).quadrature(1), fmt::format("radius {:g} um", *a.radius_um)};
-  const bool gamma = spec.kind == SizeDistributionKind::gamma;
-  const auto d = gamma ? scatter::SizeDistribution::gamma(r, spec.parameter)
-                       : scatter::SizeDistribution::log_normal(r, spec.parameter);
-  // Gauss-Legendre over a range holding the number and r^4-weighted tails: Mie intensities
-  // oscillate in r, which a range rule with enough nodes resolves (a Gaussian rule of n(r) would
-  // alias).
-  return {scatter::intensity_quadrature(d, a.r->nodes),
-          fmt::format("{} distribution, mean radius {:g} um, relative width {:g}, {} radii",
-                      gamma ? "gamma" : "lognormal", *a.radius_um, spec.parameter, a.r->nodes)};
-}
 int run_phase(const PhaseArgs& a) {
-  scatter::Theory theory;
+  scatter::PhaseJob job;
+  scatter::PhasePlan plan;
   try {
-    theory = scatter::parse_theory(a.theory);
-  } catch (const UnknownNameError& e) {
-    throw UnknownNameError(fmt::format("--theory: {}", e.what()));
+    // The flags in the order they have always been checked: the theory, then this door's own texts
+    // in its words (the media, the temperature for them, the angles), then the rest of the job.
+    (void)scatter::phase_theory(a.theory);
+    job.medium = medium_flag("--medium", a.medium);
+    job.surrounding = medium_flag("--surrounding", a.surrounding);
+    check_temperature_flag(a.r->temperature_c, {job.medium.get(), job.surrounding.get()});
+    job.angles_deg = parse_angles_deg(a.angles, "--angles-deg");
+    job.theory = a.theory;
+    job.radius_um = a.radius_um;
+    job.wavelength_nm = a.wavelength_nm;
+    job.size_distribution = a.distribution;
+    job.numbers = *a.r;
+    plan = scatter::plan_phase(std::move(job));
+  } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
+    switch (e.field()) {
+      case scatter::PhaseJobError::Field::theory: throw UnknownNameError(e.worded("--theory"));
+      case scatter::PhaseJobError::Field::size_distribution: throw Error(e.worded("--size-distribution"));
+      case scatter::PhaseJobError::Field::radius_um: throw Error(e.worded("--radius-um"));
+    }
+    throw;
   }
-  const auto sphere = medium_flag("--medium", a.medium);
-  const auto outside = medium_flag("--surrounding", a.surrounding);
-  check_temperature_flag(a.r->temperature_c, {sphere.get(), outside.get()});
-  const auto angles = parse_angles_deg(a.angles, "--angles-deg");
-  std::vector<double> theta(angles.size());
-  for (std::size_t i = 0; i < theta.size(); ++i) theta[i] = deg_to_rad(angles[i]);
-  const auto [quadrature, drops] = size_quadrature(a);
-  // Check the media at this wavelength first, so a bad --wavelength-nm fails before any work.
-  const auto p = scatter::sphere_problem(quadrature.radius_m.front() * 1e6, a.wavelength_nm, *sphere, *outside,
-                                         a.r->temperature_c);
-  ProgressBar bar("phase", a.quiet || quadrature.size() < 2);
-  const auto result = scatter::average_intensities(theory, quadrature, a.wavelength_nm, *sphere, *outside,
-                                                   a.r->temperature_c, theta, a.r->threads, bar.callback());
+  ProgressBar bar("phase", a.quiet || plan.quadrature.size() < 2);
+  const auto result = scatter::compute_phase(plan, bar.callback());
   bar.finish();
-  std::optional<scatter::MuellerElements> mm;
-  if (a.r->mueller) mm = scatter::mueller_elements(result);
+  const auto& mm = result.mueller;
 
   if (a.csv) {
     fmt::print("theta_deg,i1,i2,i{}\n", mm ? ",s11,s12,s33,s34" : "");
   } else {
-    fmt::print("# theory {}, {}, wavelength {:g} nm: m = {:.6g}{:+.3g}i{}\n", scatter::theory_name(theory), drops,
-               a.wavelength_nm, p.m.real(), p.m.imag(),
-               quadrature.size() == 1 ? fmt::format(", x = {:.6g}", p.x) : std::string());
-    if (quadrature.size() > 1) fmt::print("# number-weighted mean over {} radii\n", quadrature.size());
-    if (theory.kind == scatter::TheoryKind::Airy)
-      fmt::print("# Airy theory approximates order {} near its rainbow angle {:.2f} deg only (within a few "
-                 "degrees for x ~ 1000, less for larger drops); use mie or debye:{} elsewhere\n",
-                 theory.p, rad_to_deg(scatter::rainbow_angle(p.m.real(), theory.p)), theory.p);
-    if (theory.kind == scatter::TheoryKind::Geometric && p.x < 100)
-      fmt::print("# geometric optics needs x >> 1 (here x = {:.3g}); use mie\n", p.x);
+    fmt::print("# theory {}, {}, wavelength {:g} nm: m = {:.6g}{:+.3g}i{}\n", result.theory, result.drops,
+               result.wavelength_nm, result.m.real(), result.m.imag(),
+               result.radii == 1 ? fmt::format(", x = {:.6g}", result.x) : std::string());
+    if (result.radii > 1) fmt::print("# number-weighted mean over {} radii\n", result.radii);
+    for (const auto& note : result.notes) fmt::print("# {}\n", note);
     fmt::print("# i1 = |S1|^2 (perpendicular), i2 = |S2|^2 (parallel), i = (i1 + i2) / 2 "
                "(Bohren & Huffman normalisation)\n");
     if (mm)
@@ -113,12 +78,12 @@ int run_phase(const PhaseArgs& a) {
     fmt::print("{:>10}  {:>16}  {:>16}  {:>16}{}\n", "theta_deg", "i1", "i2", "i",
                mm ? fmt::format("  {:>16}  {:>16}  {:>16}  {:>16}", "S11", "S12", "S33", "S34") : std::string());
   }
-  for (std::size_t k = 0; k < theta.size(); ++k) {
-    const double i1 = result.i1[k], i2 = result.i2[k];
+  for (std::size_t k = 0; k < result.angles_deg.size(); ++k) {
+    const double theta_deg = result.angles_deg[k], i1 = result.i1[k], i2 = result.i2[k], i = result.intensity[k];
     if (a.csv)
-      fmt::print("{},{:.10e},{:.10e},{:.10e}", angles[k], i1, i2, (i1 + i2) / 2);
+      fmt::print("{},{:.10e},{:.10e},{:.10e}", theta_deg, i1, i2, i);
     else
-      fmt::print("{:>10.4f}  {:>16.9e}  {:>16.9e}  {:>16.9e}", angles[k], i1, i2, (i1 + i2) / 2);
+      fmt::print("{:>10.4f}  {:>16.9e}  {:>16.9e}  {:>16.9e}", theta_deg, i1, i2, i);
     if (mm && a.csv)
       fmt::print(",{:.10e},{:.10e},{:.10e},{:.10e}", mm->s11[k], mm->s12[k], mm->s33[k], mm->s34[k]);
     else if (mm)

@@ -1,0 +1,113 @@
+#pragma once
+// A drop's phase function as one job (`hydrolux phase`, Python's `hydrolux.phase`): the intensities
+// i1 = |S1|^2 and i2 = |S2|^2 against scattering angle of one drop or a size distribution, by the
+// theory of one's choice (theories.hpp), number-weighted over the drops (average_intensities), with
+// the size-averaged Mueller elements S11, S12, S33, S34 on request (mueller.hpp). Bohren & Huffman's
+// normalisation throughout: i / k^2 is the intensity per drop per unit incident irradiance at unit
+// distance.
+//
+// The doors read their own text forms (the media by name, the angles as "A:B:N" or an array) and
+// hand the library what they parsed; the theory and the size distribution are the library's texts
+// (parse_theory, parse_size_distribution), read here. The numbers are PhaseRequest's, declared in
+// scatter/params.hpp.
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/progress.hpp"
+#include "hydrolux/scatter/mueller.hpp"
+#include "hydrolux/scatter/params.hpp"
+#include "hydrolux/scatter/size_distribution.hpp"
+#include "hydrolux/scatter/sphere.hpp"
+#include "hydrolux/scatter/theories.hpp"
+
+namespace hydrolux::optics {
+class Medium;
+}
+
+namespace hydrolux::scatter {
+
+// Marshall-Palmer rain is averaged over drops of these radii (smaller ones scatter little light and
+// larger ones break up).
+inline constexpr double kPhaseRainMinRadiusUm = 50, kPhaseRainMaxRadiusUm = 3000;
+
+struct PhaseJob {
+  std::string theory = "mie";  // parse_theory: mie, debye:P, airy[:P], geometric[:P]
+  // The drop's radius, or the mean radius of gamma and lognormal; Marshall-Palmer rain ignores it.
+  std::optional<double> radius_um;
+  double wavelength_nm = 0;                 // in vacuum
+  std::string size_distribution = "mono";  // parse_size_distribution: mono, gamma:W, lognormal:W, marshall-palmer:H
+  std::shared_ptr<const optics::Medium> medium, surrounding;  // the drop's, and around it: both required
+  std::vector<double> angles_deg;  // scattering angles in [0, 180] (0 forward), in the output's order
+  PhaseRequest numbers;            // nodes, temperature_c, threads, mueller (scatter/params.hpp)
+};
+
+// One of the job's texts (or the radius they need) that cannot be read. what() names it as the
+// library and Python do ("theory: unknown theory 'x'; ...", "size_distribution 'gamma:2': ...",
+// "radius_um is required ..."); worded() names it as a door does ("--theory: ...").
+class PhaseJobError : public Error {
+ public:
+  enum class Field { theory, size_distribution, radius_um };
+  // `rest`: the message after the field's name, with its separator (": ..." or " ...").
+  PhaseJobError(Field field, std::string rest);
+  Field field() const noexcept { return field_; }
+  // The message with the field called `name`.
+  std::string worded(std::string_view name) const { return std::string(name) + rest_; }
+  static std::string_view field_name(Field field);
+
+ private:
+  Field field_;
+  std::string rest_;
+};
+
+// The job's theory from its text (parse_theory): PhaseJobError for a name it does not know,
+// DomainError "p" for an order out of range. plan_phase reads it so; a door that checks the theory
+// before its own texts (the CLI, as it always has) may call it first.
+Theory phase_theory(std::string_view text);
+
+// What a job asks for, checked and prepared; no scattering computed yet (cheap).
+struct PhasePlan {
+  PhaseJob job;
+  Theory theory;
+  RadiusQuadrature quadrature;  // the drops averaged over: one radius for mono
+  std::string drops;            // "radius 10 um", "gamma distribution, mean radius 10 um, ..."
+  SphereProblem problem;        // of the first radius: m, and x (the drop's for one radius)
+};
+
+// Checks the job before any work, in this order: the numbers in their declared ranges (DomainError
+// naming nodes, temperature_c, threads), the theory (PhaseJobError; DomainError "p" for an order out
+// of range), a temperature given when neither medium models one (Error naming temperature_c), the
+// angles (DomainError "angles_deg"), the size distribution and the radius it needs (PhaseJobError;
+// DomainError from the distribution's own checks, e.g. "radius_m"), then the media at this
+// wavelength (DomainError "wavelength_nm", "temperature_c", "radius_um").
+PhasePlan plan_phase(PhaseJob job);
+
+struct PhaseResult {
+  std::vector<double> angles_deg;
+  std::vector<double> i1, i2;    // number-weighted means of |S1|^2 (perpendicular), |S2|^2 (parallel)
+  std::vector<double> intensity;  // (i1 + i2) / 2: the phase function in B&H's normalisation (S11)
+  std::optional<MuellerElements> mueller;  // with numbers.mueller: the size-averaged S11, S12, S33, S34
+  // What the output states about itself.
+  std::string theory;  // theory_name(): "mie", "debye:2", "airy:2", "geometric:3"
+  std::string drops;   // as PhasePlan::drops
+  double wavelength_nm = 0;
+  Complex m;                 // relative index at the first radius
+  double x = 0;              // size parameter of the first radius (the drop's, for one radius)
+  std::size_t radii = 0;     // radii averaged over
+  // Where the theory is out of its depth for this job, one line each (Airy theory away from its
+  // rainbow angle, geometric optics at x < 100).
+  std::vector<std::string> notes;
+};
+
+// The job's intensities: `progress` is called after each radius (and may throw to stop the work).
+// Throws DomainError where a radius of the distribution leaves a theory's domain (x, m_real).
+PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress = {});
+
+// plan_phase, then compute_phase.
+PhaseResult run_phase_job(PhaseJob job, const ProgressFn& progress = {});
+
+}  // namespace hydrolux::scatter

@@ -1,0 +1,129 @@
+#include "hydrolux/scatter/phase_job.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <utility>
+
+#include "hydrolux/core/math.hpp"
+#include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/geometric.hpp"
+
+namespace hydrolux::scatter {
+
+namespace {
+
+std::string message(PhaseJobError::Field field, const std::string& rest) {
+  return std::string(PhaseJobError::field_name(field)) + rest;
+}
+
+// --size-distribution's quadrature over radius and its description.
+std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
+  using Field = PhaseJobError::Field;
+  SizeDistributionSpec spec;
+  try {
+    spec = parse_size_distribution(job.size_distribution);
+  } catch (const Error& e) {
+    throw PhaseJobError(Field::size_distribution, fmt::format(" {}", e.what()));
+  }
+  const int nodes = job.numbers.nodes;
+  if (spec.kind == SizeDistributionKind::marshall_palmer) {
+    const auto d = SizeDistribution::marshall_palmer(spec.parameter);
+    return {d.quadrature(nodes, kPhaseRainMinRadiusUm * 1e-6, kPhaseRainMaxRadiusUm * 1e-6),
+            fmt::format("Marshall-Palmer rain, {:g} mm/h, radii {:g}-{:g} um", spec.parameter, kPhaseRainMinRadiusUm,
+                        kPhaseRainMaxRadiusUm)};
+  }
+  if (!job.radius_um) throw PhaseJobError(Field::radius_um, " is required (the mean radius for gamma and lognormal)");
+  const double radius_um = *job.radius_um, r = radius_um * 1e-6;
+  if (spec.kind == SizeDistributionKind::monodisperse)
+    return {SizeDistribution::monodisperse(r).quadrature(1), fmt::format("radius {:g} um", radius_um)};
+  const bool gamma = spec.kind == SizeDistributionKind::gamma;
+  const auto d = gamma ? SizeDistribution::gamma(r, spec.parameter) : SizeDistribution::log_normal(r, spec.parameter);
+  // Gauss-Legendre over a range holding the number and r^4-weighted tails: Mie intensities
+  // oscillate in r, which a range rule with enough nodes resolves (a Gaussian rule of n(r) would
+  // alias).
+  return {intensity_quadrature(d, nodes),
+          fmt::format("{} distribution, mean radius {:g} um, relative width {:g}, {} radii", gamma ? "gamma" : "lognormal",
+                      radius_um, spec.parameter, nodes)};
+}
+
+}  // namespace
+
+PhaseJobError::PhaseJobError(Field field, std::string rest)
+    : Error(message(field, rest)), field_(field), rest_(std::move(rest)) {}
+
+std::string_view PhaseJobError::field_name(Field field) {
+  switch (field) {
+    case Field::theory: return "theory";
+    case Field::size_distribution: return "size_distribution";
+    case Field::radius_um: return "radius_um";
+  }
+  return "?";
+}
+
+Theory phase_theory(std::string_view text) {
+  try {
+    return parse_theory(text);
+  } catch (const UnknownNameError& e) {
+    throw PhaseJobError(PhaseJobError::Field::theory, fmt::format(": {}", e.what()));
+  }
+}
+
+PhasePlan plan_phase(PhaseJob job) {
+  // The declared numbers in their ranges (the doors check them first, in their own words).
+  for (const auto& f : phase_params())
+    if (const double v = f.get(job.numbers); !std::isnan(v)) f.param.check(v);
+  PhasePlan plan;
+  plan.theory = phase_theory(job.theory);
+  if (!job.medium || !job.surrounding) throw Error("plan_phase: the job needs both media");
+  const auto& sphere = *job.medium;
+  const auto& outside = *job.surrounding;
+  if (const auto& t = job.numbers.temperature_c;
+      t && !sphere.info().temperature_dependent && !outside.info().temperature_dependent)
+    throw Error(fmt::format("temperature_c {:g}: neither {} nor {} has a temperature model", *t, sphere.info().name,
+                            outside.info().name));
+  for (const double a : job.angles_deg) require_in_range("angles_deg", a, 0.0, 180.0);
+  auto [quadrature, drops] = size_quadrature(job);
+  // The media at this wavelength (and temperature), so that a bad wavelength fails before any work.
+  plan.problem =
+      sphere_problem(quadrature.radius_m.front() * 1e6, job.wavelength_nm, sphere, outside, job.numbers.temperature_c);
+  plan.quadrature = std::move(quadrature);
+  plan.drops = std::move(drops);
+  plan.job = std::move(job);
+  return plan;
+}
+
+PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress) {
+  const PhaseJob& job = plan.job;
+  std::vector<double> theta(job.angles_deg.size());
+  for (std::size_t i = 0; i < theta.size(); ++i) theta[i] = deg_to_rad(job.angles_deg[i]);
+  const auto averaged = average_intensities(plan.theory, plan.quadrature, job.wavelength_nm, *job.medium,
+                                            *job.surrounding, job.numbers.temperature_c, theta, job.numbers.threads,
+                                            progress);
+  PhaseResult r;
+  r.angles_deg = job.angles_deg;
+  if (job.numbers.mueller) r.mueller = mueller_elements(averaged);
+  r.i1 = averaged.i1;
+  r.i2 = averaged.i2;
+  r.intensity.resize(theta.size());
+  for (std::size_t k = 0; k < theta.size(); ++k) r.intensity[k] = (r.i1[k] + r.i2[k]) / 2;
+  r.theory = theory_name(plan.theory);
+  r.drops = plan.drops;
+  r.wavelength_nm = job.wavelength_nm;
+  r.m = plan.problem.m;
+  r.x = plan.problem.x;
+  r.radii = plan.quadrature.size();
+  if (plan.theory.kind == TheoryKind::Airy)
+    r.notes.push_back(fmt::format("Airy theory approximates order {} near its rainbow angle {:.2f} deg only (within a "
+                                  "few degrees for x ~ 1000, less for larger drops); use mie or debye:{} elsewhere",
+                                  plan.theory.p, rad_to_deg(rainbow_angle(r.m.real(), plan.theory.p)), plan.theory.p));
+  if (plan.theory.kind == TheoryKind::Geometric && r.x < 100)
+    r.notes.push_back(fmt::format("geometric optics needs x >> 1 (here x = {:.3g}); use mie", r.x));
+  return r;
+}
+
+PhaseResult run_phase_job(PhaseJob job, const ProgressFn& progress) {
+  return compute_phase(plan_phase(std::move(job)), progress);
+}
+
+}  // namespace hydrolux::scatter

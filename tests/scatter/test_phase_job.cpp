@@ -1,0 +1,144 @@
+// The phase-function job (scatter/phase_job.hpp), which hydrolux phase and hydrolux.phase share: its
+// numbers are average_intensities' and mueller_elements' exactly, its checks come in the documented
+// order and name the job's fields, and its notes say where a theory is out of its depth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "hydrolux/core/math.hpp"
+#include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/phase_job.hpp"
+
+namespace hydrolux::scatter {
+namespace {
+
+PhaseJob water_drop(double radius_um, std::vector<double> angles_deg) {
+  PhaseJob job;
+  job.radius_um = radius_um;
+  job.wavelength_nm = 550;
+  job.medium = optics::find_medium("water");
+  job.surrounding = optics::find_medium("air");
+  job.angles_deg = std::move(angles_deg);
+  return job;
+}
+
+TEST(PhaseJob, OneDropIsAverageIntensitiesOfItsRadius) {
+  auto job = water_drop(10, {0, 30, 90, 137.5, 180});
+  job.numbers.mueller = true;
+  const PhaseResult r = run_phase_job(job);
+  std::vector<double> theta;
+  for (const double a : job.angles_deg) theta.push_back(deg_to_rad(a));
+  const auto want = average_intensities({}, SizeDistribution::monodisperse(10e-6).quadrature(1), 550, *job.medium,
+                                        *job.surrounding, {}, theta);
+  const auto mm = mueller_elements(want);
+  ASSERT_EQ(r.i1.size(), 5u);
+  ASSERT_TRUE(r.mueller);
+  for (std::size_t k = 0; k < 5; ++k) {
+    EXPECT_EQ(r.angles_deg[k], job.angles_deg[k]);
+    EXPECT_EQ(r.i1[k], want.i1[k]);
+    EXPECT_EQ(r.i2[k], want.i2[k]);
+    EXPECT_EQ(r.intensity[k], r.mueller->s11[k]);  // the phase function is S11
+    EXPECT_EQ(r.mueller->s12[k], mm.s12[k]);
+    EXPECT_EQ(r.mueller->s33[k], mm.s33[k]);
+    EXPECT_EQ(r.mueller->s34[k], mm.s34[k]);
+  }
+  EXPECT_EQ(r.theory, "mie");
+  EXPECT_EQ(r.drops, "radius 10 um");
+  EXPECT_EQ(r.radii, 1u);
+  EXPECT_NEAR(r.x, 2 * kPi<> * 10e3 / 550 * optics::find_medium("air")->index(550).real(), 1e-9);
+  EXPECT_TRUE(r.notes.empty());
+  EXPECT_FALSE(run_phase_job(water_drop(10, {0})).mueller);  // only when asked for
+}
+
+TEST(PhaseJob, SizeDistributionsAndTheirDescriptions) {
+  auto gamma = water_drop(20, {0, 90, 180});
+  gamma.size_distribution = "gamma:0.1";
+  gamma.numbers.nodes = 8;
+  const PhasePlan plan = plan_phase(gamma);
+  EXPECT_EQ(plan.quadrature.size(), 8u);
+  EXPECT_EQ(plan.drops, "gamma distribution, mean radius 20 um, relative width 0.1, 8 radii");
+  auto rain = water_drop(1, {140});
+  rain.radius_um.reset();  // Marshall-Palmer rain needs no radius
+  rain.size_distribution = "marshall-palmer:5";
+  rain.numbers.nodes = 3;
+  const PhasePlan rp = plan_phase(rain);
+  EXPECT_EQ(rp.drops, "Marshall-Palmer rain, 5 mm/h, radii 50-3000 um");
+  ASSERT_EQ(rp.quadrature.size(), 3u);
+  for (const double r : rp.quadrature.radius_m) {
+    EXPECT_GT(r, kPhaseRainMinRadiusUm * 1e-6);
+    EXPECT_LT(r, kPhaseRainMaxRadiusUm * 1e-6);
+  }
+}
+
+TEST(PhaseJob, NotesWhereTheTheoryIsOutOfItsDepth) {
+  auto airy = water_drop(200, {138});
+  airy.theory = "airy";
+  const auto a = run_phase_job(airy);
+  ASSERT_EQ(a.notes.size(), 1u);
+  EXPECT_EQ(a.notes[0].rfind("Airy theory approximates order 2 near its rainbow angle 13", 0), 0u) << a.notes[0];
+  auto geo = water_drop(1, {138});
+  geo.theory = "geometric";
+  const auto g = run_phase_job(geo);
+  ASSERT_EQ(g.notes.size(), 1u);
+  EXPECT_EQ(g.notes[0].rfind("geometric optics needs x >> 1", 0), 0u);
+  EXPECT_TRUE(run_phase_job(water_drop(200, {138})).notes.empty());
+}
+
+TEST(PhaseJob, ErrorsNameTheField) {
+  const auto field_error = [](PhaseJob job) -> PhaseJobError {
+    try {
+      (void)plan_phase(std::move(job));
+    } catch (const PhaseJobError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "no PhaseJobError";
+    return PhaseJobError(PhaseJobError::Field::theory, "");
+  };
+  auto bad = water_drop(10, {0});
+  bad.theory = "foo";
+  const auto t = field_error(bad);
+  EXPECT_EQ(t.field(), PhaseJobError::Field::theory);
+  EXPECT_EQ(std::string(t.what()).rfind("theory: unknown theory 'foo'", 0), 0u);
+  EXPECT_EQ(t.worded("--theory").rfind("--theory: unknown theory 'foo'", 0), 0u);
+  bad = water_drop(10, {0});
+  bad.size_distribution = "gamma:2";
+  EXPECT_EQ(std::string(field_error(bad).what()).rfind("size_distribution 'gamma:2': W = 2", 0), 0u);
+  bad.size_distribution = "gamma:0.1";
+  bad.radius_um.reset();
+  EXPECT_EQ(field_error(bad).worded("--radius-um"), "--radius-um is required (the mean radius for gamma and lognormal)");
+
+  EXPECT_THROW((void)phase_theory("foo"), PhaseJobError);
+  EXPECT_EQ(phase_theory("airy").p, 2);
+
+  const auto quantity = [](PhaseJob job) -> std::string {
+    try {
+      (void)plan_phase(std::move(job));
+    } catch (const DomainError& e) {
+      return e.quantity();
+    }
+    return "none";
+  };
+  bad = water_drop(10, {0});
+  bad.numbers.nodes = 0;
+  EXPECT_EQ(quantity(bad), "nodes");
+  bad = water_drop(10, {0, 181});
+  EXPECT_EQ(quantity(bad), "angles_deg");
+  bad = water_drop(10, {0});
+  bad.wavelength_nm = 2000;  // beyond water's table
+  EXPECT_EQ(quantity(bad), "wavelength_nm");
+  bad = water_drop(10, {0});
+  bad.theory = "debye:-1";
+  EXPECT_EQ(quantity(bad), "p");
+
+  bad = water_drop(10, {0});
+  bad.medium = optics::find_medium("ice");
+  bad.numbers.temperature_c = 20;  // neither ice nor air models it
+  EXPECT_THROW((void)plan_phase(bad), Error);
+  bad.medium = nullptr;
+  EXPECT_THROW((void)plan_phase(bad), Error);
+}
+
+}  // namespace
+}  // namespace hydrolux::scatter
