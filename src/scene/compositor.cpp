@@ -91,6 +91,14 @@ std::array<double, 2> BowTable::angle_range_deg() const {
   return {std::min(a, b), std::max(a, b)};
 }
 
+namespace {
+// |Q| <= I per channel: Q goes to RGB unmapped while I is gamut-mapped, and where the mapping
+// lifted a channel of I (the bow's out-of-gamut edges) Q's would exceed it (docs/sky.md).
+void limit_q(std::vector<float>& q, const std::vector<float>& rgb) {
+  for (std::size_t i = 0; i < q.size(); ++i) q[i] = std::clamp(q[i], -rgb[i], rgb[i]);
+}
+}  // namespace
+
 BowTable bow_table(const atmos::LeeTable& t) {
   BowTable b;
   b.kind = t.spec.table;
@@ -113,6 +121,7 @@ BowTable bow_table(const atmos::LeeTable& t) {
         const auto v = color::matmul(t.xyz_to_rgb, t.q_at(r, c));
         for (int k = 0; k < 3; ++k) b.q[(std::size_t(r) * t.columns() + c) * 3 + k] = float(v[k]);
       }
+    limit_q(b.q, b.rgb);
   }
   return b;
 }
@@ -184,6 +193,7 @@ BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<
         throw Error(fmt::format("the table's Stokes Q holds {:g} at row {}, column {} (finite values only)", q[i],
                                 i / 3 / b.radius_um.size(), i / 3 % b.radius_um.size()));
   }
+  if (!q.empty()) limit_q(q, rgb);
   b.rgb = std::move(rgb);
   b.q = std::move(q);
   return b;
@@ -259,7 +269,11 @@ double estimated_bytes(const SkySettings& s) {
   const double cube = s.mode == BowMode::cube_map ? double(s.cube_face_size) * s.cube_face_size : 0;
   // The dome: (rings + 1) x segments float vertices, negligible but counted.
   const double dome = s.mode == BowMode::half_dome ? double(s.dome_rings + 1) * s.dome_segments * 12 : 0;
-  return kSkyFixedBytes + kSkyBytesPerPixel * pixels + kSkyBytesPerCubeTexel * cube + dome;
+  // The Stokes images: 9 channels where a frame has 3, the frame and the EXR encoder's buffers tripled;
+  // with them or a polariser, the cube map of Q besides the bow's.
+  const bool pol = s.stokes || s.polarizer_deg.has_value();
+  return kSkyFixedBytes + kSkyBytesPerPixel * pixels * (s.stokes ? 3 : 1) + kSkyBytesPerCubeTexel * cube * (pol ? 2 : 1) +
+         dome;
 }
 
 float secondary_weight(bool secondary_on, float theta_deg) {
@@ -331,7 +345,11 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, RainbowSlices rainbow,
     }
     by_position_ = std::move(slices);
   }
-  if (s_.polarizer_deg) {
+  if (s_.stokes && s_.polarizer_deg)
+    throw Error("the Stokes images are the light before any filter: ask for them or for a polariser, not both");
+  if (s_.stokes && s_.blend != Blend::physical)
+    throw Error("the Stokes images need the physical blend (the whitepaper's is not linear in the light)");
+  if (s_.polarizer_deg || s_.stokes) {
     const bool rainbow_q = by_position_.empty() ? (rainbow_.empty() || rainbow_.has_q())
                                                  : std::all_of(by_position_.begin(), by_position_.end(),
                                                                [](const BowSlice& b) { return b.has_q(); });
@@ -376,7 +394,7 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, RainbowSlices rainbow,
     const int n = s_.cube_face_size;
     cube_.size = n;
     cube_.rgb.assign(std::size_t(6) * n * n * 3, 0.f);
-    const bool bake_q = s_.polarizer_deg.has_value();
+    const bool bake_q = s_.polarizer_deg.has_value() || s_.stokes;
     if (bake_q) {
       cube_q_.size = n;
       cube_q_.rgb.assign(cube_.rgb.size(), 0.f);
@@ -554,9 +572,12 @@ Image SkyCompositor::render(const Image* moisture) const {
 
 void SkyCompositor::render_into(Image& out, const Image* moisture) const {
   const int W = s_.camera.width, H = s_.camera.height;
-  if (out.width != W || out.height != H || out.channels != 3 || out.pixels.size() != std::size_t(W) * H * 3)
-    out = Image(W, H, 3);
+  const bool stokes = s_.stokes;
+  const int C = stokes ? 9 : 3;
+  if (out.width != W || out.height != H || out.channels != C || out.pixels.size() != std::size_t(W) * H * C)
+    out = Image(W, H, C);
   out.channel_names.clear();
+  if (stokes) out.channel_names = {"R", "G", "B", "Q.R", "Q.G", "Q.B", "U.R", "U.G", "U.B"};
   const V3f f = to_f(fwd_), r = to_f(right_), u = to_f(up_), sun = to_f(sun_);
   const float tx = float(std::tan(deg_to_rad(s_.camera.fov_deg) / 2)), ty = tx * float(H) / float(W);
 
@@ -584,9 +605,11 @@ void SkyCompositor::render_into(Image& out, const Image* moisture) const {
   // basis (h the camera's right made normal to the ray, v = d x h, up); the sky's and the bow's
   // polarised light lies normal to the scattering plane, along e = d x sun, so the filter passes
   // (I + Qp cos 2(chi - A)) / 2 of it, chi e's angle in that basis; the rest passes half.
-  const bool pol = s_.polarizer_deg.has_value();
-  const float pol_cos = pol ? float(std::cos(deg_to_rad(*s_.polarizer_deg))) : 0.0f;
-  const float pol_sin = pol ? float(std::sin(deg_to_rad(*s_.polarizer_deg))) : 0.0f;
+  // With the Stokes images, Q = Qp cos 2chi and U = Qp sin 2chi instead of a filter.
+  const bool filter = s_.polarizer_deg.has_value();
+  const bool pol = filter || stokes;
+  const float cos2a = filter ? float(std::cos(2 * deg_to_rad(*s_.polarizer_deg))) : 0.0f;
+  const float sin2a = filter ? float(std::sin(2 * deg_to_rad(*s_.polarizer_deg))) : 0.0f;
   const float p90 = float(s_.sky_max_dolp);
   const float fa[3] = {f.x, f.y, f.z}, ra[3] = {r.x, r.y, r.z}, ua[3] = {u.x, u.y, u.z}, sa[3] = {sun.x, sun.y, sun.z};
   tbb::enumerable_thread_specific<std::vector<float>> scratch;
@@ -594,7 +617,7 @@ void SkyCompositor::render_into(Image& out, const Image* moisture) const {
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
     for (int j = rows.begin(); j != rows.end(); ++j) {
       const float py = (1 - 2 * (float(j) + 0.5f) / float(H)) * ty;
-      float* row = &out.pixels[std::size_t(j) * W * 3];
+      float* row = &out.pixels[std::size_t(j) * W * C];
       auto& buf = scratch.local();
       buf.resize(std::size_t(W) * 5);
       float *bx = buf.data(), *by = bx + W, *bz = by + W, *bc = bz + W, *bg_ = bc + W;
@@ -606,15 +629,17 @@ void SkyCompositor::render_into(Image& out, const Image* moisture) const {
         const float theta = gamma * kDegPerRad;
         // cos 2 (chi - A) with a polariser (0 where the scattering plane is undefined: at the sun and
         // the antisolar point, where nothing is polarised).
-        float c2 = 0;
+        float c2 = 0, cos2chi = 0, sin2chi = 0;
         if (pol) {
           const V3f e = glm::cross(d, sun);
           const V3f h = r - glm::dot(r, d) * d;
-          const V3f v = glm::cross(d, h);
+          const V3f v = glm::cross(d, h);  // |v| = |h|
           const float ee = glm::dot(e, e), hh = glm::dot(h, h);
           if (ee > 1e-12f && hh > 1e-12f) {
-            const float ea = pol_cos * glm::dot(e, h) + pol_sin * glm::dot(e, v);
-            c2 = std::clamp(2 * ea * ea / (ee * hh) - 1, -1.0f, 1.0f);
+            const float eh = glm::dot(e, h), ev = glm::dot(e, v), norm = 1 / (ee * hh);
+            cos2chi = (eh * eh - ev * ev) * norm;
+            sin2chi = 2 * eh * ev * norm;
+            c2 = std::clamp(cos2chi * cos2a + sin2chi * sin2a, -1.0f, 1.0f);
           }
         }
         // The background.
@@ -658,16 +683,19 @@ void SkyCompositor::render_into(Image& out, const Image* moisture) const {
           path = std::max(path, 0.0f);
           trans = path > 0 && m > 0 ? std::exp(-q * beta * path * m) : 1.0f;
         }
-        float* o = row + std::size_t(i) * 3;
-        if (pol) bg *= 0.5f * (1 + bg_dolp * c2);
+        float* o = row + std::size_t(i) * C;
+        if (filter) bg *= 0.5f * (1 + bg_dolp * c2);
+        const V3f bgq = bg * bg_dolp;  // the background's light polarised along e (Stokes images)
         if (trans == 1.0f) {
           o[0] = bg.x, o[1] = bg.y, o[2] = bg.z;
+          if (stokes)
+            for (int k = 0; k < 3; ++k) o[3 + k] = bgq[k] * cos2chi, o[6 + k] = bgq[k] * sin2chi;
           continue;
         }
         float t[3], tq[3];
         bow_pixel(d, c, theta, t, pol ? tq : nullptr);
-        if (pol) {
-          // Q is not gamut-mapped as I is: where the two disagree past |Q| <= I, none passes.
+        if (filter) {
+          // |Q| <= I per channel (BowTable::q), so this is >= 0 but for rounding.
           for (int k = 0; k < 3; ++k) t[k] = std::max(0.5f * (t[k] + tq[k] * c2), 0.0f);
         }
         const float scatter = (1 - trans) / q;
@@ -675,6 +703,11 @@ void SkyCompositor::render_into(Image& out, const Image* moisture) const {
           const float b = light[k] * t[k] * scatter;
           o[k] = physical ? bg[k] * trans + b : bg[k] + b * (1 - std::clamp(bg[k] * inv_lref, 0.0f, 1.0f));
         }
+        if (stokes)
+          for (int k = 0; k < 3; ++k) {
+            const float qp = bgq[k] * trans + light[k] * tq[k] * scatter;
+            o[3 + k] = qp * cos2chi, o[6 + k] = qp * sin2chi;
+          }
       }
     }
   });

@@ -78,6 +78,11 @@ std::span<const Field<SkyOptions>> sky_params() {
         "The sky's degree of linear polarisation 90 degrees from the sun (Rayleigh with depolarisation: 0.946 for "
         "air's molecules alone, 0.6-0.85 measured in clear skies; used with --polarizer-deg)"},
        HYDROLUX_PARAM_MEMBER(settings.sky_max_dolp)},
+      {{"stokes", "--stokes", "camera", K::flag, "", 0, 1,
+        "Write the Stokes images instead of one filter's: EXR channels R,G,B (I), Q.R,Q.G,Q.B and U.R,U.G,U.B in each "
+        "pixel's image basis (x right, y up), from which a polariser at A passes (I + Q cos 2A + U sin 2A) / 2; .exr "
+        "and the physical blend only, not with --polarizer-deg"},
+       HYDROLUX_PARAM_MEMBER(settings.stokes)},
       {{"sampling", "--sampling", "tables", K::real, "", sampling.lo, sampling.hi,
         "Sampling multiplier of the tables computed without --lut (not with --lut); the time grows as its square: "
         "about 12 s at 1 for 500 um drops on two cores, an hour at 16"},

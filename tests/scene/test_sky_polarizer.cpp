@@ -283,3 +283,27 @@ TEST(SkyPolarizer, RefusesWhatItCannotDo) {
 }
 
 }  // namespace
+
+namespace {
+TEST(SkyPolarizer, FilterFramesFollowFromTheStokesImages) {
+  SkySettings s = bow_view();
+  const BowSlice slice = polarized_slice(0.9);
+  s.stokes = true;
+  const Image iqu = SkyCompositor(s, slice, BowSlice{}).render();
+  ASSERT_EQ(iqu.channels, 9);
+  s.stokes = false;
+  for (const double a : {0.0, 45.0, -30.0}) {
+    s.polarizer_deg = a;
+    const Image f = SkyCompositor(s, slice, BowSlice{}).render();
+    const double c = std::cos(2 * a / kRad), sn = std::sin(2 * a / kRad);
+    double worst = 0;
+    for (std::size_t p = 0; p < std::size_t(f.width) * f.height; ++p)
+      for (int k = 0; k < 3; ++k) {
+        const float* v = &iqu.pixels[p * 9];
+        const double expect = (v[k] + v[3 + k] * c + v[6 + k] * sn) / 2;
+        worst = std::max(worst, std::abs(f.pixels[p * 3 + k] - expect) / (v[k] + 1e-3));
+      }
+    EXPECT_LT(worst, 1e-5) << "A = " << a;
+  }
+}
+}  // namespace

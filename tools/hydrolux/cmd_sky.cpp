@@ -107,8 +107,15 @@ int run_sky(const SkyArgs& a) {
                             s.radius_um, atmos::kMinRadiusUm, scene::max_sky_radius_um()));
   refuse_unused(a, "sampling", a.luts.empty(),
                 "sets the sampling of the tables computed without --lut; --lut gives the tables (omit --sampling)");
-  refuse_unused(a, "sky_max_dolp", s.polarizer_deg.has_value(),
-                "sets the sky's polarisation, which only a polariser shows (add --polarizer-deg, or omit --sky-max-dolp)");
+  refuse_unused(a, "sky_max_dolp", s.polarizer_deg.has_value() || s.stokes,
+                "sets the sky's polarisation, which only a polariser or the Stokes images show (add --polarizer-deg or "
+                "--stokes, or omit --sky-max-dolp)");
+  if (s.stokes && s.polarizer_deg)
+    throw Error(fmt::format("--stokes: the Stokes images are the light before any filter (a filter at A passes (I + Q "
+                            "cos 2A + U sin 2A) / 2 of them); give --stokes or --polarizer-deg {:g}, not both",
+                            *s.polarizer_deg));
+  if (s.stokes && s.blend != scene::Blend::physical)
+    throw Error("--stokes: the Stokes images need --blend physical (the whitepaper's blend is not linear in the light)");
   refuse_unused(a, "environment_scale", a.environment.has_value(),
                 "scales --environment's values; without --environment there is nothing to scale");
   for (const auto& [name, mode] : {std::pair{"cube_face_size", scene::BowMode::cube_map},
@@ -133,20 +140,24 @@ int run_sky(const SkyArgs& a) {
   if (a.moisture) files.input("--moisture", *a.moisture);
   if (a.environment) files.input("--environment", *a.environment);
   const ImageOutput out = declare_output_image(files, "-o", a.output);
+  if (s.stokes && out.format != io::ImageFormat::exr)
+    throw Error(fmt::format("--stokes: the Stokes images are linear and signed: -o must be a .exr (got {})",
+                            printable(a.output)));
   // The image plugin, loaded now: a missing or broken plugin is reported before the tables are computed.
   (void)image_api();
 
   // The tables: given (--lut), or one radius's profiles computed now.
   SkySlices tables;
-  const bool polarized = s.polarizer_deg.has_value();
+  const bool polarized = s.polarizer_deg.has_value() || s.stokes;  // the tables' Q needed
   if (!a.luts.empty()) {
     tables = read_sky_luts(a.luts, s.radius_um, s.corona);
     // A polariser needs the tables' Stokes Q.
     for (const auto* slice : {&tables.rainbow, &tables.corona})
       if (polarized && !slice->empty() && !slice->has_q() && (slice == &tables.rainbow || s.corona))
-        throw Error(fmt::format("--polarizer-deg {:g}: the {} table given with --lut has no Stokes Q (make it with "
-                                "hydrolux lee --stokes, or hydrolux export)",
-                                *s.polarizer_deg, slice == &tables.rainbow ? "rainbow" : "corona"));
+        throw Error(fmt::format("{}: the {} table given with --lut has no Stokes Q (make it with hydrolux lee --stokes, "
+                                "or hydrolux export)",
+                                s.stokes ? std::string("--stokes") : fmt::format("--polarizer-deg {:g}", *s.polarizer_deg),
+                                slice == &tables.rainbow ? "rainbow" : "corona"));
   }
 
   // The images are read (and checked) before any work.
@@ -195,7 +206,7 @@ int run_sky(const SkyArgs& a) {
   // stop; the EXR stays absolute.
   write_output_image(out, out.format == io::ImageFormat::exr
                               ? radiance
-                              : scene::tone_map(radiance, comp.sun_sky().l_ref * (polarized ? 0.5 : 1.0)));
+                              : scene::tone_map(radiance, comp.sun_sky().l_ref * (s.polarizer_deg ? 0.5 : 1.0)));
   files.commit();
   if (!a.quiet) {
     const double tau = comp.beta_geo_per_m() * (s.curtain_far_m - s.curtain_near_m);
@@ -204,7 +215,9 @@ int run_sky(const SkyArgs& a) {
                "curtain; sun {:.0f} klux;{} frame {:.1f} ms{}; {:.1f} s in all\n",
                printable(a.output), s.camera.width, s.camera.height, scene::bow_mode_name(s.mode),
                scene::blend_name(s.blend),
-               polarized ? fmt::format(", polariser at {:g} deg", *s.polarizer_deg) : std::string(), s.rain_rate_mmh,
+               s.polarizer_deg ? fmt::format(", polariser at {:g} deg", *s.polarizer_deg)
+                               : s.stokes ? std::string(", Stokes I, Q, U") : std::string(),
+               s.rain_rate_mmh,
                tau, comp.sun_sky().sun_illuminance_lux / 1000,
                shaped ? fmt::format(" {} drops: the bow at {} position angles (Airy theory);",
                                     atmos::drop_shape_name(shape), comp.rainbow_positions())

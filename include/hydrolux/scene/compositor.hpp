@@ -29,8 +29,10 @@ struct BowTable {
   int rows = 0;
   std::vector<float> rgb;             // rows x columns x 3, row-major
   // The Stokes Q of a table computed with stokes on (atmos::LeeSpec::stokes), in the same layout:
-  // Q's XYZ through the table's XYZ -> RGB matrix, not gamut-mapped (signed; > 0 polarised normal to
-  // the scattering plane, tangential to the bow). Empty for an intensity-only table.
+  // Q's XYZ through the table's XYZ -> RGB matrix (signed; > 0 polarised normal to the scattering
+  // plane, tangential to the bow), limited per channel to |Q| <= the gamut-mapped I (where the
+  // mapping lifted a channel of I, Q's unmapped value could exceed it). Empty for an intensity-only
+  // table.
   std::vector<float> q;
   bool has_q() const { return !q.empty(); }
   int columns() const { return int(radius_um.size()); }
@@ -47,8 +49,8 @@ BowTable bow_table(const atmos::LeeTable& t);
 // increasing (row 0 the smallest angle or cosine, as hydrolux writes them) and uniform (to 1e-6 of
 // the span); the values are finite and non-negative (the tables' RGB is gamut-mapped, so a negative
 // value is a damaged or forged file). `q`, when not empty, is the table's Stokes Q in the same
-// layout: finite, and |Q| at most the intensity's XYZ allows (checked by the caller, who has the
-// XYZ; here only its size and finiteness). Throws Error naming what is wrong.
+// layout: of the same size and finite (the caller checks it against the intensity's XYZ), then
+// limited to |Q| <= RGB per channel as above. Throws Error naming what is wrong.
 BowTable bow_table(atmos::LeeTableKind kind, atmos::AngleAxis axis, std::vector<double> radius_um,
                    const std::vector<double>& row_values, std::vector<float> rgb,
                    std::optional<atmos::RadiusScale> radius_scale = std::nullopt, std::vector<float> q = {});
@@ -150,6 +152,11 @@ struct SkySettings {
   // sky_dolp; the sun's disk, the ground and an environment map are unpolarised.
   std::optional<double> polarizer_deg;
   double sky_max_dolp = kSkyMaxDolpDefault;  // P90 of the sky's polarisation (sky_dolp)
+  // The Stokes images instead of one filter: render() gives 9 channels, I (R, G, B), Q and U (each
+  // R, G, B) in each pixel's image basis, from which any filter's frame follows as (I + Q cos 2A +
+  // U sin 2A) / 2. The physical blend only (the whitepaper's is not linear in the light), and not
+  // with a polariser (Error).
+  bool stokes = false;
 };
 // Throws DomainError naming the setting ("fov_deg", "rain_rate_mmh", ...).
 void validate(const SkySettings& s);
@@ -190,12 +197,13 @@ class SkyCompositor {
   // radiance x environment_scale, taken as cd/m^2). Bakes the cube map or builds the dome when
   // `mode` asks.
   //
-  // With a polariser (SkySettings::polarizer_deg) every rainbow slice, and the corona when drawn,
-  // must carry the Stokes Q (BowSlice::q; Error otherwise, saying so).
+  // With a polariser (SkySettings::polarizer_deg) or the Stokes images (stokes) every rainbow slice,
+  // and the corona when drawn, must carry the Stokes Q (BowSlice::q; Error otherwise, saying so).
   SkyCompositor(const SkySettings& settings, RainbowSlices rainbow, BowSlice corona,
                 std::shared_ptr<const Environment> environment = nullptr, double environment_scale = 1);
 
-  // The composited frame (RGB, cd/m^2). `moisture` (optional, channel 0 in [0, 1], any size:
+  // The composited frame (RGB, cd/m^2; with SkySettings::stokes, the 9 Stokes channels named R, G,
+  // B, Q.R, Q.G, Q.B, U.R, U.G, U.B). `moisture` (optional, channel 0 in [0, 1], any size:
   // sampled bilinearly at pixel centres) scales the rain's optical depth. Uses every core.
   Image render(const Image* moisture = nullptr) const;
   // The same into `out`, whose storage is reused when it already has the frame's size (a frame
