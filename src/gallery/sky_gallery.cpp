@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <initializer_list>
 #include <map>
 #include <optional>
@@ -13,6 +15,8 @@
 
 #include "entries.hpp"
 #include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/color/srgb.hpp"
+#include "hydrolux/scene/sky_model.hpp"
 #include "hydrolux/scene/bow_tables.hpp"
 #include "hydrolux/scene/compositor.hpp"
 
@@ -21,6 +25,7 @@ namespace hydrolux::gallery::detail {
 namespace {
 
 constexpr int kWidth = 420, kHeight = 236, kGap = 6;
+constexpr double kPiD = 3.14159265358979323846;
 
 // One radius's tables (hydrolux sky's, at half its standard sampling), computed once per radius;
 // with the Stokes Q when `stokes` (a polariser's scenes).
@@ -63,6 +68,47 @@ Image panels(std::initializer_list<T> values, Set set) {
     p.push_back(render(s));
   }
   return side_by_side(p, kGap);
+}
+
+// The sky's polarisation over the whole sky (scene::sky_dolp; docs/sky.md, "Polarisation") as seen
+// looking up, in an equidistant fisheye centred on the zenith, north up and east right: the degree of
+// linear polarisation as grey (black 0, white 1, displayed linearly), and the angle of polarisation
+// from the local meridian as hue (red 0, through yellow and green at 60, cyan at 90, blue at 120, to red at 180).
+Image polarization_map(double sun_elevation_deg, double p90) {
+  constexpr int n = 236;
+  Image dolp(n, n, 3), aop(n, n, 3);
+  const Vec3 sun = scene::direction_from_angles(90, sun_elevation_deg);  // in the east
+  const auto display = [](double v) { return float(color::srgb_decode(std::clamp(v, 0.0, 1.0))); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = (2 * (i + 0.5) / n - 1), y = (1 - 2 * (j + 0.5) / n);
+      const double r = std::sqrt(x * x + y * y);
+      if (r > 1) continue;
+      // Zenith angle 90 r; azimuth from north (up) towards east (right).
+      const double zenith = r * kPiD / 2, az = std::atan2(x, y);
+      const Vec3 d{std::sin(az) * std::sin(zenith), std::cos(zenith), std::cos(az) * std::sin(zenith)};
+      const double p = scene::sky_dolp(glm::dot(d, sun), p90);
+      for (int k = 0; k < 3; ++k) dolp.at(i, j, k) = display(p);
+      // The polarisation (normal to the scattering plane) against the local meridian (towards the
+      // zenith) and the direction 90 degrees from it (d x meridian).
+      const Vec3 e = glm::cross(d, sun);
+      const Vec3 up = Vec3{0, 1, 0} - d.y * d;
+      if (glm::length(e) < 1e-9 || glm::length(up) < 1e-9) continue;
+      const Vec3 m = glm::normalize(up), w = glm::cross(d, m);
+      double chi = std::atan2(glm::dot(e, w), glm::dot(e, m)) * 180 / kPiD;
+      chi = std::fmod(chi + 360, 180);
+      // Hue over 180 degrees, full saturation, value = the degree (unpolarised light is black).
+      const double h = chi / 30;  // 0-6
+      const double c = 1, xh = c * (1 - std::abs(std::fmod(h, 2) - 1));
+      const std::array<double, 3> rgb = h < 1 ? std::array<double, 3>{c, xh, 0}
+                                        : h < 2 ? std::array<double, 3>{xh, c, 0}
+                                        : h < 3 ? std::array<double, 3>{0, c, xh}
+                                        : h < 4 ? std::array<double, 3>{0, xh, c}
+                                        : h < 5 ? std::array<double, 3>{xh, 0, c}
+                                                : std::array<double, 3>{c, 0, xh};
+      for (int k = 0; k < 3; ++k) aop.at(i, j, k) = display(rgb[std::size_t(k)] * std::sqrt(p));
+    }
+  return side_by_side({dolp, aop}, kGap);
 }
 
 }  // namespace
@@ -151,6 +197,19 @@ std::vector<Entry> sky_entries() {
                         s.polarizer_deg = a;
                       });
       }));
+  e.push_back(image_entry(
+      "sky_polarization.png", "The sky's polarisation",
+      "The model of the polarised sky (Rayleigh single scattering with depolarisation, P90 = 0.8; docs/sky.md) looking "
+      "up, an equidistant fisheye from the zenith (centre) to the horizon (rim), north up, east right, the sun 30 "
+      "degrees up in the east and 45 degrees up in the east (pairs, left to right). In each pair, left: the degree "
+      "of linear polarisation, black 0 to white 1: zero at the sun and at the antisolar point below the western "
+      "horizon (the model's only neutral points; the dark spot right of centre is the sun), 0.8 on the band 90 "
+      "degrees from the sun, left of the zenith. Right: the angle of polarisation from the local meridian as hue "
+      "(red 0, green 60, cyan 90, blue 120 degrees): cyan, normal to the meridian, all along the solar meridian (the "
+      "horizontal line through the centre), and every hue once around the sun, the pattern's singular point; the "
+      "pattern Rayleigh's sky shows in all-sky polarimetry (Horvath and Varju, Polarized Light in Animal Vision, "
+      "2004, ch. 18), without the real sky's Arago and Babinet points.",
+      [] { return side_by_side({polarization_map(30, 0.8), polarization_map(45, 0.8)}, 3 * kGap); }));
   return e;
 }
 
