@@ -5,10 +5,12 @@
 #include <cstring>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/core/embedded_data.hpp"
 #include "hydrolux/scene/compositor.hpp"
+#include "hydrolux/scene/sky_model.hpp"
 #include "hydrolux/version.hpp"
 
 namespace hydrolux::io {
@@ -37,6 +39,22 @@ nlohmann::json sky_parameters_json(double turbidity) {
                {"exponent", std::log10(b10 / b1)}};
   j["tone_map"] = {{"exposure", 0.6}, {"white", 6.0},
                    {"formula", "x = exposure L / l_ref; x (1 + x / white^2) / (1 + x), clamped to [0,1]; sRGB"}};
+  // The sky's polarisation, for a linear polariser in front of the camera (scene::sky_dolp).
+  j["polarization"] = {
+      {"sky_max_dolp", scene::kSkyMaxDolpDefault},
+      {"sky_model",
+       "Rayleigh single scattering with depolarisation: the sky (above the horizon, off the sun's disk) is polarised "
+       "normal to the scattering plane with degree P(gamma) = P90 (1 - cos^2 gamma) / (P90 (1 + cos^2 gamma) + 1 - "
+       "P90), cos gamma = dot(view, sun), P90 = sky_max_dolp (0.946 for air's molecules alone, 0.6-0.85 measured in "
+       "clear skies); the sun's disk, the ground and the scene are unpolarised"},
+      {"polarizer",
+       "axis angle A in the image, from its horizontal towards its up: with d the view ray, s the sun, r the "
+       "camera's right, e = d x s, h = r - (r.d) d, v = d x h, ea = cos A (e.h) + sin A (e.v), c2 = clamp(2 ea^2 / "
+       "((e.e) (h.h)) - 1, -1, 1) (0 where e.e or h.h < 1e-12); the background passes bg (1 + P c2) / 2 (P = 0 "
+       "where unpolarised); the rain's T passes max((T + T_Q c2) / 2, 0), T_Q the same lookups in the Q tables "
+       "(*_q.f32)"},
+      {"tone_map", "with a polariser l_ref / 2 in the tone map (a camera opens up one stop for the light it "
+                   "halves); the whitepaper blend keeps l_ref"}};
   nlohmann::json e = nlohmann::json::array(), lux = nlohmann::json::array(), sun = nlohmann::json::array(),
                  sky = nlohmann::json::array(), ground = nlohmann::json::array(), lref = nlohmann::json::array(),
                  zy = nlohmann::json::array(), zx = nlohmann::json::array(), zyc = nlohmann::json::array(),
@@ -114,11 +132,24 @@ nlohmann::json write_shaped_rainbow_table(OutputDirectory& dir, const std::strin
       "j, column i, channel c) at index ((k * height + j) * width + i) * 3 + c; a 3-D texture of width x height x "
       "depth texels";
   j["channels"] = {{"R,G,B", "linear RGB, gamut-mapped as the Lee tables' (per order, then added)"}};
-  std::string bytes(t.rgb.size() * sizeof(float), '\0');
-  std::memcpy(bytes.data(), t.rgb.data(), bytes.size());
-  dir.write(name + ".f32", bytes);
+  const bool with_q = !t.q.empty();
+  if (with_q) {
+    j["files"]["f32_q"] = name + "_q.f32";
+    j["channels"]["Q"] =
+        "the Stokes Q (see stokes) in f32's layout as linear RGB: each order's Q XYZ through color_space.xyz_to_rgb, "
+        "not gamut-mapped (signed: > 0 polarised normal to the scattering plane, tangential to the bow), then added";
+  }
+  const auto raw = [](const std::vector<float>& v) {
+    std::string bytes(v.size() * sizeof(float), '\0');
+    std::memcpy(bytes.data(), v.data(), bytes.size());
+    return bytes;
+  };
+  dir.write(name + ".f32", raw(t.rgb));
+  if (with_q) dir.write(name + "_q.f32", raw(t.q));
   dir.write(name + ".json", j.dump(1) + "\n");
-  return {{"kind", atmos::table_kind_name(f.spec.table)},
+  nlohmann::json files = {name + ".f32", name + ".json"};
+  if (with_q) files.push_back(name + "_q.f32");
+  nlohmann::json entry = {{"kind", atmos::table_kind_name(f.spec.table)},
           {"shape", atmos::drop_shape_name(t.shape)},
           {"sun_elevation_deg", t.sun_elevation_deg},
           {"columns", t.columns()},
@@ -127,7 +158,9 @@ nlohmann::json write_shaped_rainbow_table(OutputDirectory& dir, const std::strin
           {"radius_um", {f.radius_um.front(), f.radius_um.back()}},
           {"angle_deg", {f.angle_deg.front(), f.angle_deg.back()}},
           {"position_deg", {t.position_deg.front(), t.position_deg.back()}},
-          {"files", {name + ".f32", name + ".json"}}};
+          {"files", files}};
+  if (with_q) entry["stokes_q"] = name + "_q.f32";
+  return entry;
 }
 
 nlohmann::json write_engine_shaders(OutputDirectory& dir) {

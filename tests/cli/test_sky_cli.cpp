@@ -4,6 +4,7 @@
 // mapping, the same bytes for the same inputs, and a rain rate that changes the bow.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/io/image_io.hpp"
 #include "hydrolux/scene/compositor.hpp"
 #include "hydrolux/scene/sky_model.hpp"
@@ -63,7 +65,30 @@ TEST(ExportCli, WritesTablesSkyShadersAndManifest) {
     const auto side = nlohmann::json::parse(slurp(d / (std::string(name) + ".json")));
     EXPECT_EQ(side.at("files").at("f32"), std::string(name) + ".f32");
     EXPECT_EQ(side.at("table"), name);
+
+    // The Stokes Q for shaders (<name>_q.f32, the polariser) is the EXR's Q.X, Q.Y, Q.Z through the
+    // sidecar's matrix, as hydrolux sky --lut reads it (atmos::lee_bow_table), to float rounding.
+    const std::string qname = std::string(name) + "_q.f32";
+    EXPECT_EQ(side.at("files").at("f32_q"), qname);
+    EXPECT_EQ(manifest.at("tables").at(name).at("stokes_q"), qname);
+    const std::string qraw = slurp(d / qname);
+    ASSERT_EQ(qraw.size(), raw.size()) << name;
+    std::vector<float> q(qraw.size() / 4);
+    std::memcpy(q.data(), qraw.data(), qraw.size());
+    const scene::BowTable read = atmos::lee_bow_table(atmos::parse_lee_sidecar(slurp(d / (std::string(name) + ".json"))),
+                                                      io::decode_image(slurp(d / (std::string(name) + ".exr")), name));
+    ASSERT_TRUE(read.has_q()) << name;
+    float peak = 0, qmax = 0;
+    for (float v : read.rgb) peak = std::max(peak, v);
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      ASSERT_NEAR(q[i], read.q[i], 1e-5f * std::abs(read.q[i]) + 1e-9f * peak) << name << " " << i;
+      qmax = std::max(qmax, std::abs(q[i]));
+    }
+    EXPECT_GT(qmax, 1e-5f * peak) << name;  // polarised light, not zeros (the corona's, 6e-5 of its forward peak)
   }
+  // The sky's polarisation model for the shaders' polariser.
+  EXPECT_EQ(nlohmann::json::parse(slurp(d / "sky.json")).at("polarization").at("sky_max_dolp").get<double>(),
+            scene::kSkyMaxDolpDefault);
 
   // sky.json holds the library's model at every whole degree.
   const auto sky = nlohmann::json::parse(slurp(d / "sky.json"));

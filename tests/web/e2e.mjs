@@ -10,8 +10,11 @@
 //   - a sky.json that lacks keys stops the page with an error naming them (no fallback constants);
 //   - the "real drops" toggle (Beard-Chuang drops, the assets' 3-D table) against `hydrolux sky
 //     --shape beard-chuang`, the top of its bow where the physics puts it, the toggle in the panel;
-// then saves screenshots of the default scene (objects on) and of the real drops to --out and
-// prints the frame times.
+//   - the polariser (the assets' Stokes Q tables) against `hydrolux sky --polarizer-deg A` at
+//     several angles and in every mode; the bow's top vanishing at 90 degrees and staying at 0; the
+//     frame with the filter off the same, byte for byte, as before it was used;
+// then saves screenshots of the default scene (objects on), of the real drops and of the polariser
+// at 90 degrees to --out and prints the frame times.
 //
 //   node tests/web/e2e.mjs --hydrolux build/bin/hydrolux [--out DIR] [--work DIR] [--web DIR]
 //        [--assets DIR (use these instead of exporting)] [--screenshot-only] [--chromium PATH]
@@ -44,9 +47,18 @@ const VIEW = { sun_el: 25, sun_az: 180, radius: 500, fov: 90, view_az: 0, view_e
 // demo loads, whose rows (512 against the profile's 1024) and shared radius grid make the
 // difference (measured 60 dB, max |diff| 6/255). The half dome at this 120 degree view differs at
 // the frame's corners, beyond 90 degrees from the antisolar point, for spheres alike (measured 62 dB).
+// The polariser (hydrolux sky --polarizer-deg A --lut ..., the tables' Stokes Q; the PNG's
+// exposure opens up one stop): measured 80-83 dB per pixel at 0, 45, 90 and -30 degrees (whitepaper
+// 79, the corona 85.5, the cube map 78-79, the half dome 73; max |diff| 1/255), the real drops 81.6
+// (cube map 80.4, half dome 63.7, 3/255, its corners as without); the same bounds as the unpolarised
+// cases.
 const PSNR_MIN = { 'per-pixel': 45, whitepaper: 45, 'no-secondary': 45, corona: 40, 'cube-map': 40, 'half-dome': 40,
   'real-drops': 45, 'real-drops-cube-map': 40, 'real-drops-half-dome': 40, 'real-drops-no-secondary': 45,
-  'real-drops-table': 45 };
+  'real-drops-table': 45,
+  'polarizer-0': 45, 'polarizer-45': 45, 'polarizer-90': 45, 'polarizer--30': 45, 'polarizer-90-p90-0.5': 45,
+  'polarizer-45-whitepaper': 45, 'polarizer-90-no-secondary': 45, 'polarizer-45-corona': 40,
+  'polarizer-90-cube-map': 40, 'polarizer-90-half-dome': 40, 'polarizer-45-cube-map': 40,
+  'real-drops-polarizer-90': 45, 'real-drops-polarizer-90-cube-map': 40, 'real-drops-polarizer-90-half-dome': 40 };
 // The "real drops" view: 800 um drops under a low sun, whose bow's top is flattened towards the
 // antisolar point (radius 34.9 degrees against 41.8 at its sides); a 120 degree lens shows the
 // whole arc above the ground.
@@ -341,11 +353,36 @@ async function main() {
         { name: 'real-drops-no-secondary', view: REAL, page: { shape: 'beard-chuang', secondary: false },
           cpu: [...shapeCpu, '--no-secondary'], luts: false, assets: 'exact/' },
         { name: 'real-drops-table', view: REAL, page: { shape: 'beard-chuang' }, cpu: shapeCpu, luts: false },
+        // the polariser: its axis A from the image's horizontal (0 passes the bow's top, 90 its sides)
+        ...[0, 45, 90, -30].map((a) => ({ name: `polarizer-${a}`, view: VIEW, page: { polarizer: a },
+          cpu: ['--polarizer-deg', a] })),
+        { name: 'polarizer-90-p90-0.5', view: VIEW, page: { polarizer: 90, sky_max_dolp: 0.5 },
+          cpu: ['--polarizer-deg', 90, '--sky-max-dolp', 0.5] },
+        { name: 'polarizer-45-whitepaper', view: VIEW, page: { polarizer: 45, blend: 'whitepaper' },
+          cpu: ['--polarizer-deg', 45, '--blend', 'whitepaper'] },
+        { name: 'polarizer-90-no-secondary', view: VIEW, page: { polarizer: 90, secondary: false },
+          cpu: ['--polarizer-deg', 90, '--no-secondary'] },
+        { name: 'polarizer-45-corona', view: SUNWARD, page: { polarizer: 45, corona: true },
+          cpu: ['--polarizer-deg', 45, '--corona'] },
+        { name: 'polarizer-90-cube-map', view: VIEW, page: { polarizer: 90, mode: 'cube-map' },
+          cpu: ['--polarizer-deg', 90, '--mode', 'cube-map'] },
+        { name: 'polarizer-45-cube-map', view: VIEW, page: { polarizer: 45, mode: 'cube-map' },
+          cpu: ['--polarizer-deg', 45, '--mode', 'cube-map'] },
+        { name: 'polarizer-90-half-dome', view: VIEW, page: { polarizer: 90, mode: 'half-dome' },
+          cpu: ['--polarizer-deg', 90, '--mode', 'half-dome'] },
+        // the real drops' Q (the 3-D table's) against hydrolux sky --shape's own Stokes profiles
+        { name: 'real-drops-polarizer-90', view: REAL, page: { shape: 'beard-chuang', polarizer: 90 },
+          cpu: [...shapeCpu, '--polarizer-deg', 90], luts: false, assets: 'exact/' },
+        { name: 'real-drops-polarizer-90-cube-map', view: REAL, page: { shape: 'beard-chuang', polarizer: 90, mode: 'cube-map' },
+          cpu: [...shapeCpu, '--polarizer-deg', 90, '--mode', 'cube-map'], luts: false, assets: 'exact/' },
+        { name: 'real-drops-polarizer-90-half-dome', view: REAL, page: { shape: 'beard-chuang', polarizer: 90, mode: 'half-dome' },
+          cpu: [...shapeCpu, '--polarizer-deg', 90, '--mode', 'half-dome'], luts: false, assets: 'exact/' },
       ];
       let pageAssets = 'assets/';
+      let perPixelFrame = null;  // the 'per-pixel' case's frame: the filter off, before any polariser
       const cpuDone = new Map();  // the same hydrolux sky run serves two cases
       for (const c of cases) {
-        const argv = [...cpuArgs(c.view, c.luts !== false), ...c.cpu];
+        const argv = [...cpuArgs(c.view, c.luts !== false), ...c.cpu.map(String)];
         let png = cpuDone.get(argv.join(' '));
         if (!png) {
           png = path.join(workDir, `cpu_${c.name}.png`);
@@ -367,8 +404,10 @@ async function main() {
         if (cpu.width !== W || cpu.height !== H) { fail(`${png} is ${cpu.width}x${cpu.height}`); continue; }
         const cpuPx = Buffer.from(cpu.data, 'base64');
         await page.evaluate((s) => window.__hydrolux.set(s),
-          { mode: 'per-pixel', blend: 'physical', secondary: true, corona: false, shape: 'sphere', ...c.view, ...c.page });
+          { mode: 'per-pixel', blend: 'physical', secondary: true, corona: false, shape: 'sphere', polarizer: null,
+            sky_max_dolp: null, ...c.view, ...c.page });
         const webPx = await frame();
+        if (c.name === 'per-pixel') perPixelFrame = webPx;
         const { psnr: p, mse } = psnr(webPx, cpuPx);
         let maxd = 0;
         for (let k = 0; k < webPx.length; k++) if (k % 4 !== 3) maxd = Math.max(maxd, Math.abs(webPx[k] - cpuPx[k]));
@@ -376,6 +415,50 @@ async function main() {
         writePng(path.join(outDir, `web_${c.name}.png`), W, H, webPx);
         writePng(path.join(outDir, `diff_${c.name}.png`), W, H, diffImage(webPx, cpuPx));
         if (!(p >= PSNR_MIN[c.name])) fail(`${c.name}: PSNR ${p.toFixed(2)} dB below ${PSNR_MIN[c.name]} dB (diff image: ${path.join(outDir, `diff_${c.name}.png`)})`);
+      }
+
+      // The polariser off again after the polarised cases: the frame the same, byte for byte, as the
+      // 'per-pixel' case's, rendered before any polariser (the Q textures bound change nothing).
+      {
+        if (pageAssets !== 'assets/') {
+          await open({ test: 1, size: `${W}x${H}`, objects: 0, ...VIEW });
+          pageAssets = 'assets/';
+        }
+        await page.evaluate((s) => window.__hydrolux.set(s), { mode: 'cube-map', polarizer: 90, ...VIEW });
+        await page.evaluate((s) => window.__hydrolux.set(s), { mode: 'half-dome', polarizer: 90, ...VIEW });
+        await page.evaluate((s) => window.__hydrolux.set(s),
+          { mode: 'per-pixel', blend: 'physical', secondary: true, corona: false, shape: 'sphere', polarizer: null,
+            sky_max_dolp: null, light: [1, 1, 1], ...VIEW });
+        const off = await frame();
+        let differ = 0;
+        for (let k = 0; k < off.length; k++) if (perPixelFrame && off[k] !== perPixelFrame[k]) differ++;
+        info(`polariser off after the polarised frames: ${differ} bytes differ from the per-pixel frame before them`);
+        if (!perPixelFrame || differ) fail(`the polariser off does not give the frame it gave before (${differ} bytes differ)`);
+      }
+
+      // The polariser's physics in the browser: the primary bow is polarised tangentially (about 96%),
+      // so at its top (the centre column, theta 136-140) an axis of 0 (horizontal) passes it and 90
+      // blocks it; the bow's light is the frame minus the same frame with light=0,0,0 (as in (c)).
+      {
+        const bowTop = async (a) => {
+          await page.evaluate((s) => window.__hydrolux.set(s), { ...VIEW, polarizer: a, light: [1, 1, 1] });
+          const lit = await frame();
+          await page.evaluate(() => window.__hydrolux.set({ light: [0, 0, 0] }));
+          const dark = await frame();
+          await page.evaluate(() => window.__hydrolux.set({ light: [1, 1, 1], polarizer: null }));
+          let best = 0;
+          for (let j = 0; j < H; j++) {
+            const th = thetaOf(pixelRay(W / 2, j, VIEW), VIEW);
+            if (th < 136 || th > 140) continue;
+            const k = (j * W + W / 2) * 4;
+            const bow = [0, 1, 2].map((c) => displayToX(lit[k + c]) - displayToX(dark[k + c]));
+            best = Math.max(best, 0.2126 * bow[0] + 0.7152 * bow[1] + 0.0722 * bow[2]);
+          }
+          return best;
+        };
+        const top0 = await bowTop(0), top90 = await bowTop(90);
+        info(`the primary's top through the polariser (units of L_ref / 1.2): axis 0 ${top0.toFixed(4)}, axis 90 ${top90.toFixed(4)} (ratio ${(top90 / top0).toFixed(3)})`);
+        if (!(top0 > 0 && top90 < 0.1 * top0)) fail('polariser: the bow\'s top does not vanish at 90 degrees against 0');
       }
 
       // The real drops' bow where the physics puts it (the demo's table): at the top of the arc, up
@@ -468,6 +551,22 @@ async function main() {
     await page.screenshot({ path: shotReal });
     info(`frame time 1280x720, per-pixel, real drops, objects on: ${msReal.toFixed(2)} ms (SwiftShader)`);
     info(`screenshot: ${shotReal}`);
+    if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
+
+    // (h) the polariser's dial at 90 degrees (the default view, objects on): the bow's top vanishes,
+    // its sides stay, the sky darkens; the dial in the panel sets the parameter and the address
+    await open({ test: 1, ui: 1, size: '1280x720', ...VIEW });
+    await page.click('#ctl-polarizer-on');
+    await page.$eval('#ctl-polarizer', (el) => { el.value = '90'; el.dispatchEvent(new Event('input')); });
+    const pol = await page.evaluate(() => ({ polarizer: window.__hydrolux.params.polarizer, url: location.search }));
+    info(`polariser dial: polarizer ${pol.polarizer}, address ${pol.url}`);
+    if (pol.polarizer !== 90 || !pol.url.includes('polarizer=90')) fail(`the polariser dial set polarizer ${pol.polarizer} (expected 90)`);
+    const msPol = await page.evaluate(() => window.__hydrolux.measure(10));
+    await page.evaluate((t) => { document.getElementById('frame-ms').textContent = t; }, msPol.toFixed(1));
+    const shotPol = path.join(outDir, 'web_demo_polarizer_90.png');
+    await page.screenshot({ path: shotPol });
+    info(`frame time 1280x720, per-pixel, polariser, objects on: ${msPol.toFixed(2)} ms (SwiftShader)`);
+    info(`screenshot: ${shotPol}`);
     if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
   } finally {
     await browser.close();

@@ -72,6 +72,10 @@ int run_export(const ExportArgs& a) {
                             "[1, {}] with the corona, which --radius-um above {:g} um leaves out)",
                             *a.size, corona.rows, kMaxCoronaRows / 2, kMaxCoronaRows / 2, scene::kCoronaMaxRadiusUm));
   rainbow.sampling = corona.sampling = o.sampling;
+  // The Stokes Q too (1.04x the time of I alone, BENCHMARKS.md): the tables' EXR gains Q.X, Q.Y, Q.Z
+  // and the shaders a polariser (<name>_q.f32; the 3-D table's Q comes along, its spec derived from
+  // this one).
+  rainbow.stokes = corona.stokes = true;
   atmos::validate(rainbow);
   if (with_corona) atmos::validate(corona);
 
@@ -164,8 +168,9 @@ Command add_export(CLI::App& app) {
       "export",
       "Engine assets for rainbows in a scene: the rainbow (5-800 um, 90-180 deg) and corona (1-50 um, 0-90 deg) Lee "
       "tables as EXR, PNG, raw float32 and JSON axes; the sun and sky parameters for every sun elevation (sky.json); "
-      "GLSL and HLSL that evaluate the sky, the bow, the secondary, the corona and the blend; a README for "
-      "integrators. With --shape, also the bow of non-spherical drops as a 3-D table (radius x angle x 19 position "
+      "GLSL and HLSL that evaluate the sky, the bow, the secondary, the corona and the blend, and a linear polariser "
+      "in front of the camera (the tables carry the Stokes Q: EXR channels Q.X, Q.Y, Q.Z and <name>_q.f32); a "
+      "README for integrators. With --shape, also the bow of non-spherical drops as a 3-D table (radius x angle x 19 position "
       "angles, for one sun elevation) that the shaders read instead. The folder appears complete or not at all.");
   sub->add_option("--dir", a->dir, "Output folder (created; files of the same names in it are replaced)")->required();
   Command cmd{sub, [a] { return run_export(*a); }, {}};

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 
@@ -78,16 +79,35 @@ nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& n
   side["f32_layout"] =
       "little-endian float32, rows x columns x 3 (R, G, B as in the EXR), row-major: value (row j, column i, "
       "channel c) at index (j * width + i) * 3 + c";
+  // A Stokes table's Q for shaders: <name>_q.f32 in the .f32's layout, the compositor's RGB Q
+  // (scene::bow_table: Q's XYZ through xyz_to_rgb, not gamut-mapped, signed).
+  std::string q_bytes;
+  if (t.spec.stokes) {
+    const std::vector<float> q = scene::bow_table(t).q;
+    q_bytes.resize(q.size() * sizeof(float));
+    std::memcpy(q_bytes.data(), q.data(), q_bytes.size());
+    side["files"]["f32_q"] = name + "_q.f32";
+    side["f32_q_layout"] =
+        "the Stokes Q (see stokes) as linear RGB in f32's layout: the EXR's Q.X, Q.Y, Q.Z through "
+        "color_space.xyz_to_rgb, not gamut-mapped (signed: > 0 polarised normal to the scattering plane, tangential "
+        "to the bow); a linear polariser passes max((R,G,B + Q cos 2(chi - A)) / 2, 0), chi the angle of the "
+        "scattering plane's normal in the image, A the polariser's axis";
+  }
   dir.write(name + ".exr", bytes.exr);
   dir.write(name + ".png", bytes.png);
   dir.write(name + ".f32", bytes.f32);
+  if (!q_bytes.empty()) dir.write(name + "_q.f32", q_bytes);
   dir.write(name + ".json", side.dump(1) + "\n");
-  return {{"kind", atmos::table_kind_name(t.spec.table)},
-          {"columns", t.columns()},
-          {"rows", t.rows()},
-          {"radius_um", {t.radius_um.front(), t.radius_um.back()}},
-          {"angle_deg", {t.angle_deg.front(), t.angle_deg.back()}},
-          {"files", {name + ".exr", name + ".png", name + ".f32", name + ".json"}}};
+  nlohmann::json files = {name + ".exr", name + ".png", name + ".f32", name + ".json"};
+  if (!q_bytes.empty()) files.push_back(name + "_q.f32");
+  nlohmann::json entry = {{"kind", atmos::table_kind_name(t.spec.table)},
+                          {"columns", t.columns()},
+                          {"rows", t.rows()},
+                          {"radius_um", {t.radius_um.front(), t.radius_um.back()}},
+                          {"angle_deg", {t.angle_deg.front(), t.angle_deg.back()}},
+                          {"files", files}};
+  if (!q_bytes.empty()) entry["stokes_q"] = name + "_q.f32";
+  return entry;
 }
 
 void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const std::string& size_text) {

@@ -31,7 +31,9 @@ struct LeeOutputs {
 LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& exr_path);
 
 // A computed table's files for an engine, written into `dir` as <name>.exr, .png, .f32 and .json (the
-// sidecar naming the raw copy and its layout): hydrolux export. Returns the table's manifest entry.
+// sidecar naming the raw copy and its layout), and for a Stokes table (LeeSpec::stokes) <name>_q.f32,
+// its Q as the compositor's RGB (scene::bow_table's q) in the .f32's layout: hydrolux export.
+// Returns the table's manifest entry.
 nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& name, const atmos::LeeTable& t);
 
 // Refuses, before the work, tables whose computation would not fit in the memory available

@@ -1,6 +1,7 @@
 // Loads what `hydrolux export --dir DIR` writes, at run time: the Lee tables (.f32 + .json), the
-// non-spherical drops' 3-D table when the export made one (--shape), sky.json and the GLSL files, so
-// the page runs the very shaders the export ships.
+// non-spherical drops' 3-D table when the export made one (--shape), the tables' Stokes Q (*_q.f32,
+// for the polariser) where the manifest lists them, sky.json and the GLSL files, so the page runs
+// the very shaders the export ships.
 import * as THREE from 'three';
 import { checkSky } from './sky.js';
 
@@ -111,19 +112,27 @@ export async function loadAssets(base) {
   const manifest = await json('manifest.json');
   // An export of one large radius (--radius-um above 50 um) has no corona table: the manifest says so.
   const hasCorona = Boolean(manifest?.tables?.corona);
-  const [rainbowJson, coronaJson, sky, rainbowF32, coronaF32] = await Promise.all([
+  // The Stokes Q of a table (<name>_q.f32, in its .f32's layout) where the manifest lists one.
+  const qFile = (name) => manifest?.tables?.[name]?.stokes_q ?? null;
+  const hasQ = Boolean(qFile('rainbow')) && (!hasCorona || Boolean(qFile('corona')));
+  const [rainbowJson, coronaJson, sky, rainbowF32, coronaF32, rainbowQ, coronaQ] = await Promise.all([
     json('rainbow.json'),
     hasCorona ? json('corona.json') : null,
     json('sky.json'),
     bin('rainbow.f32'),
     hasCorona ? bin('corona.f32') : null,
+    hasQ ? bin(qFile('rainbow')) : null,
+    hasQ && hasCorona ? bin(qFile('corona')) : null,
   ]);
   checkSky(sky); // every sky and rain constant comes from sky.json: a missing key stops the page here
   // The non-spherical drops' table only where the export wrote one (the manifest lists it).
-  let shaped = null;
+  let shaped = null, shapedQ = null;
   if (manifest?.tables?.rainbow_shaped) {
-    const [shapedJson, shapedF32] = await Promise.all([json('rainbow_shaped.json'), bin('rainbow_shaped.f32')]);
+    const shapedQFile = qFile('rainbow_shaped');
+    const [shapedJson, shapedF32, shapedQF32] = await Promise.all([json('rainbow_shaped.json'),
+      bin('rainbow_shaped.f32'), shapedQFile ? bin(shapedQFile) : null]);
     shaped = makeTable3D(shapedJson, shapedF32, 'rainbow_shaped');
+    if (shapedQF32) shapedQ = makeTable3D(shapedJson, shapedQF32, 'rainbow_shaped_q');
   }
   const names = [...GLSL_FUNCTIONS, ...GLSL_MAINS];
   const sources = await Promise.all(names.map(text));
@@ -132,6 +141,15 @@ export async function loadAssets(base) {
     rainbow: makeTable(rainbowJson, rainbowF32, 'rainbow'),
     corona: hasCorona ? makeTable(coronaJson, coronaF32, 'corona') : noTable(),
     shaped,
+    // The Stokes Q tables (null without: an export from before they were written): the same axes
+    // as the intensity's, signed values (the polariser, u_rainbow_q etc.).
+    q: hasQ
+      ? {
+          rainbow: makeTable(rainbowJson, rainbowQ, 'rainbow_q'),
+          corona: hasCorona ? makeTable(coronaJson, coronaQ, 'corona_q') : noTable(),
+          shaped: shapedQ,
+        }
+      : null,
     sky,
     glsl,
   };

@@ -69,6 +69,8 @@ async function main() {
     history.replaceState(null, '', s ? '?' + s : location.pathname);
   };
   shapedTable = assets.shaped;
+  hasStokes = Boolean(assets.q);
+  skyMaxDolpDefault = assets.sky?.polarization?.sky_max_dolp ?? null;
   if (p.ui) buildUi(p, changed);
   setupPointer(canvas, p, hx, changed);
 
@@ -184,6 +186,9 @@ const TOGGLES = [
 const inputs = {};
 // The assets' non-spherical drops' table (null without one): the "real drops" toggle.
 let shapedTable = null;
+// Whether the assets hold the Stokes Q tables (the polariser), and sky.json's P90.
+let hasStokes = false;
+let skyMaxDolpDefault = null;
 const shapeLabel = (name) =>
   name === 'beard-chuang' ? 'Beard-Chuang' : name.startsWith('spheroid:') ? `spheroids, Q ${name.slice(9)}` : name;
 
@@ -205,6 +210,22 @@ function syncUi(p) {
   }
   const box = $('ctl-shape');
   if (box) box.checked = p.shape !== 'sphere';
+  // the polariser's dial: off, or its axis -90..90 degrees; and the sky's P90
+  const pol = $('ctl-polarizer-on'), dial = $('ctl-polarizer');
+  if (pol && dial) {
+    const on = p.polarizer !== null && p.polarizer !== undefined;
+    pol.checked = on;
+    dial.disabled = !on || !hasStokes;
+    if (on) dial.value = String(Math.max(-90, Math.min(90, p.polarizer)));
+    $('val-polarizer').textContent = on ? `${fmt(p.polarizer)}°` : 'off';
+  }
+  const p90 = $('ctl-sky_max_dolp');
+  if (p90) {
+    const v = p.sky_max_dolp ?? skyMaxDolpDefault;
+    if (v !== null) p90.value = String(v);
+    p90.disabled = !hasStokes;
+    $('val-sky_max_dolp').textContent = v === null ? '-' : v.toFixed(2);
+  }
   // The table holds the bow for one sun elevation: say so when the sun is elsewhere.
   const note = $('shape-note');
   if (note) {
@@ -280,6 +301,62 @@ function buildUi(p, changed) {
     toggles.append(label);
   }
   root.append(toggles);
+  {
+    // The polariser in front of the camera (hydrolux sky --polarizer-deg): a toggle and a dial of its
+    // axis, -90..90 degrees from the image's horizontal (0 passes the top of the bow, 90 its sides),
+    // and the sky's P90 (--sky-max-dolp). Without the assets' Stokes Q tables, greyed out.
+    const why = 'The assets hold no Stokes Q tables (rainbow_q.f32): export them again with hydrolux export';
+    const label = document.createElement('label');
+    label.className = 'dial';
+    label.innerHTML = '<span>polariser</span>';
+    const on = document.createElement('input');
+    on.type = 'checkbox';
+    on.id = 'ctl-polarizer-on';
+    on.disabled = !hasStokes;
+    const dial = document.createElement('input');
+    dial.type = 'range';
+    dial.id = 'ctl-polarizer';
+    Object.assign(dial, { min: -90, max: 90, step: 1, value: 0 });
+    const value = document.createElement('span');
+    value.className = 'value';
+    value.id = 'val-polarizer';
+    label.title = hasStokes
+      ? 'A linear polariser in front of the camera: its axis in degrees from the image\'s horizontal ' +
+        '(0 passes the top of the bow and darkens its sides, 90 the reverse and darkens the sky 90° from the sun)'
+      : why;
+    on.addEventListener('change', () => {
+      p.polarizer = on.checked ? Number(dial.value) : null;
+      syncUi(p);
+      changed();
+    });
+    dial.addEventListener('input', () => {
+      p.polarizer = Number(dial.value);
+      syncUi(p);
+      changed();
+    });
+    label.append(on, dial, value);
+    root.append(label);
+    const l2 = document.createElement('label');
+    l2.innerHTML = '<span>sky P90</span>';
+    l2.title = hasStokes
+      ? "The sky's degree of polarisation 90° from the sun (0.946 for air's molecules alone, 0.6-0.85 " +
+        'in clear skies); seen through the polariser'
+      : why;
+    const p90 = document.createElement('input');
+    p90.type = 'range';
+    p90.id = 'ctl-sky_max_dolp';
+    Object.assign(p90, { min: 0, max: 1, step: 0.01 });
+    const v2 = document.createElement('span');
+    v2.className = 'value';
+    v2.id = 'val-sky_max_dolp';
+    p90.addEventListener('input', () => {
+      p.sky_max_dolp = Number(p90.value);
+      syncUi(p);
+      changed();
+    });
+    l2.append(p90, v2);
+    root.append(l2);
+  }
   for (const [key, options, text] of [
     ['blend', BLENDS, 'blend'],
     ['mode', MODES, 'optimisation'],

@@ -24,6 +24,13 @@ export const DEFAULTS = {
   mode: 'per-pixel',
   blend: 'physical',
   light: [1, 1, 1], // light colour multiplier of the bow
+  // a linear polariser in front of the camera, as `hydrolux sky --polarizer-deg`: null (none) or its
+  // axis in degrees from the image's horizontal towards its up (the dial: -90..90; 0 passes the top
+  // of the bow, 90 its sides); needs the assets' Stokes Q tables (hydrolux export writes them)
+  polarizer: null,
+  // P90, the sky's degree of polarisation 90 degrees from the sun (`hydrolux sky --sky-max-dolp`);
+  // null: sky.json's polarization.sky_max_dolp (0.8)
+  sky_max_dolp: null,
   cube: 512, // cube-map face size (texels), as `hydrolux sky --cube-face-size`
   rings: 90, // half-dome rings (90 degrees), as `hydrolux sky --dome-rings`
   segments: 180, // half-dome segments (360 degrees), as `hydrolux sky --dome-segments`
@@ -73,6 +80,8 @@ const PARSERS = {
     return s;
   },
   light: (s) => list(s, 3),
+  polarizer: (s) => (s === 'off' || s === 'none' || s === '' ? null : num(s, -180, 180)),
+  sky_max_dolp: (s) => num(s, 0, 1),
   cube: (s) => Math.round(num(s, 4, 2048)),
   rings: (s) => Math.round(num(s, 1, 1024)),
   segments: (s) => Math.round(num(s, 3, 4096)),
@@ -99,7 +108,8 @@ export function writeParams(p) {
   for (const key of Object.keys(DEFAULTS)) {
     const v = p[key], d = DEFAULTS[key];
     if (JSON.stringify(v) === JSON.stringify(d)) continue;
-    if (Array.isArray(v)) q.set(key, v.join(key === 'curtain' ? ':' : key === 'size' ? 'x' : ','));
+    if (v === null) q.set(key, 'off');
+    else if (Array.isArray(v)) q.set(key, v.join(key === 'curtain' ? ':' : key === 'size' ? 'x' : ','));
     else if (typeof v === 'boolean') q.set(key, v ? '1' : '0');
     else q.set(key, String(v));
   }

@@ -3,6 +3,8 @@
 // the sun, the radius or a toggle changes), (3) example.frag over the whole canvas: sky, sun and
 // ground (or the objects), the rain curtain's bow, the blend and the tone map. With p.shape other
 // than "sphere" every pass reads the bow from the non-spherical drops' 3-D table (u_shaped = 1).
+// With a polariser (p.polarizer, degrees) example.frag also reads the Stokes Q tables, and the cube
+// map and the half dome are baked a second time with the Q tables bound in place of the intensity's.
 import * as THREE from 'three';
 import { fragmentSource, PRECISIONS } from './assets.js';
 import { skyAt, betaGeo, dir, cameraBasis } from './sky.js';
@@ -103,6 +105,14 @@ export class HydroluxRenderer {
         u_has_scene: { value: 0 },
         u_scene: { value: null },
         u_output: { value: 0 },
+        // the polariser: (on, axis in radians), P90, and the Stokes Q tables and bakes
+        u_polarizer: { value: new THREE.Vector2(0, 0) },
+        u_sky_max_dolp: { value: 0 }, // P90, set by render()
+        u_rainbow_q: { value: assets.q ? assets.q.rainbow.texture : null },
+        u_corona_q: { value: assets.q ? assets.q.corona.texture : null },
+        u_rainbow_shaped_q: { value: assets.q?.shaped ? assets.q.shaped.texture : null },
+        u_bow_cube_q: { value: null },
+        u_bow_screen_q: { value: null },
       },
     });
     this.compositeScene = fullscreenScene(this.composite);
@@ -123,6 +133,8 @@ export class HydroluxRenderer {
     this.bakeScene = fullscreenScene(this.bake);
     this.cubeTarget = null;
     this.cubeKey = '';
+    this.cubeTargetQ = null;  // the Stokes Q's cube map (with a polariser)
+    this.cubeKeyQ = '';
 
     this.domeMaterial = new THREE.RawShaderMaterial({
       glslVersion: THREE.GLSL3,
@@ -165,8 +177,10 @@ export class HydroluxRenderer {
     };
     this.sceneTarget?.dispose();
     this.domeTarget?.dispose();
+    this.domeTargetQ?.dispose();
     this.sceneTarget = new THREE.WebGLRenderTarget(w, h, opts);
     this.domeTarget = new THREE.WebGLRenderTarget(w, h, { ...opts, depthBuffer: false });
+    this.domeTargetQ = new THREE.WebGLRenderTarget(w, h, { ...opts, depthBuffer: false });
   }
 
   // One frame of the settings p (params.js).
@@ -216,6 +230,9 @@ export class HydroluxRenderer {
     cu.u_moisture.value = p.moisture;
     cu.u_moisture_noise.value = p.noise;
     const shaped = this.shaped(p);
+    const polarized = this.polarized(p, shaped);
+    cu.u_polarizer.value.set(polarized ? 1 : 0, polarized ? (p.polarizer * Math.PI) / 180 : 0);
+    cu.u_sky_max_dolp.value = polarized ? this.skyMaxDolp(p) : 0;
     for (const m of [this.composite, this.bake, this.domeMaterial]) {
       m.uniforms.u_shaped.value = shaped ? 1 : 0;
       m.uniforms.u_radius_um.value = p.radius;
@@ -238,10 +255,16 @@ export class HydroluxRenderer {
     cu.u_bow_source.value = 0;
     cu.u_bow_cube.value = null;
     cu.u_bow_screen.value = null;
+    cu.u_bow_cube_q.value = null;
+    cu.u_bow_screen_q.value = null;
     if (p.mode === 'cube-map') {
       this.bakeCube(p, s);
       cu.u_bow_source.value = 1;
       cu.u_bow_cube.value = this.cubeTarget.texture;
+      if (polarized) {
+        this.bakeCube(p, s, true);
+        cu.u_bow_cube_q.value = this.cubeTargetQ.texture;
+      }
     } else if (p.mode === 'half-dome') {
       const key = [s.join(), p.rings, p.segments].join('|');
       if (key !== this.domeKey) {
@@ -258,12 +281,18 @@ export class HydroluxRenderer {
       );
       this.domeMaterial.uniforms.u_view_proj.value.multiplyMatrices(cam.projectionMatrix, view);
       this.domeMaterial.uniforms.u_sun_dir.value.set(...s);
-      R.setRenderTarget(this.domeTarget);
-      R.setClearColor(0x000000, 0);
-      R.clear(true, false, false);
-      R.render(this.domeScene, cam);
+      // The dome, and with a polariser again with the Q tables bound (halfdome.frag).
+      for (const q of polarized ? [false, true] : [false]) {
+        this.bindTables(this.domeMaterial, q);
+        R.setRenderTarget(q ? this.domeTargetQ : this.domeTarget);
+        R.setClearColor(0x000000, 0);
+        R.clear(true, false, false);
+        R.render(this.domeScene, cam);
+      }
+      this.bindTables(this.domeMaterial, false);
       cu.u_bow_source.value = 2;
       cu.u_bow_screen.value = this.domeTarget.texture;
+      if (polarized) cu.u_bow_screen_q.value = this.domeTargetQ.texture;
     }
     // (3) the composite
     R.setRenderTarget(null);
@@ -283,13 +312,45 @@ export class HydroluxRenderer {
     return true;
   }
 
-  bakeCube(p, s) {
+  // Whether p asks for a polariser; an error when the assets hold no Stokes Q tables (an export from
+  // before hydrolux export wrote them) or none for the drops' shape.
+  polarized(p, shaped) {
+    if (p.polarizer === null || p.polarizer === undefined) return false;
+    const q = this.assets.q;
+    if (!q || (shaped && !q.shaped))
+      throw new Error(
+        `polarizer=${p.polarizer}: the assets hold no Stokes Q table${shaped ? ' of the non-spherical drops' : 's'}` +
+          ' (rainbow_q.f32; export them again with `hydrolux export`)',
+      );
+    return true;
+  }
+
+  // P90: p.sky_max_dolp, else sky.json's polarization.sky_max_dolp (an error where it has none).
+  skyMaxDolp(p) {
+    if (p.sky_max_dolp !== null && p.sky_max_dolp !== undefined) return p.sky_max_dolp;
+    const v = this.assets.sky?.polarization?.sky_max_dolp;
+    if (typeof v !== 'number')
+      throw new Error('sky.json has no "polarization.sky_max_dolp" (re-export the assets with `hydrolux export`)');
+    return v;
+  }
+
+  // The intensity's tables (q false) or the Stokes Q's (q true) on a bake material's samplers.
+  bindTables(m, q) {
+    const a = this.assets, t = q ? a.q : a;
+    m.uniforms.u_rainbow.value = t.rainbow.texture;
+    if (m.uniforms.u_corona) m.uniforms.u_corona.value = t.corona.texture;
+    m.uniforms.u_rainbow_shaped.value = t.shaped ? t.shaped.texture : null;
+  }
+
+  // The cube map of the bow (q false), or of its Stokes Q with the Q tables bound (q true).
+  bakeCube(p, s, q = false) {
     const n = p.cube;
     const key = [s.join(), p.radius, p.secondary, p.corona, p.shape, n].join('|');
-    if (key === this.cubeKey && this.cubeTarget) return;
-    if (!this.cubeTarget || this.cubeTarget.width !== n) {
-      this.cubeTarget?.dispose();
-      this.cubeTarget = new THREE.WebGLCubeRenderTarget(n, {
+    if (key === (q ? this.cubeKeyQ : this.cubeKey) && (q ? this.cubeTargetQ : this.cubeTarget)) return;
+    const slot = q ? 'cubeTargetQ' : 'cubeTarget';
+    if (!this[slot] || this[slot].width !== n) {
+      this[slot]?.dispose();
+      this[slot] = new THREE.WebGLCubeRenderTarget(n, {
         type: THREE.HalfFloatType,
         format: THREE.RGBAFormat,
         minFilter: THREE.LinearFilter,
@@ -301,12 +362,15 @@ export class HydroluxRenderer {
     const b = this.bake.uniforms;
     b.u_face_size.value = n;
     b.u_sun_dir.value.set(...s);
+    this.bindTables(this.bake, q);
     for (let face = 0; face < 6; face++) {
       b.u_face.value = face;
-      this.renderer.setRenderTarget(this.cubeTarget, face);
+      this.renderer.setRenderTarget(this[slot], face);
       this.renderer.render(this.bakeScene, this.camera);
     }
-    this.cubeKey = key;
+    this.bindTables(this.bake, false);
+    if (q) this.cubeKeyQ = key;
+    else this.cubeKey = key;
   }
 
   // Waits for the GPU (a 1-pixel read) so that a time measured around render() is the frame's.

@@ -7,6 +7,10 @@
 // direction (example.frag, u_bow_source = 1). Needs hydrolux_common.glsl and hydrolux_rainbow.glsl.
 // The cube's directions are the world frame's (+y up, +z north, +x east), texel row 0 at
 // gl_FragCoord.y = 0.5 (the GL and D3D cube-face conventions agree in these terms).
+// A polariser (example.frag's u_polarizer) needs the bow's Stokes Q baked too: run this same pass
+// into a second cube map (u_bow_cube_q) with the Q tables bound in place of the intensity's
+// (u_rainbow <- rainbow_q.f32, u_corona <- corona_q.f32, u_rainbow_shaped <- rainbow_shaped_q.f32;
+// the same rows and cols vec4). Q is signed: a float format (RGBA16F/32F), never a unorm one.
 
 uniform int u_face;
 uniform float u_face_size;

@@ -35,6 +35,16 @@
 //                       distance (m) from the camera, 0 where there is none (sky/ground shows)
 //   u_output            0: tone-mapped sRGB display values; 1: linear radiance (cd/m^2) for your
 //                       own HDR pipeline (then blend and tone-map yourself)
+//   u_polarizer         vec2(on, A): on = 1 puts a linear polariser in front of the camera, its
+//                       transmission axis A radians from the image's horizontal towards its up
+//                       (0 passes the top of the bow, pi/2 its sides); 0: none (the frame as without)
+//   u_sky_max_dolp      P90, the sky's degree of polarisation 90 degrees from the sun (sky.json's
+//                       polarization.sky_max_dolp, 0.8)
+//   u_rainbow_q, u_corona_q, u_rainbow_shaped_q   the Stokes Q tables (rainbow_q.f32,
+//                       corona_q.f32, rainbow_shaped_q.f32) laid out as u_rainbow, u_corona,
+//                       u_rainbow_shaped (the same rows and cols vec4); read with the polariser only
+//   u_bow_cube_q, u_bow_screen_q   the cube map and the half dome's texture baked again with the Q
+//                       tables bound in place of the intensity's (u_bow_source 1, 2 with the polariser)
 
 uniform vec2 u_resolution;
 uniform vec3 u_cam_f;
@@ -69,6 +79,13 @@ uniform sampler2D u_bow_screen;
 uniform int u_has_scene;
 uniform sampler2D u_scene;
 uniform int u_output;
+uniform vec2 u_polarizer;
+uniform float u_sky_max_dolp;
+uniform sampler2D u_rainbow_q;
+uniform sampler2D u_corona_q;
+uniform highp sampler3D u_rainbow_shaped_q;
+uniform samplerCube u_bow_cube_q;
+uniform sampler2D u_bow_screen_q;
 
 layout(location = 0) out vec4 hx_frag_color;
 
@@ -93,6 +110,25 @@ float hx_moisture_pattern(vec3 v) {
   return smoothstep(0.3, 0.7, n);
 }
 
+// T_rgb w (sr^-1) along v at theta from the given tables (the intensity's, or the same lookups in the
+// Stokes Q tables), from where u_bow_source says.
+vec3 hx_example_bow(sampler2D rainbow, sampler2D corona_table, highp sampler3D shaped, samplerCube cube,
+                    sampler2D screen, vec3 v, float theta) {
+  bool secondary = u_secondary != 0;
+  vec3 corona = hx_corona_term(corona_table, u_corona_rows, u_corona_cols, u_radius_um, theta,
+                               u_corona_on != 0);
+  if (u_bow_source == 1) return texture(cube, v).rgb;
+  if (u_bow_source == 2) return texelFetch(screen, ivec2(gl_FragCoord.xy), 0).rgb + corona;
+  if (u_shaped != 0) {
+    float column = hx_lee_column(u_rainbow_shaped_cols, u_radius_um);
+    float psi = hx_position_angle_deg(v, u_sky.sun_dir);
+    return hx_shaped_rainbow_term(shaped, u_rainbow_shaped_rows, column, theta, psi, secondary) +
+           corona;
+  }
+  float column = hx_lee_column(u_rainbow_cols, u_radius_um);
+  return hx_rainbow_term(rainbow, u_rainbow_rows, column, theta, secondary) + corona;
+}
+
 void main() {
   vec2 pixel = vec2(gl_FragCoord.x, u_resolution.y - gl_FragCoord.y);  // from the top row
   vec3 v = hx_camera_ray(pixel, u_resolution, u_cam_f, u_cam_r, u_cam_u, u_tan_half_fov);
@@ -101,29 +137,22 @@ void main() {
   vec3 bg;
   float d_hit = 1e30;
   vec4 scene = u_has_scene != 0 ? texelFetch(u_scene, ivec2(gl_FragCoord.xy), 0) : vec4(0.0);
+  bool polarizer = u_polarizer.x != 0.0;
+  float c2 = polarizer ? hx_polarizer_cos2(v, u_sky.sun_dir, u_cam_r, u_polarizer.y) : 0.0;
   if (scene.a > 0.0) {
     bg = scene.rgb;
     d_hit = scene.a;
+    if (polarizer) bg *= 0.5;  // your objects: unpolarised
   } else {
     bg = hx_background(u_sky, v);
+    if (polarizer) bg = hx_polarize(bg, bg * hx_background_dolp(u_sky, v, u_sky_max_dolp), c2);
   }
 
-  bool secondary = u_secondary != 0;
-  vec3 corona = hx_corona_term(u_corona, u_corona_rows, u_corona_cols, u_radius_um, theta,
-                               u_corona_on != 0);
-  vec3 T;
-  if (u_bow_source == 1) {
-    T = texture(u_bow_cube, v).rgb;
-  } else if (u_bow_source == 2) {
-    T = texelFetch(u_bow_screen, ivec2(gl_FragCoord.xy), 0).rgb + corona;
-  } else if (u_shaped != 0) {
-    float column = hx_lee_column(u_rainbow_shaped_cols, u_radius_um);
-    float psi = hx_position_angle_deg(v, u_sky.sun_dir);
-    T = hx_shaped_rainbow_term(u_rainbow_shaped, u_rainbow_shaped_rows, column, theta, psi,
-                               secondary) + corona;
-  } else {
-    float column = hx_lee_column(u_rainbow_cols, u_radius_um);
-    T = hx_rainbow_term(u_rainbow, u_rainbow_rows, column, theta, secondary) + corona;
+  vec3 T = hx_example_bow(u_rainbow, u_corona, u_rainbow_shaped, u_bow_cube, u_bow_screen, v, theta);
+  if (polarizer) {
+    vec3 TQ = hx_example_bow(u_rainbow_q, u_corona_q, u_rainbow_shaped_q, u_bow_cube_q,
+                             u_bow_screen_q, v, theta);
+    T = hx_polarize(T, TQ, c2);
   }
 
   float moisture = u_moisture;
@@ -132,5 +161,6 @@ void main() {
   vec3 bow = hx_bow_radiance(u_sky.sun_rgb * u_light_color, T, tau);
   vec3 L = u_blend == 1 ? hx_blend_whitepaper(bg, bow, u_l_ref) : hx_blend_physical(bg, tau, bow);
 
-  hx_frag_color = vec4(u_output == 1 ? L : hx_tonemap(L, u_l_ref), 1.0);
+  // With a polariser the exposure opens up one stop (l_ref / 2), as hydrolux sky's PNG.
+  hx_frag_color = vec4(u_output == 1 ? L : hx_tonemap(L, polarizer ? 0.5 * u_l_ref : u_l_ref), 1.0);
 }

@@ -2,7 +2,10 @@
 // Writes T_rgb(theta) w(theta) of the rainbow table; example.frag (u_bow_source = 2) reads it per
 // pixel and adds the corona. Needs hydrolux_common.glsl and hydrolux_rainbow.glsl. Non-spherical
 // drops (u_shaped = 1): theta from the dome, the position angle from the interpolated direction
-// (the view ray) and u_sun_dir, looked up in the 3-D table.
+// (the view ray) and u_sun_dir, looked up in the 3-D table. A polariser (example.frag's
+// u_polarizer) needs the Stokes Q too: draw the dome again into a second float target
+// (u_bow_screen_q), cleared to 0, with the Q tables bound in place of the intensity's (u_rainbow <-
+// rainbow_q.f32, u_rainbow_shaped <- rainbow_shaped_q.f32); Q is signed.
 
 uniform sampler2D u_rainbow;
 uniform vec4 u_rainbow_rows;

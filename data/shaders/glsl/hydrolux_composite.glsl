@@ -35,6 +35,31 @@ vec3 hx_blend_whitepaper(vec3 bg, vec3 bow, float l_ref) {
   return bg + bow * (1.0 - clamp(bg / l_ref, 0.0, 1.0));
 }
 
+// ---- A linear polariser in front of the camera (docs/sky.md, "Polarisation") -------------------
+// Its transmission axis lies at angle_rad from the image's horizontal towards its up. The sky's and
+// the rain's polarised light lies normal to the scattering plane, along e = v x s; in the pixel's
+// image basis (h = the camera's right r made normal to v, w = v x h, up) the filter passes
+// (I + Q cos 2 (chi - A)) / 2, chi e's angle. This is cos 2 (chi - A):
+//   ea = cos A (e.h) + sin A (e.w),  c2 = clamp(2 ea^2 / ((e.e) (h.h)) - 1, -1, 1)
+// 0 where the scattering plane is undefined (at the sun and the antisolar point: nothing polarised).
+float hx_polarizer_cos2(vec3 v, vec3 sun_dir, vec3 cam_r, float angle_rad) {
+  vec3 e = cross(v, sun_dir);
+  vec3 h = cam_r - dot(cam_r, v) * v;
+  vec3 w = cross(v, h);
+  float ee = dot(e, e), hh = dot(h, h);
+  if (!(ee > 1e-12 && hh > 1e-12)) return 0.0;
+  float ea = cos(angle_rad) * dot(e, h) + sin(angle_rad) * dot(e, w);
+  return clamp(2.0 * ea * ea / (ee * hh) - 1.0, -1.0, 1.0);
+}
+
+// What the filter passes of light of intensity I and Stokes Q (in the scattering plane's basis):
+// max((I + Q c2) / 2, 0), c2 = hx_polarizer_cos2 (the tables' Q is not gamut-mapped as I is: where
+// the two disagree past |Q| <= I, nothing passes). The background: hx_polarize(bg, bg P, c2) with
+// P = hx_background_dolp (0.5 bg where unpolarised).
+vec3 hx_polarize(vec3 I, vec3 Q, float c2) {
+  return max(0.5 * (I + Q * c2), vec3(0.0));
+}
+
 // The sRGB transfer function of a linear value in [0, 1].
 vec3 hx_srgb_encode(vec3 c) {
   vec3 lo = 12.92 * c;
@@ -44,7 +69,8 @@ vec3 hx_srgb_encode(vec3 c) {
 
 // The display value (sRGB-encoded, [0, 1]) of a radiance L: x = 0.6 L / L_ref, extended Reinhard
 // with white 6 (x (1 + x / 36) / (1 + x)), clamped to [0, 1], then the sRGB curve. L_ref = the
-// luminance of a white Lambertian surface lit like the ground, sky.json's l_ref.
+// luminance of a white Lambertian surface lit like the ground, sky.json's l_ref (with a polariser,
+// l_ref / 2: a camera opens up one stop for the half of unpolarised light that the filter passes).
 vec3 hx_tonemap(vec3 L, float l_ref) {
   vec3 x = max(0.6 * L / l_ref, vec3(0.0));
   vec3 y = clamp(x * (1.0 + x / 36.0) / (1.0 + x), 0.0, 1.0);

@@ -2,6 +2,9 @@
 // ../glsl/cubemap_bake.frag. Render hx_fullscreen_vs (example.hlsl's, repeated here) + hx_cube_bake_ps
 // into each face (u_face 0..5 = +X, -X, +Y, -Y, +Z, -Z) of an N x N float cube map (u_face_size =
 // N); sample it with the view direction and a linear sampler (example.hlsl, u_bow_source = 1).
+// With a polariser, bake a second float cube map (example.hlsl's u_bow_cube_q, t8) by the same pass
+// with the Stokes Q tables bound at t0, t1, t2 (rainbow_q.f32, corona_q.f32, rainbow_shaped_q.f32);
+// Q is signed.
 #include "hydrolux_common.hlsl"
 #include "hydrolux_rainbow.hlsl"
 

@@ -1,7 +1,9 @@
 // hydrolux shaders (HLSL): halfdome.hlsl, the half-dome optimisation; the same as
 // ../glsl/halfdome.vert and halfdome.frag (the mesh is described there): hx_halfdome_vs +
 // hx_halfdome_ps, drawn centred on the camera with no depth test into a screen-sized float target
-// cleared to 0, read by example.hlsl with u_bow_source = 2.
+// cleared to 0, read by example.hlsl with u_bow_source = 2. With a polariser, draw it again into a
+// second float target (example.hlsl's u_bow_screen_q, t9) with the Stokes Q tables bound at t0, t1
+// (rainbow_q.f32, rainbow_shaped_q.f32); Q is signed.
 #include "hydrolux_common.hlsl"
 #include "hydrolux_rainbow.hlsl"
 

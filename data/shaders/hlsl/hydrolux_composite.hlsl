@@ -33,6 +33,26 @@ float3 hx_blend_whitepaper(float3 bg, float3 bow, float l_ref) {
   return bg + bow * (1.0 - saturate(bg / l_ref));
 }
 
+// A linear polariser in front of the camera (docs/sky.md, "Polarisation"), its axis angle_rad from the
+// image's horizontal towards its up: cos 2 (chi - A), chi the angle of e = v x s (normal to the
+// scattering plane) in the pixel's image basis (h = r made normal to v, w = v x h):
+//   ea = cos A (e.h) + sin A (e.w),  c2 = clamp(2 ea^2 / ((e.e) (h.h)) - 1, -1, 1)   (0 at the sun and
+// the antisolar point).
+float hx_polarizer_cos2(float3 v, float3 sun_dir, float3 cam_r, float angle_rad) {
+  float3 e = cross(v, sun_dir);
+  float3 h = cam_r - dot(cam_r, v) * v;
+  float3 w = cross(v, h);
+  float ee = dot(e, e), hh = dot(h, h);
+  if (!(ee > 1e-12 && hh > 1e-12)) return 0.0;
+  float ea = cos(angle_rad) * dot(e, h) + sin(angle_rad) * dot(e, w);
+  return clamp(2.0 * ea * ea / (ee * hh) - 1.0, -1.0, 1.0);
+}
+
+// What the filter passes of intensity I with Stokes Q: max((I + Q c2) / 2, 0).
+float3 hx_polarize(float3 I, float3 Q, float c2) {
+  return max(0.5 * (I + Q * c2), 0.0);
+}
+
 // The sRGB transfer function of a linear value in [0, 1].
 float3 hx_srgb_encode(float3 c) {
   float3 lo = 12.92 * c;
@@ -40,7 +60,8 @@ float3 hx_srgb_encode(float3 c) {
   return lerp(hi, lo, step(c, 0.0031308));
 }
 
-// x = 0.6 L / L_ref, extended Reinhard with white 6, clamped, sRGB-encoded.
+// x = 0.6 L / L_ref, extended Reinhard with white 6, clamped, sRGB-encoded (with a polariser
+// L_ref / 2: one stop more exposure).
 float3 hx_tonemap(float3 L, float l_ref) {
   float3 x = max(0.6 * L / l_ref, 0.0);
   float3 y = saturate(x * (1.0 + x / 36.0) / (1.0 + x));

@@ -60,4 +60,20 @@ float3 hx_background(HxSky sky, float3 v) {
   return hx_sky_radiance(sky, v);
 }
 
+// The sky's polarisation (docs/sky.md, "Polarisation"; sky.json's "polarization"): polarised
+// normal to the scattering plane with degree P(gamma) = P90 (1 - cos^2) / (P90 (1 + cos^2) + 1 - P90),
+// cos gamma = dot(v, s), P90 = max_dolp (sky.json's polarization.sky_max_dolp, 0.8).
+float hx_sky_dolp(float cos_gamma, float max_dolp) {
+  float c2 = cos_gamma * cos_gamma;
+  float den = max_dolp * (1.0 + c2) + 1.0 - max_dolp;
+  return den > 0.0 ? max_dolp * (1.0 - c2) / den : 0.0;
+}
+
+// The degree of polarisation of hx_background(sky, v): the sky's; 0 on the sun's disk and the ground.
+float hx_background_dolp(HxSky sky, float3 v, float max_dolp) {
+  if (v.y < 0.0) return 0.0;
+  if (hx_angle_deg(v, sky.sun_dir) < HX_SUN_RADIUS_DEG) return 0.0;
+  return hx_sky_dolp(dot(v, sky.sun_dir), max_dolp);
+}
+
 #endif
