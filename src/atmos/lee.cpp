@@ -10,6 +10,7 @@
 #include <atomic>
 #include <functional>
 #include <cmath>
+#include <utility>
 
 #include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/core/error.hpp"
@@ -49,6 +50,22 @@ constexpr double kNegligibleWeight = 1e-9;
 // Mie ripple. Airy theory and geometric optics take theta and have none.
 bool is_wave_theory(const scatter::Theory& t) {
   return t.kind == scatter::TheoryKind::Mie || t.kind == scatter::TheoryKind::Debye;
+}
+
+// Stokes Q in Airy theory of spheres: every drop's Q is its I times one degree of polarisation,
+// (|eps_1|^2 - |eps_2|^2) / (|eps_1|^2 + |eps_2|^2) of the Fresnel factors at the rainbow ray, which
+// depend on the index and the order only (not on the size, the angle or the absorption), so each
+// column's Q is this fraction of its I, wavelength by wavelength: no node values of Q are needed
+// (the same fraction airy_rainbow's eps give each node; Q's values then differ from those of a sum
+// of their own by rounding, < 1e-15 relative).
+bool q_is_fraction_of_i(const LeeSpec& spec) {
+  return spec.theory.kind == scatter::TheoryKind::Airy && spec.shape.spherical();
+}
+double airy_polarisation(scatter::Complex m, int p) {
+  const scatter::RayFresnelFactors eps =
+      scatter::ray_fresnel_factors(scatter::Complex(m.real(), 0), p, scatter::rainbow_ray(m.real(), p).theta_i);
+  const double e1 = std::norm(eps.perpendicular), e2 = std::norm(eps.parallel);
+  return e1 + e2 > 0 ? (e1 - e2) / (e1 + e2) : 0.0;
 }
 
 // Fractional part of a + b n, for the low-discrepancy sequences.
@@ -404,8 +421,10 @@ double estimated_bytes(const LeeSpec& s) {
   // floats and 2 doubles a pixel. Then the encoders' buffers (EXR, PNG): kLeeEncoderBytesPerPixel.
   const double base = kLeeFixedBytes + 24 * double(s.columns) * w.cells + 8 * w.nodes * w.cells +
                       8 * double(s.columns) * w.nodes + (24 + 36 + 16 + kLeeEncoderBytesPerPixel) * pixels;
-  // Stokes: Q's cell_xyz, node values and table (as I's), and 3 more EXR channels (floats).
-  return s.stokes ? base + 24 * double(s.columns) * w.cells + 8 * w.nodes * w.cells + (24 + 12) * pixels : base;
+  // Stokes: Q's cell_xyz, node values (none where Q is a fraction of I) and table (as I's), and 3
+  // more EXR channels (floats).
+  const double q_nodes = q_is_fraction_of_i(s) ? 0.0 : 8 * w.nodes * w.cells;
+  return s.stokes ? base + 24 * double(s.columns) * w.cells + q_nodes + (24 + 12) * pixels : base;
 }
 
 void validate(const LeeSpec& s) {
@@ -762,10 +781,11 @@ void check_drop_index(const LeeSpec& spec, const std::vector<double>& wavelength
 
 // The work arrays, reused from one wavelength to the next.
 struct WorkArrays {
-  WorkArrays(std::size_t J, std::size_t R, std::size_t cols, bool stokes)
+  // node_q: Q's own node values (stokes, unless Q is a fraction of I).
+  WorkArrays(std::size_t J, std::size_t R, std::size_t cols, bool stokes, bool node_q_values)
       : node_ln(J), node_a(J), node_width(J), cell_xyz(cols * R * 3, 0.0), node_values(J * R),
-        cell_q_xyz(stokes ? cols * R * 3 : 0, 0.0), node_q(stokes ? J * R : 0), node_used(J, 1), column_first(cols),
-        column_count(cols) {}
+        cell_q_xyz(stokes ? cols * R * 3 : 0, 0.0), node_q(stokes && node_q_values ? J * R : 0), node_used(J, 1),
+        column_first(cols), column_count(cols) {}
   std::vector<double> node_ln, node_a, node_width;  // this wavelength's nodes
   std::vector<double> cell_xyz;                     // per column and cell, before the disk kernel
   std::vector<double> node_values;                  // T at each node and cell, this wavelength
@@ -935,14 +955,10 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
               section_bow(spec, orientations, m, x, wa.node_a[j] * 1e6, sc.theta, norm, out, out_q);
               break;
             }
+            // Q = (|eps_1|^2 - |eps_2|^2) / 2 * amplitude^2 Ai^2: I times airy_polarisation, applied
+            // to the columns' sums (accumulate_columns).
             const scatter::AiryRainbow rb = scatter::airy_rainbow(m.real(), x, spec.theory.p, m.imag());
             for (std::size_t i = 0; i < R; ++i) out[i] = scatter::airy_intensity(rb, sc.theta[i]) * norm;
-            if (out_q) {
-              // Q = (|eps_1|^2 - |eps_2|^2) / 2 * amplitude^2 Ai^2: I times the ratio of the two.
-              const double e1 = std::norm(rb.eps.perpendicular), e2 = std::norm(rb.eps.parallel);
-              const double pol = e1 + e2 > 0 ? (e1 - e2) / (e1 + e2) : 0.0;
-              for (std::size_t i = 0; i < R; ++i) out_q[i] = out[i] * pol;
-            }
             break;
           }
           case scatter::TheoryKind::Geometric: {
@@ -960,46 +976,64 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
 }
 
 // The accumulation (spectral -> colour): each column's weighted mean over the nodes, into X, Y, Z
-// with this wavelength's weight `wk`. Neighbouring columns share most of their nodes, so a block of
-// them is summed together: each node's values are read once per block (memory traffic, not
-// arithmetic, bounds this).
-// `values` (J x R, I or Q) into `cell_xyz` (columns x cells x 3).
+// with this wavelength's weight `wk`: I (node_values into cell_xyz) and, with Stokes, Q into
+// cell_q_xyz, in one pass over the blocks of columns: as `q_fraction` times each column's I where Q
+// is a fraction of I (q_is_fraction_of_i; no sum of its own), else from Q's node values (node_q),
+// summed after I's with the block's node range and weights. Neighbouring columns share most of their
+// nodes, so a block of them is summed together: each node's values are read once per block (memory
+// traffic, not arithmetic, bounds this; summing I and Q node by node, both rows of sums at once,
+// measured no faster than one after the other).
 void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, const color::Xyz& wk,
-                        tbb::task_arena& arena, const WorkArrays& wa, const std::vector<double>& values,
-                        std::vector<double>& cell_xyz) {
+                        double q_fraction, tbb::task_arena& arena, WorkArrays& wa) {
   const std::size_t J = pop.nodes;
   constexpr std::size_t kBlock = 8;
+  const bool q_from_i = !wa.cell_q_xyz.empty() && wa.node_q.empty();
+  // The node values summed, and where their colour goes: I, then Q's own (stokes, node_q).
+  std::vector<std::pair<const std::vector<double>*, std::vector<double>*>> parts{{&wa.node_values, &wa.cell_xyz}};
+  if (!wa.node_q.empty()) parts.emplace_back(&wa.node_q, &wa.cell_q_xyz);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (cols + kBlock - 1) / kBlock, 1),
                       [&](const tbb::blocked_range<std::size_t>& range) {
       std::vector<double> acc(kBlock * R);
       for (std::size_t b = range.begin(); b != range.end(); ++b) {
         const std::size_t c0 = b * kBlock, c1 = std::min(cols, c0 + kBlock);
-        std::fill(acc.begin(), acc.end(), 0.0);
-        if (pop.per_column) {
-          for (std::size_t c = c0; c < c1; ++c) std::copy_n(&values[c * R], R, &acc[(c - c0) * R]);
-        } else {
-          std::size_t first = J, last = 0;
+        std::size_t first = J, last = 0;
+        if (!pop.per_column)
           for (std::size_t c = c0; c < c1; ++c) {
             first = std::min(first, wa.column_first[c]);
             last = std::max(last, wa.column_first[c] + wa.column_count[c] - 1);
           }
-          for (std::size_t j = first; j <= last; ++j) {
-            const double* v = &values[j * R];
-            for (std::size_t c = c0; c < c1; ++c) {
-              const double wj = wa.column_weight[c * J + j];
-              if (wj == 0) continue;
-              axpy(&acc[(c - c0) * R], v, wj, R);
+        for (const auto& [node_values, cell_xyz] : parts) {
+          const std::vector<double>& values = *node_values;
+          std::fill(acc.begin(), acc.end(), 0.0);
+          if (pop.per_column) {
+            for (std::size_t c = c0; c < c1; ++c) std::copy_n(&values[c * R], R, &acc[(c - c0) * R]);
+          } else {
+            for (std::size_t j = first; j <= last; ++j) {
+              const double* v = &values[j * R];
+              for (std::size_t c = c0; c < c1; ++c) {
+                const double wj = wa.column_weight[c * J + j];
+                if (wj == 0) continue;
+                axpy(&acc[(c - c0) * R], v, wj, R);
+              }
             }
           }
-        }
-        for (std::size_t c = c0; c < c1; ++c) {
-          const double* col = &acc[(c - c0) * R];
-          for (std::size_t i = 0; i < R; ++i) {
-            double* px = &cell_xyz[(c * R + i) * 3];
-            px[0] += wk.X * col[i];
-            px[1] += wk.Y * col[i];
-            px[2] += wk.Z * col[i];
+          for (std::size_t c = c0; c < c1; ++c) {
+            const double* col = &acc[(c - c0) * R];
+            double* px = &(*cell_xyz)[c * R * 3];
+            for (std::size_t i = 0; i < R; ++i, px += 3) {
+              px[0] += wk.X * col[i];
+              px[1] += wk.Y * col[i];
+              px[2] += wk.Z * col[i];
+            }
+            if (!q_from_i) continue;  // (parts is then I alone)
+            double* qx = &wa.cell_q_xyz[c * R * 3];
+            for (std::size_t i = 0; i < R; ++i, qx += 3) {
+              const double q = q_fraction * col[i];
+              qx[0] += wk.X * q;
+              qx[1] += wk.Y * q;
+              qx[2] += wk.Z * q;
+            }
           }
         }
       }
@@ -1047,7 +1081,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   const std::size_t R = std::size_t(cells.count);
   double total_work = 0;
   const std::vector<double> k_work = work_per_wavelength(t, pop, seq, is_wave_theory(spec.theory), total_work);
-  WorkArrays wa(J, R, cols, spec.stokes);
+  WorkArrays wa(J, R, cols, spec.stokes, !q_is_fraction_of_i(spec));
   std::atomic<std::int64_t> terms{0}, evaluations{0};
   check_drop_index(spec, t.wavelengths_nm, *drop, *air);
 
@@ -1062,8 +1096,8 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
     place_nodes(pop, t, shift, wa);
     if (!pop.per_column) weigh_columns(pop, t, spec.size_spread, shift, arena, wa);
     scatter_nodes(spec, t, sin_angle, cells, seq, wl, arena, wa, terms, evaluations);
-    accumulate_columns(pop, cols, R, weight[std::size_t(k)], arena, wa, wa.node_values, wa.cell_xyz);
-    if (spec.stokes) accumulate_columns(pop, cols, R, weight[std::size_t(k)], arena, wa, wa.node_q, wa.cell_q_xyz);
+    const double q_fraction = spec.stokes && q_is_fraction_of_i(spec) ? airy_polarisation(wl.m, spec.theory.p) : 0.0;
+    accumulate_columns(pop, cols, R, weight[std::size_t(k)], q_fraction, arena, wa);
     done_work += k_work[std::size_t(k)];
     if (progress) progress(done_work / total_work, fmt::format("{:.0f} nm", nm));
   }
