@@ -58,18 +58,24 @@ py::array_t<float> read_depth(const std::string& path, double scale_m, int width
 }
 
 // The bytes of a PNG or EXR (a coverage mask through io::coverage_for_encoding), as the CLI writes them.
-std::string encode_bytes(const py::array& image, io::ImageFormat f, py::handle bits_arg, bool coverage) {
+std::string encode_bytes(const py::array& image, io::ImageFormat f, py::handle bits_arg, bool coverage,
+                         py::handle compression_arg = py::none()) {
   const int bits = int(whole_arg(bits_arg, "bits", 8, 16));
+  const int compression = compression_arg.is_none()
+                              ? io::kDefaultPngCompression
+                              : int(whole_arg(compression_arg, "compression", 0, io::kMaxPngCompression));
   if (bits != 8 && bits != 16) throw Error(fmt::format("bits: {} is not 8 or 16 (PNG's sample sizes)", bits));
   Image img = to_image(image, "image");
   if (coverage && img.channels != 1) throw Error("coverage: a coverage mask has one channel");
   py::gil_scoped_release release;
   if (coverage) img = io::coverage_for_encoding(img, f);
-  return io::encode_image(img, f, io::PngOptions{bits});
+  return io::encode_image(img, f, io::PngOptions{bits, compression});
 }
 
-py::bytes encode(const py::array& image, const std::string& format, py::handle bits, bool coverage) {
-  return py::bytes(encode_bytes(image, format_arg(format), bits, coverage));
+// `compression`: the PNG's zlib level (None: the CLI's default, io::kDefaultPngCompression).
+py::bytes encode(const py::array& image, const std::string& format, py::handle bits, bool coverage,
+                 py::handle compression) {
+  return py::bytes(encode_bytes(image, format_arg(format), bits, coverage, compression));
 }
 
 void write_image(const std::string& path, const py::array& image, py::handle bits) {
@@ -88,6 +94,7 @@ PYBIND11_MODULE(_image, m) {
   m.def("read", &read_image, py::arg("path"));
   m.def("read_depth", &read_depth, py::arg("path"), py::arg("scale_m"), py::arg("width"), py::arg("height"),
         py::arg("label"));
-  m.def("encode", &encode, py::arg("image"), py::arg("format"), py::arg("bits"), py::arg("coverage"));
+  m.def("encode", &encode, py::arg("image"), py::arg("format"), py::arg("bits"), py::arg("coverage"),
+        py::arg("compression") = py::none());
   m.def("write", &write_image, py::arg("path"), py::arg("image"), py::arg("bits"));
 }

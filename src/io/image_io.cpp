@@ -7,11 +7,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <mutex>
+#include <stdexcept>
 
 #include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
@@ -119,6 +123,110 @@ std::mutex& decode_mutex() {
   return m;
 }
 
+// ---- the sRGB curve by table (the same values as color::srgb_encode / srgb_decode) ----
+
+// 8-bit codes from linear floats. The code of a float x, std::lround(srgb_encode(double(x)) * 255),
+// never decreases as x grows, so it is fixed by the 255 floats at which it steps: first_[k], the
+// least float of code k or more. A float in (0, 1) is found by its bit pattern, which orders the
+// positive floats: start_ holds the code of the first float of each run of 2^15 patterns (a run
+// spans less than one code: a relative width of at most 2^-8, over which the code grows by at most
+// 1.055 * 255 / 2.4 * 2^-8 < 0.5, so it holds at most one step), and one comparison with first_
+// finishes it. The same code as the curve for every float: tests/io/test_image_io.cpp sweeps them
+// (all 1,065,353,217 in [0, 1] with HYDROLUX_TEST_EXHAUSTIVE=1).
+class Srgb8Encoder {
+ public:
+  static constexpr int kShift = 15;
+  static constexpr std::uint32_t kOne = 0x3F800000u;  // the bits of 1.0f
+
+  Srgb8Encoder() : start_((kOne >> kShift) + 1) {
+    const auto code = [](std::uint32_t bits) {
+      return int(std::lround(color::srgb_encode(double(std::bit_cast<float>(bits))) * 255.0));
+    };
+    first_.fill(std::numeric_limits<float>::infinity());
+    for (int k = 1; k <= 255; ++k) {  // the least bit pattern in [0, 1] whose code is >= k
+      std::uint32_t lo = 0, hi = kOne;  // code(lo) < k <= code(hi)
+      while (hi - lo > 1) {
+        const std::uint32_t mid = lo + (hi - lo) / 2;
+        (code(mid) >= k ? hi : lo) = mid;
+      }
+      first_[std::size_t(k)] = std::bit_cast<float>(hi);
+    }
+    int k = 0;
+    for (std::size_t i = 0; i < start_.size(); ++i) {
+      const float x = std::bit_cast<float>(std::uint32_t(i) << kShift);
+      while (k < 255 && x >= first_[std::size_t(k) + 1]) ++k;
+      start_[i] = std::uint8_t(k);
+    }
+    // No run holds two steps (the bound above): the next step after a run's first code lies beyond
+    // the run's last float.
+    for (std::size_t i = 0; i + 1 < start_.size(); ++i) {
+      const float last = std::bit_cast<float>((std::uint32_t(i + 1) << kShift) - 1);
+      if (start_[i] < 254 && last >= first_[std::size_t(start_[i]) + 2])
+        throw std::logic_error("Srgb8Encoder: a run of floats holds two steps of the code");
+    }
+  }
+
+  std::uint8_t operator()(float x) const noexcept {
+    if (!(x > 0.0f)) return 0;  // NaN too, as srgb_encode
+    if (x >= 1.0f) return 255;
+    // A run holds at most one step: one comparison, without a branch (first_[256] is infinite).
+    const std::size_t k = start_[std::bit_cast<std::uint32_t>(x) >> kShift];
+    return std::uint8_t(k + std::size_t(x >= first_[k + 1]));
+  }
+
+ private:
+  std::array<float, 257> first_{};
+  std::vector<std::uint8_t> start_;
+};
+
+const Srgb8Encoder& srgb8_encoder() {
+  static const Srgb8Encoder e;
+  return e;
+}
+
+// Linear floats from 8- and 16-bit codes: OpenImageIO's value of each code (its conversion of the
+// code to float, as read_image(FLOAT) converts) and color::srgb_decode<float> of it, for every code.
+struct SrgbDecodeTable {
+  std::vector<float> value, linear;
+  explicit SrgbDecodeTable(OIIO::TypeDesc type) {
+    const std::size_t n = type == OIIO::TypeDesc::UINT8 ? 256 : 65536;
+    std::vector<std::uint16_t> codes16(n);
+    std::vector<std::uint8_t> codes8(n);
+    for (std::size_t i = 0; i < n; ++i) codes16[i] = std::uint16_t(i), codes8[i] = std::uint8_t(i);
+    value.resize(n);
+    linear.resize(n);
+    const void* src = n == 256 ? static_cast<const void*>(codes8.data()) : static_cast<const void*>(codes16.data());
+    OIIO::convert_pixel_values(type, src, OIIO::TypeDesc::FLOAT, value.data(), int(n));
+    for (std::size_t i = 0; i < n; ++i) linear[i] = color::srgb_decode(value[i]);
+  }
+};
+
+const SrgbDecodeTable& srgb_decode_table(bool sixteen) {
+  static const SrgbDecodeTable t8(OIIO::TypeDesc::UINT8);
+  static const SrgbDecodeTable t16(OIIO::TypeDesc::UINT16);
+  return sixteen ? t16 : t8;
+}
+
+// A coded image (8 or 16 bits) read as its codes and turned into linear floats by table: the same
+// floats as reading it as FLOAT and applying srgb_decode to each colour value (alpha kept linear).
+template <typename Code>
+bool read_coded(OIIO::ImageInput& in, int alpha, Image& img) {
+  const std::size_t c = std::size_t(img.channels);
+  std::vector<Code> codes(img.pixels.size());
+  const OIIO::TypeDesc type = sizeof(Code) == 1 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16;
+  if (!in.read_image(0, 0, 0, int(c), type, codes.data())) return false;
+  const SrgbDecodeTable& t = srgb_decode_table(sizeof(Code) == 2);
+  const float* linear = t.linear.data();
+  const float* value = t.value.data();
+  float* out = img.pixels.data();
+  if (alpha < 0 || alpha >= int(c)) {
+    for (std::size_t i = 0; i < codes.size(); ++i) out[i] = linear[codes[i]];
+  } else {
+    for (std::size_t i = 0; i < codes.size(); ++i) out[i] = (i % c == std::size_t(alpha) ? value : linear)[codes[i]];
+  }
+  return true;
+}
+
 template <typename T>
 std::vector<T> quantise_srgb(const Image& img, double max_code) {
   std::vector<T> out(img.pixels.size());
@@ -131,7 +239,28 @@ std::vector<T> quantise_srgb(const Image& img, double max_code) {
   return out;
 }
 
+// 8-bit codes: colour through the encoder's table, alpha (4th channel) linearly, as quantise_srgb.
+std::vector<std::uint8_t> quantise_srgb8(const Image& img) {
+  std::vector<std::uint8_t> out(img.pixels.size());
+  const Srgb8Encoder& encode = srgb8_encoder();
+  const float* px = img.pixels.data();
+  if (img.channels != 4) {
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = encode(px[i]);
+  } else {
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = i % 4 == 3 ? std::uint8_t(std::lround(std::clamp(double(px[i]), 0.0, 1.0) * 255.0)) : encode(px[i]);
+  }
+  return out;
+}
+
 }  // namespace
+
+std::uint8_t srgb8_code(float linear) noexcept { return srgb8_encoder()(linear); }
+
+void srgb8_codes(const float* linear, std::size_t n, std::uint8_t* codes) noexcept {
+  const Srgb8Encoder& encode = srgb8_encoder();
+  for (std::size_t i = 0; i < n; ++i) codes[i] = encode(linear[i]);
+}
 
 DecodedImage decode_image(std::string_view bytes, std::string_view origin, const ImageLimits& limits) {
   const auto fail = [&](const std::string& why) { return IoError(fmt::format("{}: {}", origin, why)); };
@@ -192,12 +321,19 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
                            format_name(*format), bytes.size()));
 
   Image img(static_cast<int>(w), static_cast<int>(h), static_cast<int>(c));
-  if (!in->read_image(0, 0, 0, int(c), OIIO::TypeDesc::FLOAT, img.pixels.data()))
-    throw codec_failure(in->geterror());
+  // 8- and 16-bit codes (PNG, JPEG, PNM, most TIFF) through the decode tables; other types as floats
+  // through the curve.
+  const bool one_type = spec.channelformats.empty();
+  const bool coded8 = one_type && spec.format == OIIO::TypeDesc::UINT8;
+  const bool coded16 = one_type && spec.format == OIIO::TypeDesc::UINT16;
+  const bool read = coded8    ? read_coded<std::uint8_t>(*in, spec.alpha_channel, img)
+                    : coded16 ? read_coded<std::uint16_t>(*in, spec.alpha_channel, img)
+                              : in->read_image(0, 0, 0, int(c), OIIO::TypeDesc::FLOAT, img.pixels.data());
+  if (!read) throw codec_failure(in->geterror());
   in->close();
   result.warnings = captured.finish();
   result.channel_names.assign(spec.channelnames.begin(), spec.channelnames.end());
-  if (!spec.format.is_floating_point()) {
+  if (!spec.format.is_floating_point() && !coded8 && !coded16) {
     const int alpha = spec.alpha_channel;
     for (std::size_t i = 0; i < img.pixels.size(); ++i)
       if (int(i % std::size_t(c)) != alpha) img.pixels[i] = float(color::srgb_decode(img.pixels[i]));
@@ -214,6 +350,8 @@ std::string encode_image(const Image& image, ImageFormat format, PngOptions png)
     throw IoError(fmt::format("cannot write {} images (use .exr or .png)", format_name(format)));
   if (format == ImageFormat::png && png.bits != 8 && png.bits != 16)
     throw IoError(fmt::format("PNG bit depth {} (use 8 or 16)", png.bits));
+  if (format == ImageFormat::png && (png.compression < 0 || png.compression > kMaxPngCompression))
+    throw IoError(fmt::format("PNG compression level {} (use 0 to {})", png.compression, kMaxPngCompression));
 
   OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT;
   std::vector<std::uint8_t> px8;
@@ -221,7 +359,7 @@ std::string encode_image(const Image& image, ImageFormat format, PngOptions png)
   const void* data = image.pixels.data();
   if (format == ImageFormat::png) {
     if (png.bits == 8) {
-      px8 = quantise_srgb<std::uint8_t>(image, 255.0);
+      px8 = quantise_srgb8(image);
       type = OIIO::TypeDesc::UINT8;
       data = px8.data();
     } else {
@@ -242,6 +380,17 @@ std::string encode_image(const Image& image, ImageFormat format, PngOptions png)
     spec.channelnames = image.channel_names;
     const auto a = std::find(image.channel_names.begin(), image.channel_names.end(), "A");
     spec.alpha_channel = a == image.channel_names.end() ? -1 : int(a - image.channel_names.begin());
+  }
+  if (format == ImageFormat::png) {
+    spec.attribute("png:compressionLevel", png.compression);
+    // libpng's filters (png.h's PNG_FILTER_NONE, PNG_FILTER_UP). By default libpng tries all five on
+    // every row and keeps the one of least sum: at level 1 that costs as much as the deflate. The fast
+    // levels filter every row with Up (one subtraction a byte, and files within a few per cent of the
+    // adaptive choice's at level 1), level 0 stores the rows unfiltered; levels 3-9 keep libpng's
+    // adaptive choice (level 6 is zlib's default and writes the bytes hydrolux wrote before the level
+    // was an option).
+    constexpr int kFilterNone = 0x08, kFilterUp = 0x20;
+    if (png.compression <= 2) spec.attribute("png:filter", png.compression == 0 ? kFilterNone : kFilterUp);
   }
   if (format == ImageFormat::exr) {
     spec.attribute("compression", "zip");

@@ -10,14 +10,15 @@
 
 namespace hydrolux::rain {
 
-void check_render_memory(const RainCamera& c, int input_channels, bool with_layer, const std::string& what) {
-  const double need = double(estimated_render_bytes(c, input_channels, with_layer));
+void check_render_memory(const RainCamera& c, int input_channels, bool with_layer, const std::string& what,
+                         double extra_bytes_per_pixel) {
+  const double need = double(estimated_render_bytes(c, input_channels, with_layer, extra_bytes_per_pixel));
   const double avail = double(available_memory_bytes());
   if (need <= avail) return;
   // What grows with the pixels scales; the program and the drops do not.
   RainCamera none = c;
   none.width = none.height = 0;
-  const double fixed = double(estimated_render_bytes(none, input_channels, with_layer));
+  const double fixed = double(estimated_render_bytes(none, input_channels, with_layer, extra_bytes_per_pixel));
   const double scale = std::sqrt(std::max(0.0, avail - fixed) / (need - fixed));
   throw Error(fmt::format("{}: rain over {}x{} needs about {} of memory and {} is available; about {}x{} would fit",
                           what, c.width, c.height, format_bytes(need), format_bytes(avail),

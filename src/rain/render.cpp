@@ -169,7 +169,8 @@ NonFinitePixel::NonFinitePixel(int x, int y, int channel, float value)
       x_(x),
       y_(y) {}
 
-std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channels, bool with_layer) {
+std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channels, bool with_layer,
+                                     double extra_bytes_per_pixel) {
   // Per pixel: the decoded frame and the rainy frame (4 bytes a channel each); the alpha, the
   // renderer's depth, transmittance and streak accumulators (4 + 4 + 4 + 4 + 12 bytes); the encoder's
   // scratch; with the layer, its 16 bytes and its own encoding. The encoders' shares are fitted to the
@@ -177,7 +178,8 @@ std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channel
   // to a PNG, 116 with an EXR, --layer-out and --mask-out; 2026-11-25), plus the program and the drops.
   constexpr double kEncodeBytesPerPixel = 18, kLayerBytesPerPixel = 16 + 26, kFixedBytes = 64e6;
   const double per_pixel =
-      8.0 * std::max(3, input_channels) + 32 + kEncodeBytesPerPixel + (with_layer ? kLayerBytesPerPixel : 0);
+      8.0 * std::max(3, input_channels) + 32 + kEncodeBytesPerPixel + (with_layer ? kLayerBytesPerPixel : 0) +
+      extra_bytes_per_pixel;
   return std::uint64_t(kFixedBytes + per_pixel * double(camera.width) * double(camera.height));
 }
 

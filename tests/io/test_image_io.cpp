@@ -16,6 +16,19 @@
 #include <sstream>
 #include <thread>
 
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <random>
+#include <vector>
+
 #include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
@@ -425,6 +438,162 @@ TEST(ImageFormats, SniffedFromTheFirstBytes) {
   EXPECT_EQ(output_image_format("dir/a.exr"), ImageFormat::exr);
   EXPECT_THROW(output_image_format("a.jpg", "-o"), IoError);
   EXPECT_THROW(output_image_format("noext", "-o"), IoError);
+}
+
+// ---- the sRGB curve by table (issue 27): the same codes and floats as the pow-based curve ----
+
+// What encode_image wrote into an 8-bit PNG before its table: the curve in double, rounded.
+int curve_code(float x) { return int(std::lround(color::srgb_encode(double(x)) * 255.0)); }
+
+// Every float in [0, 1] gives the curve's code. The floats are swept in steps of 97 bit patterns,
+// every pattern within 4096 of each of the 255 steps of the code (found here by bisection on the
+// curve), and the edges: zeros, NaNs, infinities, denormals, the curve's knee, values above 1.
+// HYDROLUX_TEST_EXHAUSTIVE=1 checks every one of the 1,065,353,217 floats in [0, 1] (a minute).
+TEST(SrgbTables, EncodeGivesTheCurvesCodeForEveryFloat) {
+  constexpr std::uint32_t kOne = 0x3F800000u;
+  const bool exhaustive = std::getenv("HYDROLUX_TEST_EXHAUSTIVE") != nullptr;
+  std::uint64_t checked = 0, wrong = 0;
+  const auto check = [&](std::uint32_t bits) {
+    const float x = std::bit_cast<float>(bits);
+    ++checked;
+    if (srgb8_code(x) != curve_code(x) && ++wrong <= 5) ADD_FAILURE() << "bits " << bits << " x " << x;
+  };
+  for (std::uint64_t b = 0; b <= kOne; b += exhaustive ? 1 : 97) check(std::uint32_t(b));
+  for (int k = 1; k <= 255; ++k) {
+    std::uint32_t lo = 0, hi = kOne;  // curve_code(lo) < k <= curve_code(hi)
+    while (hi - lo > 1) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      (curve_code(std::bit_cast<float>(mid)) >= k ? hi : lo) = mid;
+    }
+    for (std::uint32_t b = hi - std::min<std::uint32_t>(hi, 4096); b <= std::min(hi + 4096, kOne); ++b) check(b);
+  }
+  EXPECT_EQ(wrong, 0u) << "of " << checked;
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  for (float x : {0.0f, -0.0f, 1.0f, nan, -nan, inf, -inf, -1.0f, 2.0f, 1e30f, std::numeric_limits<float>::denorm_min(),
+                  std::numeric_limits<float>::min(), 0.0031308f, std::nextafter(0.0031308f, 0.0f),
+                  std::nextafter(0.0031308f, 1.0f), std::nextafter(1.0f, 0.0f), std::nextafter(1.0f, 2.0f), 0.5f})
+    EXPECT_EQ(int(srgb8_code(x)), curve_code(x)) << x;
+  EXPECT_EQ(srgb8_code(nan), 0);
+  EXPECT_EQ(srgb8_code(inf), 255);
+  EXPECT_EQ(srgb8_code(0.5f), 188);  // 0.7353569 * 255 = 187.52
+  std::vector<float> xs = {0.25f, nan, 0.75f};
+  std::vector<std::uint8_t> codes(3);
+  srgb8_codes(xs.data(), xs.size(), codes.data());
+  EXPECT_EQ(codes, (std::vector<std::uint8_t>{srgb8_code(0.25f), 0, srgb8_code(0.75f)}));
+}
+
+// The decode the tables replace: OpenImageIO reads the file as floats and each colour value (not the
+// alpha) goes through color::srgb_decode<float>, as decode_image did before its tables.
+std::vector<float> curve_decode(const std::string& bytes, const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("hydrolux_test_curve_" + std::to_string(::getpid()) + "_" + name);
+  { std::ofstream(p, std::ios::binary) << bytes; }
+  auto in = OIIO::ImageInput::open(p.string());
+  EXPECT_TRUE(in) << name;
+  if (!in) return {};
+  const OIIO::ImageSpec spec = in->spec();
+  std::vector<float> px(std::size_t(spec.image_pixels()) * std::size_t(spec.nchannels));
+  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data())) << name;
+  in->close();
+  fs::remove(p);
+  if (!spec.format.is_floating_point())
+    for (std::size_t i = 0; i < px.size(); ++i)
+      if (int(i % std::size_t(spec.nchannels)) != spec.alpha_channel) px[i] = color::srgb_decode(px[i]);
+  return px;
+}
+
+std::string encode_codes(int w, int h, int c, OIIO::TypeDesc type, const void* codes) {
+  std::vector<unsigned char> buffer;
+  OIIO::Filesystem::IOVecOutput proxy(buffer);
+  auto out = OIIO::ImageOutput::create("png");
+  OIIO::ImageSpec spec(w, h, c, type);
+  void* proxy_ptr = &proxy;
+  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy_ptr);
+  EXPECT_TRUE(out->open("codes.png", spec) && out->write_image(type, codes) && out->close());
+  return std::string(buffer.begin(), buffer.end());
+}
+
+bool same_floats(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+// Every 8-bit code (in RGB and in RGBA, whose alpha stays linear) and every 16-bit code decode to the
+// very floats of the curve, and so does every 8- and 16-bit file of the fuzzers' seeds (PNG, palette
+// PNG, PPM, PGM, JPEG, TIFF) and the float formats, which keep their old path.
+TEST(SrgbTables, DecodeGivesTheCurvesFloatsForEveryCode) {
+  for (int c : {1, 3, 4}) {
+    std::vector<std::uint8_t> codes(std::size_t(256) * std::size_t(c));
+    for (std::size_t i = 0; i < codes.size(); ++i) codes[i] = std::uint8_t((i / std::size_t(c) + i % std::size_t(c) * 85) % 256);
+    const std::string png = encode_codes(256, 1, c, OIIO::TypeDesc::UINT8, codes.data());
+    EXPECT_TRUE(same_floats(decode_image(png, "codes8.png").image.pixels, curve_decode(png, "codes8.png"))) << c;
+  }
+  std::vector<std::uint16_t> codes16(65536);
+  for (std::size_t i = 0; i < codes16.size(); ++i) codes16[i] = std::uint16_t(i);
+  const std::string png16 = encode_codes(256, 256, 1, OIIO::TypeDesc::UINT16, codes16.data());
+  EXPECT_TRUE(same_floats(decode_image(png16, "codes16.png").image.pixels, curve_decode(png16, "codes16.png")));
+  for (const char* name : {"drop.png", "palette.png", "drop.ppm", "ascii.ppm", "gray.pgm", "drop.jpg", "progressive.jpg",
+                           "drop.tif", "tiled.tif", "drop.exr", "drop.hdr", "tiny.pfm"}) {
+    std::string bytes = seed(name);
+    if (sniff_image_format(bytes) == ImageFormat::jpeg) bytes = jpeg_without_metadata(bytes);  // as decoded
+    EXPECT_TRUE(same_floats(decode_image(bytes, name).image.pixels, curve_decode(bytes, name))) << name;
+  }
+}
+
+// The PNG that encode_image wrote before its table and the level option: the curve's codes (alpha
+// linear), written by OpenImageIO with zlib's default level and libpng's default filters; `level`, if
+// given, set as encode_image sets it (with the Up filter at levels 1 and 2, none at 0).
+std::string curve_png(const Image& img, std::optional<int> level) {
+  std::vector<std::uint8_t> codes(img.pixels.size());
+  for (std::size_t i = 0; i < codes.size(); ++i)
+    codes[i] = img.channels == 4 && i % 4 == 3
+                   ? std::uint8_t(std::lround(std::clamp(double(img.pixels[i]), 0.0, 1.0) * 255.0))
+                   : std::uint8_t(curve_code(img.pixels[i]));
+  std::vector<unsigned char> buffer;
+  OIIO::Filesystem::IOVecOutput proxy(buffer);
+  auto out = OIIO::ImageOutput::create("png");
+  OIIO::ImageSpec spec(img.width, img.height, img.channels, OIIO::TypeDesc::UINT8);
+  spec.attribute("oiio:ColorSpace", "sRGB");
+  if (level) {
+    spec.attribute("png:compressionLevel", *level);
+    if (*level <= 2) spec.attribute("png:filter", *level == 0 ? 0x08 : 0x20);
+  }
+  void* proxy_ptr = &proxy;
+  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy_ptr);
+  EXPECT_TRUE(out->open("memory", spec) && out->write_image(OIIO::TypeDesc::UINT8, codes.data()) && out->close());
+  return std::string(buffer.begin(), buffer.end());
+}
+
+// encode_image's 8-bit PNGs are byte for byte the curve's, on images with NaN, infinite, negative,
+// above-1 and random values, in RGB and RGBA, at every level; level 6 (zlib's default) writes the very
+// bytes hydrolux wrote before the option (and before the table); higher levels are smaller; levels
+// outside 0-9 are refused.
+TEST(SrgbTables, EncodeWritesTheCurvesBytesAtEveryLevel) {
+  std::vector<Image> images;
+  for (int c : {1, 3, 4}) {
+    Image img(97, 31, c);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-0.1f, 1.1f);
+    for (float& v : img.pixels) v = u(rng);
+    img.pixels[0] = std::numeric_limits<float>::quiet_NaN();
+    img.pixels[1] = -std::numeric_limits<float>::infinity();
+    img.pixels[5] = std::numeric_limits<float>::infinity();
+    images.push_back(std::move(img));
+  }
+  images.push_back(gradient(256, 64, 3));
+  for (const Image& img : images) {
+    for (int level = 0; level <= kMaxPngCompression; ++level)
+      EXPECT_EQ(encode_image(img, ImageFormat::png, {8, level}), curve_png(img, level))
+          << "level " << level << ", " << img.channels << " channels";
+    EXPECT_EQ(encode_image(img, ImageFormat::png, {8, 6}), curve_png(img, std::nullopt));
+    EXPECT_EQ(encode_image(img, ImageFormat::png), curve_png(img, kDefaultPngCompression));
+  }
+  const Image& smooth = images.back();
+  EXPECT_LT(encode_image(smooth, ImageFormat::png, {8, 9}).size(), encode_image(smooth, ImageFormat::png, {8, 1}).size());
+  EXPECT_LT(encode_image(smooth, ImageFormat::png, {8, 1}).size(), encode_image(smooth, ImageFormat::png, {8, 0}).size());
+  for (int bad : {-1, 10, 100})
+    EXPECT_NE(message_of([&] { (void)encode_image(smooth, ImageFormat::png, {8, bad}); }).find("compression level"),
+              std::string::npos)
+        << bad;
+  EXPECT_NO_THROW((void)encode_image(smooth, ImageFormat::exr, {8, 10}));  // EXR has its own compression
 }
 
 // Same image, same bytes: EXR carries no time stamp (OpenImageIO would write DateTime/capDate with

@@ -7,13 +7,15 @@
 // the same bytes (no time stamp: OpenImageIO's EXR DateTime/capDate is written empty).
 // Read: PNG, OpenEXR, Radiance HDR, PNM (PBM/PGM/PPM/PFM), JPEG and TIFF, told apart by their first
 // bytes (never by probing every reader). EXR, HDR and PFM are linear; 8- and 16-bit formats are
-// taken as sRGB-encoded and decoded to linear (alpha stays linear).
+// taken as sRGB-encoded and decoded to linear (alpha stays linear), through a table of every code
+// holding color::srgb_decode of the code's value (the same floats as the curve, without a pow each).
 //
 // A header is never trusted: width x height x channels is checked against ImageLimits, and for
 // the formats whose compression has a known maximum ratio (PNG, PNM, HDR, JPEG) against the size
 // of the file, before any pixel memory is allocated. Messages the codec libraries print on stderr
 // (libpng's "libpng error: ...") are captured during decoding: they become part of the one-line
 // error, or a warning returned with the image.
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -31,8 +33,19 @@ enum class ImageFormat { png, exr, hdr, pnm, jpeg, tiff };
 
 std::string_view format_name(ImageFormat f);
 
+// zlib's level for PNG files: 0 stores the rows uncompressed, 1 is the fastest compression, 9 the
+// smallest file; every level decodes to the same pixels. Levels 1 and 2 also filter every row with
+// libpng's Up filter instead of trying all five on each row (which costs as much as the deflate at
+// level 1); level 0 leaves rows unfiltered; 3-9 keep libpng's adaptive filtering, and 6 (zlib's
+// default) writes the bytes hydrolux wrote before the level was an option. The default, 1, is the
+// fastest that compresses: BENCHMARKS.md ("Rain over a folder of frames, end to end") has its time
+// and size against the others on 1920 x 1080 frames.
+inline constexpr int kDefaultPngCompression = 1;
+inline constexpr int kMaxPngCompression = 9;
+
 struct PngOptions {
   int bits = 8;  // 8 or 16
+  int compression = kDefaultPngCompression;  // zlib level, 0 .. kMaxPngCompression
 };
 
 // What a decoded image may claim. The defaults take a 16384 x 16384 RGBA image (4 GiB as float),
@@ -137,7 +150,15 @@ inline constexpr int kMinDepthMapFraction = 16;
 Image depth_from_decoded(const DecodedImage& decoded, double scale_m, int width, int height, std::string_view origin);
 inline constexpr const char* kJpegDepthRefusal = ": a JPEG cannot hold depth faithfully; give a 16-bit PNG or an EXR";
 
-// Encodes to PNG or EXR bytes (IoError for other formats or an inconsistent image).
+// The 8-bit sRGB code of a linear value by table, the same code as
+// std::lround(color::srgb_encode(double(linear)) * 255) for every float (0 for NaN and values <= 0,
+// 255 for values >= 1): what encode_image writes into an 8-bit PNG's colour channels.
+std::uint8_t srgb8_code(float linear) noexcept;
+// `n` linear values to 8-bit sRGB codes (srgb8_code each).
+void srgb8_codes(const float* linear, std::size_t n, std::uint8_t* codes) noexcept;
+
+// Encodes to PNG or EXR bytes (IoError for other formats, an inconsistent image or a PNG
+// compression level outside 0 .. kMaxPngCompression).
 std::string encode_image(const Image& image, ImageFormat format, PngOptions png = {});
 
 // The format an output file name asks for: .png or .exr (any case). Throws IoError naming

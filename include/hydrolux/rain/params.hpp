@@ -20,11 +20,13 @@ struct RainOptions {
   std::optional<double> fps;             // of still frames (a video has its own); else camera.fps
 };
 
-// The options of a run over files: where the sequence starts, how video is encoded, how PNG depth
-// maps are scaled. The CLI and the batch job take them; the Python functions take arrays instead.
+// The options of a run over files: where the sequence starts, how video and PNG files are encoded,
+// how PNG depth maps are scaled. The CLI and the batch job take them; the Python functions take
+// arrays instead.
 struct RainFileOptions {
   std::int64_t frame_index = 0;
   int crf = 18;
+  int png_compression = 1;  // zlib's level for PNG outputs: io::kDefaultPngCompression
   double depth_scale_m = 0.001;
 };
 

@@ -275,10 +275,13 @@ struct RainFrame {
 // buffers, the rainy frame, its alpha, the layer if asked for, and the encoded output on its way to
 // a file. Measured (the peak resident size of `hydrolux rain` at two sizes, rain.cpp), so that a
 // door can refuse a size that cannot fit before any work instead of failing a minute in.
-std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channels, bool with_layer);
+// `extra_bytes_per_pixel`: what a door holds besides (the folder run's frames in flight).
+std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channels, bool with_layer,
+                                     double extra_bytes_per_pixel = 0);
 // Throws Error "<what>: rain over WxH needs about X of memory and Y is available; about W'xH' would
 // fit" when the estimate exceeds the memory available now (core/memory.hpp).
-void check_render_memory(const RainCamera& camera, int input_channels, bool with_layer, const std::string& what);
+void check_render_memory(const RainCamera& camera, int input_channels, bool with_layer, const std::string& what,
+                         double extra_bytes_per_pixel = 0);
 
 class RainRenderer {
  public:

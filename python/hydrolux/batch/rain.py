@@ -273,9 +273,9 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
                 result = renderer.render(image, depth, index)
             fmt = "exr" if name.endswith(".exr") else "png"
             if job["mask_dir"]:
-                _core.write_file(os.path.join(job["mask_dir"], name), _image.encode(result.mask, fmt, 16, True),
+                _core.write_file(os.path.join(job["mask_dir"], name), _image.encode(result.mask, fmt, 16, True, job.get("png_compression")),
                                  "--mask-dir")
-            data = _image.encode(result.image, fmt, 8, False)
+            data = _image.encode(result.image, fmt, 8, False, job.get("png_compression"))
             _core.write_file(os.path.join(job["output_dir"], name), data, "--output-dir")
             rec.update(input_size=stamp["size"], input_mtime_ns=stamp["mtime_ns"], output_size=len(data),
                        stats=result.stats)
@@ -415,7 +415,8 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
             if d:
                 _common.make_folder(flag, d)
         params = {"input_dir": in_dir, "mask_dir": mask_dir, "frame_index": a.frame_index, "options": opts,
-                  "size": list(size), "depth_dir": depth_dir, "depth_scale_m": a.depth_scale_m if depth_dir else None}
+                  "size": list(size), "depth_dir": depth_dir, "depth_scale_m": a.depth_scale_m if depth_dir else None,
+                  "png_compression": a.png_compression}
         manifest = _common.Manifest(out_dir, "rain", params)
         if manifest.restarted and not a.quiet:
             print(f"batch rain: {out_dir} holds a run with other parameters; every frame is redone",
@@ -434,6 +435,7 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
         cores = _common.usable_cores()
         job = {"input_dir": in_dir, "output_dir": out_dir, "mask_dir": mask_dir, "width": size[0],
                "height": size[1], "options": opts, "depth_dir": depth_dir, "depth_scale_m": a.depth_scale_m,
+               "png_compression": a.png_compression,
                "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker))}
         progress = _common.Progress("batch rain", len(tasks), "frames", a.quiet)
         if not a.quiet:
