@@ -15,5 +15,6 @@ PYBIND11_MODULE(_core, m) {
   bind_atmos(m);
   bind_drop(m);
   bind_rain(m);
+  bind_fog(m);
   bind_core(m);
 }

@@ -20,7 +20,7 @@ import time
 
 import pytest
 
-MODULES = ["hydrolux", "hydrolux.batch", "hydrolux.batch.rain", "hydrolux.batch.lee_atlas",
+MODULES = ["hydrolux", "hydrolux.batch", "hydrolux.batch.rain", "hydrolux.batch.fog", "hydrolux.batch.lee_atlas",
            "hydrolux.batch.__main__"]
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 NOT_RUN = "# example: not run"

@@ -1,6 +1,7 @@
-"""Batch jobs on Dask distributed: ``python3 -m hydrolux.batch rain|lee-atlas --help``.
+"""Batch jobs on Dask distributed: ``python3 -m hydrolux.batch rain|fog|lee-atlas --help``.
 
 - :mod:`hydrolux.batch.rain`: rain over a folder of frames, in chunks that continue one rain field
+- :mod:`hydrolux.batch.fog`: fog over a folder of frames, one fog and one sky colour for the sequence
 - :mod:`hydrolux.batch.lee_atlas`: an atlas of Lee tables from a JSON spec
 
 Both run on a LocalCluster on this machine by default, or on an existing cluster with

@@ -1,10 +1,10 @@
-"""python3 -m hydrolux.batch {rain,lee-atlas} ...: hydrolux's batch jobs on Dask distributed."""
+"""python3 -m hydrolux.batch {rain,fog,lee-atlas} ...: hydrolux's batch jobs on Dask distributed."""
 from __future__ import annotations
 
 import argparse
 import sys
 
-from . import lee_atlas, rain
+from . import fog, lee_atlas, rain
 from ._common import WORKER_BYTES, RunFailure, UsageError, printable, usable_cores
 
 
@@ -31,6 +31,7 @@ def main(argv=None) -> int:
                             "in hydrolux-manifest.jsonl in the output folder; a re-run skips what is done.")
     sub = p.add_subparsers(dest="job", required=True, parser_class=_Parser)
     jobs = {"rain": (rain, "Rain over a folder of frames (hydrolux rain --input-dir), in chunks of one rain field"),
+            "fog": (fog, "Fog, haze or mist over a folder of frames (hydrolux fog --input-dir), one fog and one sky"),
             "lee-atlas": (lee_atlas, "An atlas of Lee tables (hydrolux lee) from a JSON spec")}
     for name, (module, text) in jobs.items():
         s = sub.add_parser(name, help=text, description=(module.__doc__ or text).strip(),

@@ -1,0 +1,79 @@
+// hydrolux fog: fog, haze or mist over a photograph or a folder of frames (rain/fog.hpp;
+// docs/fog.md). The options are declared in rain/fog.hpp, the run over files is io/fog_job.hpp's:
+// this file registers the flags, calls the job and reports.
+#include <fmt/format.h>
+
+#include <memory>
+#include <string>
+
+#include "common.hpp"
+#include "hydrolux/io/fog_job.hpp"
+#include "hydrolux/rain/fog.hpp"
+#include "image_plugin.hpp"
+#include "params.hpp"
+#include "progress.hpp"
+
+namespace hydrolux::cli {
+
+namespace {
+
+struct FogArgs {
+  std::shared_ptr<io::FogJob> job = std::make_shared<io::FogJob>();
+  bool quiet = false;
+};
+
+int run_fog(FogArgs& a, const CLI::App& sub) {
+  io::FogJob& job = *a.job;
+  job.depth_scale_given = given(sub, rain::fog_param("depth_scale_m"));
+  ProgressBar bar("fog", a.quiet);
+  io::FogJobHooks hooks;
+  hooks.codec = image_codec();
+  hooks.warn = [&bar](const std::string& text) {
+    bar.clear();
+    warn(text);
+  };
+  hooks.progress = [&bar](double f, std::string_view label) { bar.update(f, label); };
+  hooks.finish_progress = [&bar] { bar.finish(); };
+  const io::FogJobResult r = io::run_fog_job(job, hooks);
+  if (!a.quiet) fmt::print(stderr, "{}\n", io::fog_summary(r));
+  if (r.left_out.empty()) return 0;
+  std::string list;
+  for (const auto& f : r.left_out) list += (list.empty() ? "" : ", ") + f;
+  fmt::print(stderr, "{}: {} of {} frames left out ({}); the others are written\n", program_name(), r.left_out.size(),
+             r.frames_total, printable(list));
+  return kExitFailure;
+}
+
+}  // namespace
+
+Command add_fog(CLI::App& app) {
+  auto a = std::make_shared<FogArgs>();
+  auto* sub = app.add_subcommand(
+      "fog",
+      "Fog, haze or mist over a photograph or a folder of frames: extinction from a visibility (Koschmieder, 3.912 / V) "
+      "or from Lorenz-Mie over the droplets for a liquid water content; transmittance exp(-beta d) per pixel from "
+      "--depth (else a ground plane), airlight of the sky's colour, and the forward-scattered glow around lights "
+      "(docs/fog.md).");
+  sub->add_option("--image", a->job->image, "Input photograph (PNG, JPEG, EXR, TIFF, ...)");
+  sub->add_option("--input-dir", a->job->input_dir, "A folder of frames in name order (one sky colour, from the first)");
+  sub->add_option("-o,--output", a->job->output, "Output image for --image: .png or .exr");
+  sub->add_option("--output-dir", a->job->output_dir, "Output folder for --input-dir (created; never the input folder)");
+  sub->add_option("--depth", a->job->depth,
+                  "Depth map for --image: camera z in metres (EXR), or a 16-bit PNG times --depth-scale-m; 0/inf = sky");
+  sub->add_option("--depth-dir", a->job->depth_dir, "Depth maps for --input-dir: each frame's stem as .exr or .png");
+  sub->add_option("--mask-out", a->job->mask_out,
+                  "The fog's coverage 1 - t for --image: .png (16-bit linear) or .exr; foggy = clear t + sky (1 - t) + glow");
+  sub->add_option("--mask-dir", a->job->mask_dir, "Folder for the masks of --input-dir (same names as the frames)");
+  sub->add_option("--stats-json", a->job->stats_json, "The fog's optics, the camera and per-frame statistics as JSON");
+  Command cmd{sub, {}, {}};
+  add_params(*sub, std::shared_ptr<rain::FogOptions>(a->job, &a->job->options), rain::fog_params(), cmd.flags_for_quantity);
+  add_params(*sub, std::shared_ptr<rain::FogFileOptions>(a->job, &a->job->files), rain::fog_file_params(),
+             cmd.flags_for_quantity);
+  sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
+  cmd.run = [a, sub] { return run_fog(*a, *sub); };
+  cmd.flags_for_quantity["width"] = "the input's width";
+  cmd.flags_for_quantity["height"] = "the input's height";
+  return cmd;
+}
+
+}  // namespace hydrolux::cli
