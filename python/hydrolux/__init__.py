@@ -32,6 +32,8 @@ __version__: str = _core.__version__
 __all__ = [
     "fresnel", "media", "refractive_index", "sphere", "mie", "mie_terms", "bulk_optics", "SizeDistribution",
     "lee", "LeeTable", "drop_render", "drop_undistort", "rain", "RainResult", "RainRenderer", "builtin_scene",
+    "lens_drops", "LensDropsResult",
+    "fog", "FogResult",
     "read_image", "write_image", "simd_target", "set_threads", "MieResult", "phase", "PhaseResult",
 ]
 
@@ -1024,6 +1026,109 @@ def builtin_scene(width: int = 1280, height: int = 720, **camera: Any) -> np.nda
         if k not in _CAMERA_OPTIONS:
             raise TypeError(f"builtin_scene: '{k}' is not a camera option ({', '.join(_CAMERA_OPTIONS)})")
     return _core.builtin_scene(width, height, _rain_options(camera))
+
+
+# ---- drops on the lens or windshield --------------------------------------------------------------
+
+class LensDropsResult(NamedTuple):
+    """Drops on the lens: image (H, W, C) float32 linear, mask (H, W, 1) float32 the drops' defocused
+    coverage (image = clean (1 - mask) + the blurred drop layer; 0 away from the drops).
+
+    Example:
+
+    >>> import hydrolux
+    >>> clean = hydrolux.builtin_scene(96, 64)
+    >>> r = hydrolux.lens_drops(clean, seed=1, drops=20)
+    >>> isinstance(r, hydrolux.LensDropsResult), r.mask.shape, bool(r.mask.max() <= 1)
+    (True, (64, 96, 1), True)
+    """
+    image: np.ndarray
+    mask: np.ndarray
+
+
+_LENS_DROPS_PARAMS = _declared("lens_drops", "drops", "camera", "optics", "render")
+_LENS_DROPS_OPTIONS = tuple(p["name"] for p in _LENS_DROPS_PARAMS)
+
+
+@_with_options(_LENS_DROPS_PARAMS, 1)
+def lens_drops(image: np.ndarray, **options: Any) -> LensDropsResult:
+    """Water drops on the lens or windshield over one image (``hydrolux lens-drops --image``;
+    docs/lens-drops.md): spherical caps on a glass plane ``glass_distance_m`` in front of a thin-lens
+    camera, each refracting the scene behind it (Snell and Fresnel at the exact cap; the scene at
+    infinity), blurred by the aperture's circle of confusion. ``image``: (H, W) or (H, W, C) linear.
+    Every option has the CLI flag's range and default; the same seed gives the same bytes.
+
+    Example:
+
+    >>> import hydrolux
+    >>> clean = hydrolux.builtin_scene(96, 64)
+    >>> out, mask = hydrolux.lens_drops(clean, seed=3, coverage=0.2)
+    >>> out.shape, mask.shape
+    ((64, 96, 3), (64, 96, 1))
+    >>> bool((hydrolux.lens_drops(clean, seed=3, coverage=0.2).image == out).all())
+    True
+    """
+    for k in options:
+        if k not in _LENS_DROPS_OPTIONS:
+            raise TypeError(f"unknown lens_drops option '{k}' (options: {', '.join(_LENS_DROPS_OPTIONS)})")
+    d = _core.lens_drops(_array_arg(image, "image"), {k: v for k, v in options.items() if v is not None})
+    return LensDropsResult(d["image"], d["mask"])
+
+
+# ---- fog, haze and mist ---------------------------------------------------------------------------
+
+class FogResult(NamedTuple):
+    """Fog over an image: image (H, W, C) float32 linear, mask (H, W, 1) float32 the fog's coverage
+    1 - t (image = clear t + sky (1 - t) + glow), stats a dict (beta_per_m, visibility_m,
+    transmittance_mean, sky_rgb, glow_luminance_mean, ...).
+
+    Example:
+
+    >>> import hydrolux
+    >>> import numpy as np
+    >>> clear = hydrolux.builtin_scene(64, 48)
+    >>> r = hydrolux.fog(clear, visibility_m=200, glow=False)
+    >>> isinstance(r, hydrolux.FogResult), r.mask.shape
+    (True, (48, 64, 1))
+    >>> t, sky = 1 - r.mask, np.array(r.stats["sky_rgb"])
+    >>> bool(np.allclose(r.image, clear * t + sky * (1 - t), atol=1e-5))
+    True
+    """
+    image: np.ndarray
+    mask: np.ndarray
+    stats: dict
+
+
+_FOG_PARAMS = _declared("fog", "fog", "camera")
+_FOG_OPTIONS = tuple(p["name"] for p in _FOG_PARAMS)
+
+
+@_with_options(_FOG_PARAMS, 3)
+def fog(image: np.ndarray, depth: Optional[np.ndarray] = None, sky_rgb: Optional[Sequence[float]] = None,
+        **options: Any) -> FogResult:
+    """Fog, haze or mist over one image (``hydrolux fog --image``; docs/fog.md): extinction from
+    ``visibility_m`` (Koschmieder, 3.912 / V) or from Lorenz-Mie over the droplets for
+    ``lwc_g_m3``; per pixel t = exp(-beta d) with d the range from ``depth`` ((H, W) camera z in
+    metres; non-finite or <= 0 is sky) or, without it, a ground plane; the airlight the sky's colour
+    estimated from the image (or ``sky_rgb``, three linear values: a sequence keeps one sky); the glow
+    around lights brighter than the sky. ``image``: (H, W, 3 or more) linear RGB. Deterministic: the
+    same input gives the same floats.
+
+    Example:
+
+    >>> import hydrolux
+    >>> clear = hydrolux.builtin_scene(96, 64)
+    >>> out, mask, stats = hydrolux.fog(clear, visibility_m=150)
+    >>> out.shape, mask.shape, round(stats["beta_per_m"], 5)
+    ((64, 96, 3), (64, 96, 1), 0.02608)
+    """
+    for k in options:
+        if k not in _FOG_OPTIONS:
+            raise TypeError(f"unknown fog option '{k}' (options: {', '.join(_FOG_OPTIONS)})")
+    d = _core.fog(_array_arg(image, "image"), None if depth is None else _array_arg(depth, "depth"),
+                  None if sky_rgb is None else [float(v) for v in sky_rgb],
+                  {k: v for k, v in options.items() if v is not None})
+    return FogResult(d["image"], d["mask"], d["stats"])
 
 
 # ---- image files ----------------------------------------------------------------------------------

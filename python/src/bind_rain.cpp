@@ -11,6 +11,7 @@
 
 #include "bindings.hpp"
 #include "hydrolux/io/rain_report.hpp"
+#include "hydrolux/rain/lens_drops.hpp"
 #include "hydrolux/rain/params.hpp"
 #include "hydrolux/rain/rain.hpp"
 #include "params.hpp"
@@ -129,6 +130,27 @@ py::array_t<float> builtin_scene(py::handle width_arg, py::handle height_arg, co
   return to_array(img);
 }
 
+// ---- lens drops (rain/lens_drops.hpp) ------------------------------------------------------------
+
+// Drops on the lens or windshield over one image, with the declared parameters as keywords.
+py::dict lens_drops(const py::array& image, const py::dict& kw) {
+  rain::LensDropSettings s;
+  apply_kwargs(s, kw, rain::lens_drops_params());
+  const Image frame = to_image(image, "image");
+  rain::LensDropsResult r;
+  {
+    py::gil_scoped_release release;
+    r = rain::render_lens_drops(frame, s);
+  }
+  py::dict d;
+  d["image"] = to_array(r.image);
+  d["mask"] = to_array(r.mask);
+  d["drops"] = r.drops;
+  d["coverage"] = r.coverage;
+  d["blur_diameter_px"] = r.blur_diameter_px;
+  return d;
+}
+
 }  // namespace
 
 void bind_rain(py::module_& m) {
@@ -139,6 +161,7 @@ void bind_rain(py::module_& m) {
            py::arg("with_layer"))
       .def("field_info", &PyRainRenderer::field_info);
   m.def("builtin_scene", &builtin_scene, py::arg("width"), py::arg("height"), py::arg("options"));
+  m.def("lens_drops", &lens_drops, py::arg("image"), py::arg("options"));
 }
 
 }  // namespace hydrolux::py_bind

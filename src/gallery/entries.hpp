@@ -43,4 +43,10 @@ std::vector<Entry> sky_entries();
 // Rain over a frame (issue #12): the built-in street at three rain rates, exposure, defocus, the mask.
 std::vector<Entry> rain_entries();
 
+// Drops on the lens or windshield (issue #27): before, after and the mask; sharp against defocused.
+std::vector<Entry> lens_drops_entries();
+
+// Fog over a frame (issue #27): clear against two visibilities, the lamps' glow and the mask.
+std::vector<Entry> fog_entries();
+
 }  // namespace hydrolux::gallery::detail

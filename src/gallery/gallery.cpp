@@ -358,6 +358,8 @@ std::vector<Entry> entries() {
   for (auto& d : detail::shape_entries()) e.push_back(std::move(d));
   for (auto& d : detail::sky_entries()) e.push_back(std::move(d));
   for (auto& d : detail::rain_entries()) e.push_back(std::move(d));
+  for (auto& d : detail::lens_drops_entries()) e.push_back(std::move(d));
+  for (auto& d : detail::fog_entries()) e.push_back(std::move(d));
   return e;
 }
 

@@ -5,6 +5,8 @@
 #include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/params.hpp"
+#include "hydrolux/rain/fog.hpp"
+#include "hydrolux/rain/lens_drops.hpp"
 #include "hydrolux/rain/params.hpp"
 #include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scene/sky_params.hpp"
@@ -20,6 +22,20 @@ const std::vector<JobSpec>& job_specs() {
       for (const auto& p : describe_fields(rain::rain_file_params())) rain.params.push_back(p);
       rain.python = "hydrolux.rain, hydrolux.RainRenderer and hydrolux.builtin_scene (its camera); the batch job python3 -m hydrolux.batch rain takes the flags";
       v.push_back(std::move(rain));
+    }
+    {
+      JobSpec lens{"lens_drops", "hydrolux lens-drops", "Water drops on the lens or windshield over a photograph or a folder of frames", {}};
+      lens.params = describe_fields(rain::lens_drops_params());
+      for (const auto& p : describe_fields(rain::lens_drops_file_params())) lens.params.push_back(p);
+      lens.python = "hydrolux.lens_drops";
+      v.push_back(std::move(lens));
+    }
+    {
+      JobSpec fog{"fog", "hydrolux fog", "Fog, haze or mist over a photograph or a folder of frames", {}};
+      fog.params = describe_fields(rain::fog_params());
+      for (const auto& p : describe_fields(rain::fog_file_params())) fog.params.push_back(p);
+      fog.python = "hydrolux.fog";
+      v.push_back(std::move(fog));
     }
     v.push_back({"drop_render", "hydrolux drop render", "A rain drop's picture from an environment (Garg & Nayar Figure 8)",
                  describe_fields(drop::drop_render_params()), "hydrolux.drop_render"});

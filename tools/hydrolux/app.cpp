@@ -146,6 +146,8 @@ constexpr TopCommand kTopCommands[] = {
     {"sky", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_sky(app)); }},
     {"export", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_export(app)); }},
     {"rain", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_rain(app)); }},
+    {"fog", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_fog(app)); }},
+    {"lens-drops", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_lens_drops(app)); }},
     {"gallery", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_gallery(app)); }},
 };
 

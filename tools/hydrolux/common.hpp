@@ -59,6 +59,8 @@ Command add_lee(CLI::App& app);
 Command add_sky(CLI::App& app);
 Command add_export(CLI::App& app);
 Command add_rain(CLI::App& app);
+Command add_fog(CLI::App& app);
+Command add_lens_drops(CLI::App& app);
 
 // ---- validators: each gives "'<value>' ... valid range [lo, hi] <unit>" ----
 
