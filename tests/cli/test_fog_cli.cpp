@@ -89,16 +89,24 @@ TEST(FogCli, SameBytesTwiceAndMieRoute) {
   EXPECT_NE(r.err.find("fog: 1 frame; beta"), std::string::npos) << r.err;
 }
 
+// "f<k>.exr" (appended: GCC 12's -Wrestrict misfires on a literal + std::to_string + a literal at -O3).
+std::string frame_name(int k) {
+  std::string name = "f";
+  name += std::to_string(k);
+  name += ".exr";
+  return name;
+}
+
 TEST(FogCli, FolderOfFrames) {
   const fs::path in = dir() / "frames", out = dir() / "foggy", masks = dir() / "masks";
   fs::create_directories(in);
-  for (int k = 0; k < 3; ++k) fs::copy_file(clear_exr(), in / ("f" + std::to_string(k) + ".exr"), fs::copy_options::overwrite_existing);
+  for (int k = 0; k < 3; ++k) fs::copy_file(clear_exr(), in / frame_name(k), fs::copy_options::overwrite_existing);
   const auto r = run("fog -q --input-dir " + in.string() + " --output-dir " + out.string() + " --mask-dir " +
                      masks.string() + " --visibility-m 300");
   ASSERT_EQ(r.code, 0) << r.err;
   for (int k = 0; k < 3; ++k) {
-    EXPECT_TRUE(fs::exists(out / ("f" + std::to_string(k) + ".exr")));
-    EXPECT_TRUE(fs::exists(masks / ("f" + std::to_string(k) + ".exr")));
+    EXPECT_TRUE(fs::exists(out / frame_name(k)));
+    EXPECT_TRUE(fs::exists(masks / frame_name(k)));
   }
   // One fog over identical frames: identical outputs.
   EXPECT_EQ(slurp(out / "f0.exr"), slurp(out / "f2.exr"));
