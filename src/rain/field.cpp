@@ -245,8 +245,8 @@ RainField::Drop RainField::drop(std::uint64_t index, std::size_t cls) const {
   d.cls = cls;
   const auto& rc = classes_[d.cls];
   const std::uint64_t key = detail::hash(s_.seed, index);
-  const double u0 = detail::unit(key), u1 = detail::unit(detail::mix(key + 1)), u2 = detail::unit(detail::mix(key + 2));
-  const double u3 = detail::unit(detail::mix(key + 3)), u4 = detail::unit(detail::mix(key + 4));
+  const double u0 = detail::variate(key, 0), u1 = detail::variate(key, 1), u2 = detail::variate(key, 2);
+  const double u3 = detail::variate(key, 3), u4 = detail::variate(key, 4);
   d.start = rc.box_lo + Vec3(u0, u1, u2) * rc.box_size;
   // The radius from N(a) within the class: an exponential truncated to [lo, hi], inverted.
   d.radius = rc.radius_lo_m - std::log1p(u3 * rc.cdf_span) * rc.inv_lambda;

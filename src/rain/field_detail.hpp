@@ -20,9 +20,18 @@ constexpr std::uint64_t hash(std::uint64_t seed, std::uint64_t index) { return m
 constexpr double unit(std::uint64_t bits) { return double(bits >> 11) * 0x1.0p-53; }
 
 // p wrapped into the periodic box [lo, lo + size) (the renderer's hot loop and RainField::position).
+// A drop's k-th uniform variate from its key (0, 1, 2: its start's x, y, z in the box; 3: its radius;
+// 4: its oscillation's phase).
+constexpr double variate(std::uint64_t key, int k) { return k == 0 ? unit(key) : unit(mix(key + std::uint64_t(k))); }
+
+// One coordinate wrapped into [lo, lo + size).
+inline double wrap1(double p, double lo, double size) {
+  const double q = p - lo;
+  return lo + q - size * std::floor(q / size);
+}
 inline Vec3 wrap(const Vec3& p, const Vec3& lo, const Vec3& size) {
-  Vec3 q = p - lo;
-  for (int k = 0; k < 3; ++k) q[k] = lo[k] + q[k] - size[k] * std::floor(q[k] / size[k]);
+  Vec3 q(0);
+  for (int k = 0; k < 3; ++k) q[k] = wrap1(p[k], lo[k], size[k]);
   return q;
 }
 

@@ -32,6 +32,17 @@ DropLight::DropLight(const RainCamera& camera, double mu, int grid_x, int grid_y
   sky_w_.assign(nodes, 0.f);
   ground_w_.assign(nodes, 0.f);
   node_.assign(nodes, Vec3(0));
+  // Per column, once: where row() interpolates between nodes and where update() sums the frame.
+  col_cell_.resize(std::size_t(c_.width));
+  col_ax_.resize(std::size_t(c_.width));
+  col_small_.resize(std::size_t(c_.width));
+  for (int x = 0; x < c_.width; ++x) {
+    const double fx = std::clamp((x + 0.5) / c_.width * (gx_ - 1), 0.0, double(gx_ - 1));
+    const int cell = std::min(int(fx), gx_ - 2);
+    col_cell_[std::size_t(x)] = cell;
+    col_ax_[std::size_t(x)] = fx - cell;
+    col_small_[std::size_t(x)] = std::min(small_w_ - 1, int(std::int64_t(x) * small_w_ / c_.width));
+  }
   const double scale_x = double(small_w_) / c_.width, scale_y = double(small_h_) / c_.height;
   const double n_samples = double(kRings) * kAzimuths;
 
@@ -81,12 +92,15 @@ void DropLight::update(const Image& frame) {
     std::vector<double> sum(std::size_t(small_w_) * 3, 0.0), count(std::size_t(small_w_), 0.0);
     const int y0 = int((std::int64_t(sy) * frame.height + small_h_ - 1) / small_h_);
     const int y1 = int((std::int64_t(sy + 1) * frame.height + small_h_ - 1) / small_h_);
-    for (int y = y0; y < std::min(y1, frame.height); ++y)
-      for (int x = 0; x < frame.width; ++x) {
-        const auto sx = std::size_t(std::min(small_w_ - 1, int(std::int64_t(x) * small_w_ / frame.width)));
-        for (std::size_t k = 0; k < 3; ++k) sum[sx * 3 + k] += std::max(0.f, frame.at(x, y, int(k)));
+    const auto ch = std::size_t(frame.channels);
+    for (int y = y0; y < std::min(y1, frame.height); ++y) {
+      const float* px = frame.pixels.data() + std::size_t(y) * std::size_t(frame.width) * ch;
+      for (int x = 0; x < frame.width; ++x, px += ch) {
+        const auto sx = std::size_t(col_small_[std::size_t(x)]);
+        for (std::size_t k = 0; k < 3; ++k) sum[sx * 3 + k] += std::max(0.f, px[k]);
         count[sx] += 1;
       }
+    }
     for (std::size_t sx = 0; sx < std::size_t(small_w_); ++sx)
       for (std::size_t k = 0; k < 3; ++k)
         small_[(std::size_t(sy) * small_w_ + sx) * 3 + k] = float(sum[sx * 3 + k] / std::max(1.0, count[sx]));
@@ -127,8 +141,8 @@ Vec3 DropLight::at(double px, double py) const {
   return (n(x0, y0) * (1 - ax) + n(x0 + 1, y0) * ax) * (1 - ay) + (n(x0, y0 + 1) * (1 - ax) + n(x0 + 1, y0 + 1) * ax) * ay;
 }
 
-void DropLight::row(double py, std::vector<Vec3>& out) const {
-  out.resize(std::size_t(c_.width));
+void DropLight::row(double py, std::vector<float>& out) const {
+  out.resize(std::size_t(c_.width) * 3);
   const double fy = std::clamp(py / c_.height * (gy_ - 1), 0.0, double(gy_ - 1));
   const int y0 = std::min(int(fy), gy_ - 2);
   const double ay = fy - y0;
@@ -136,15 +150,15 @@ void DropLight::row(double py, std::vector<Vec3>& out) const {
   int x0 = -1;
   Vec3 a(0), b(0);
   for (int x = 0; x < c_.width; ++x) {
-    const double fx = std::clamp((x + 0.5) / c_.width * (gx_ - 1), 0.0, double(gx_ - 1));
-    const int cell = std::min(int(fx), gx_ - 2);
+    const int cell = col_cell_[std::size_t(x)];
     if (cell != x0) {  // the row's values at the cell's two nodes
       x0 = cell;
       a = node(x0);
       b = node(x0 + 1);
     }
-    const double ax = fx - x0;
-    out[std::size_t(x)] = a * (1 - ax) + b * ax;
+    const double ax = col_ax_[std::size_t(x)];
+    const Vec3 v = a * (1 - ax) + b * ax;
+    for (int k = 0; k < 3; ++k) out[std::size_t(x) * 3 + std::size_t(k)] = float(v[k]);
   }
 }
 

@@ -30,34 +30,42 @@ constexpr double kSurfaceTension = 0.0728, kWaterDensity = 998.0;
 constexpr float kLuma[3] = {0.2126f, 0.7152f, 0.0722f};
 
 // The integral of the unit tent max(0, 1 - |x|) from -infinity to u.
+// With c = u clamped to [-1, 1]: (1 + c)^2 / 2 for c <= 0 and 1 - (1 - c)^2 / 2 above, both
+// 1/2 + c - c |c| / 2 (no branches in the raster's inner loop).
 inline float tent_cdf(float u) {
-  if (u <= -1) return 0;
-  if (u < 0) return 0.5f * (u + 1) * (u + 1);
-  if (u < 1) return 1 - 0.5f * (1 - u) * (1 - u);
-  return 1;
+  const float c = std::clamp(u, -1.f, 1.f);
+  return 0.5f + c - 0.5f * c * std::abs(c);
 }
 
-// The interval of x where a x + b lies in [lo, hi], intersected into [x0, x1].
-inline void clip_linear(float a, float b, float lo, float hi, float& x0, float& x1) {
+// The interval of x where a x + b lies in [lo, hi], intersected into [x0, x1]; inv_a = 1 / a.
+inline void clip_linear(float a, float inv_a, float b, float lo, float hi, float& x0, float& x1) {
   if (std::abs(a) < 1e-7f) {
     if (b < lo || b > hi) x1 = x0 - 1;  // empty
     return;
   }
-  float u = (lo - b) / a, v = (hi - b) / a;
+  float u = (lo - b) * inv_a, v = (hi - b) * inv_a;
   if (u > v) std::swap(u, v);
   x0 = std::max(x0, u);
   x1 = std::min(x1, v);
 }
 
-// Accumulation buffers of one frame.
+using AccPx = StreakAccum;
+constexpr AccPx kAccClear{1.f, 0.f, {0.f, 0.f, 0.f}};
+
+// Accumulators for the pixels from index `origin` on (a band of rows, or a whole image).
 struct Accum {
-  float* T;  // product of (1 - alpha)
-  float* W;  // sum of alpha
-  float* C;  // sum of alpha * rgb
+  AccPx* px;
+  std::size_t origin;
 };
 
+// The scene's farthest depth over tiles of kBandRows x kTileCols pixels, so that a streak's row behind
+// the scene is skipped whole (at 25 mm/h over the ground plane, about a quarter of the raster's time
+// went to pixels the scene hides).
+constexpr int kTileCols = 16;
+
 // Rasterises the rows [row0, row1) of one streak into `acc`. Returns whether it touched a pixel.
-bool raster(const Streak& st, int row0, int row1, int width, const float* depth, Accum& acc) {
+// `tile_far`: null, or the farthest depth of each tile of the band holding rows [row0, row1).
+bool raster(const Streak& st, int row0, int row1, int width, const float* depth, const float* tile_far, Accum& acc) {
   const float dx = st.x1 - st.x0, dy = st.y1 - st.y0;
   float L = std::sqrt(dx * dx + dy * dy);
   float ux = 0, uy = 1;
@@ -71,28 +79,35 @@ bool raster(const Streak& st, int row0, int row1, int width, const float* depth,
   const float ext = thin ? 1.f : st.R + 0.5f;
   const float w = thin ? kPi<float> * st.r * st.r : (st.r / st.R) * (st.r / st.R);
   const float R2 = st.R * st.R;
+  // Reciprocals once a streak, not once a row or a pixel.
+  const float inv_ux = std::abs(ux) < 1e-7f ? 0.f : 1 / ux, inv_uy = std::abs(uy) < 1e-7f ? 0.f : 1 / uy;
+  const float inv_L = L > 0 ? 1 / L : 0.f;
   bool touched = false;
   for (int y = row0; y < row1; ++y) {
     const float qy = float(y) + 0.5f;
     // Pixel centres qx with |p| <= ext and s in [-ext, L + ext].
     float xa = -std::numeric_limits<float>::max(), xb = std::numeric_limits<float>::max();
-    clip_linear(uy, -st.x0 * uy - (qy - st.y0) * ux, -ext, ext, xa, xb);
-    clip_linear(ux, -st.x0 * ux + (qy - st.y0) * uy, -ext, L + ext, xa, xb);
+    clip_linear(uy, inv_uy, -st.x0 * uy - (qy - st.y0) * ux, -ext, ext, xa, xb);
+    clip_linear(ux, inv_ux, -st.x0 * ux + (qy - st.y0) * uy, -ext, L + ext, xa, xb);
     if (xb < xa) continue;
     const int ia = std::max(0, int(std::ceil(xa - 0.5f))), ib = std::min(width - 1, int(std::floor(xb - 0.5f)));
+    if (tile_far && ia <= ib) {
+      float far = 0;
+      for (int t = ia / kTileCols; t <= ib / kTileCols; ++t) far = std::max(far, tile_far[t]);
+      if (far < st.z) continue;  // every pixel of the row's span: the scene is nearer than the drop
+    }
     const std::size_t row = std::size_t(y) * std::size_t(width);
+    // Thin streaks (nearly all of them) without a branch a pixel: a pixel the streak misses, or whose
+    // scene is nearer than the drop, adds alpha 0, which leaves its accumulators exactly as they were.
     for (int x = ia; x <= ib; ++x) {
       const std::size_t i = row + std::size_t(x);
-      if (depth[i] < st.z) continue;  // the scene is nearer than the drop
       const float qx = float(x) + 0.5f;
       const float s = (qx - st.x0) * ux + (qy - st.y0) * uy;
       const float p = (qx - st.x0) * uy - (qy - st.y0) * ux;
       float a;
       if (thin) {
-        const float across = 1 - std::abs(p);
-        if (across <= 0) continue;
-        const float along = L > 1e-3f ? (tent_cdf(s) - tent_cdf(s - L)) / L : std::max(0.f, 1 - std::abs(s));
-        a = w * across * along;
+        const float along = L > 1e-3f ? (tent_cdf(s) - tent_cdf(s - L)) * inv_L : std::max(0.f, 1 - std::abs(s));
+        a = w * (1 - std::abs(p)) * along;  // <= 0 off the streak
       } else {
         if (L > 0) {
           const float p2 = p * p;
@@ -100,7 +115,7 @@ bool raster(const Streak& st, int row0, int row1, int width, const float* depth,
           const float c = std::sqrt(R2 - p2);
           const float overlap = std::min(s + c, L) - std::max(s - c, 0.f);
           if (overlap <= 0) continue;
-          a = w * overlap / L;
+          a = w * overlap * inv_L;
         } else {
           // A drop at rest: its disk with a one-pixel soft edge, clamp(R + 1/2 - rho, 0, 1), whose
           // integral pi R^2 + pi / 12 is the disk's to 1 / (12 R^2), where a hard edge sampled at
@@ -114,12 +129,13 @@ bool raster(const Streak& st, int row0, int row1, int width, const float* depth,
         const float m = 1 + st.osc_amp * std::sin(2 * kPi<float> * (st.osc_phase + st.osc_cycles * tau));
         a *= m * m;
       }
-      if (a <= 1e-7f) continue;
-      a = std::min(a, 1.f);
-      acc.T[i] *= 1 - a;
-      acc.W[i] += a;
-      for (int k = 0; k < 3; ++k) acc.C[i * 3 + k] += a * st.rgb[k];
-      touched = true;
+      const bool keep = a > 1e-7f && !(depth[i] < st.z);
+      a = keep ? std::min(a, 1.f) : 0.f;
+      AccPx& q = acc.px[i - acc.origin];
+      q.T *= 1 - a;
+      q.W += a;
+      for (int k = 0; k < 3; ++k) q.C[k] += a * st.rgb[k];
+      touched |= keep;
     }
   }
   return touched;
@@ -198,12 +214,12 @@ Image builtin_scene(const RainCamera& c) {
 
 Image streak_alpha(const Streak& streak, int width, int height) {
   const std::size_t n = std::size_t(width) * std::size_t(height);
-  std::vector<float> T(n, 1.f), W(n, 0.f), C(n * 3, 0.f);
+  std::vector<AccPx> px(n, kAccClear);
   const std::vector<float> depth(n, std::numeric_limits<float>::infinity());
-  Accum acc{T.data(), W.data(), C.data()};
-  raster(streak, 0, height, width, depth.data(), acc);
+  Accum acc{px.data(), 0};
+  raster(streak, 0, height, width, depth.data(), nullptr, acc);
   Image a(width, height, 1);
-  for (std::size_t i = 0; i < n; ++i) a.pixels[i] = 1 - T[i];
+  for (std::size_t i = 0; i < n; ++i) a.pixels[i] = 1 - px[i].T;
   return a;
 }
 
@@ -243,6 +259,13 @@ void RainRenderer::collect_streaks(std::int64_t frame_index, std::vector<std::ve
   const double near = f.settings().near_m, amp = f.settings().oscillation;
   const double pitch = deg_to_rad(cam.pitch_deg), pc = std::cos(pitch), ps = std::sin(pitch);
 
+  // With the camera level (no pitch), a drop's depth and horizontal image position do not depend on its
+  // radius (the wind is the same for all; only the fall speed is the radius's): the drops outside the
+  // view are then culled from their start's x and z alone, before the radius is drawn, with the
+  // largest extent the class's radii can give (the exact test below follows for those kept). The
+  // same streaks as without: the early test is the exact one's arithmetic with a wider margin.
+  const bool level = ps == 0.0;
+  const Vec3 wind = f.velocity_of(0.0);  // x and z: the wind
   tbb::parallel_for(std::uint64_t(0), blocks, [&](std::uint64_t b) {
     auto& list = per_block[b];
     list.clear();
@@ -251,6 +274,19 @@ void RainRenderer::collect_streaks(std::int64_t frame_index, std::vector<std::ve
     for (std::uint64_t i = i0; i < i1; ++i) {
       while (cls + 1 < f.classes_.size() && i >= f.classes_[cls + 1].first_index) ++cls;
       const RadiusClass& rc = f.classes_[cls];
+      if (level) {
+        const std::uint64_t key = detail::hash(f.settings().seed, i);
+        const double x0 = detail::wrap1(rc.box_lo.x + detail::variate(key, 0) * rc.box_size.x + wind.x * t0,
+                                        rc.box_lo.x, rc.box_size.x);
+        const double wz = detail::wrap1(rc.box_lo.z + detail::variate(key, 2) * rc.box_size.z + wind.z * t0,
+                                        rc.box_lo.z, rc.box_size.z);
+        const double x1 = x0 + wind.x * te, z0 = wz * pc, z1 = (wz + wind.z * te) * pc, zm = 0.5 * (z0 + z1);
+        if (zm < near || zm > rc.resolved_to_m || z0 < 0.5 * near || z1 < 0.5 * near) continue;
+        const double r = fpx * rc.radius_hi_m / zm, b_px = cam.defocus_radius_px(zm);
+        const double ext = std::max(1.0, std::sqrt(r * r + b_px * b_px) + 0.5) * 1.000001 + 1e-6;
+        const double px0 = cx + fpx * x0 / z0, px1 = cx + fpx * x1 / z1;
+        if (std::max(px0, px1) + ext < 0 || std::min(px0, px1) - ext > W) continue;
+      }
       const auto d = f.drop(i, cls);
       const Vec3 vel = f.velocity_of(d.radius);
       // The start wrapped into the box (as RainField::position), then into the camera frame.
@@ -321,6 +357,14 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
       depth_ = ground_plane_depth(cam, field_.settings().backdrop_m);
     }
     ground_plane_ = depth == nullptr;
+    tiles_x_ = (W + kTileCols - 1) / kTileCols;
+    const int tiles_y = (H + kBandRows - 1) / kBandRows;
+    tile_far_.assign(std::size_t(tiles_x_) * std::size_t(tiles_y), 0.f);
+    tbb::parallel_for(0, tiles_y, [&](int ty) {
+      float* far = tile_far_.data() + std::size_t(ty) * std::size_t(tiles_x_);
+      for (int y = ty * kBandRows; y < std::min(H, (ty + 1) * kBandRows); ++y)
+        for (int x = 0; x < W; ++x) far[x / kTileCols] = std::max(far[x / kTileCols], depth_[std::size_t(y) * W + x]);
+    });
     transmittance_.resize(npx);
     tbb::parallel_for(0, H, [&](int y) {
       for (int x = 0; x < W; ++x) {
@@ -369,27 +413,10 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
       }
   }
 
-  acc_t_.resize(npx);
-  acc_w_.resize(npx);
-  acc_c_.resize(npx * 3);
-  std::vector<std::atomic<std::uint8_t>> visible(n_streaks);
-  tbb::parallel_for(0, bands, [&](int band) {
-    const int r0 = band * kBandRows, r1 = std::min(H, r0 + kBandRows);
-    const std::size_t p0 = std::size_t(r0) * W, p1 = std::size_t(r1) * W;
-    std::fill(acc_t_.begin() + std::ptrdiff_t(p0), acc_t_.begin() + std::ptrdiff_t(p1), 1.f);
-    std::fill(acc_w_.begin() + std::ptrdiff_t(p0), acc_w_.begin() + std::ptrdiff_t(p1), 0.f);
-    std::fill(acc_c_.begin() + std::ptrdiff_t(3 * p0), acc_c_.begin() + std::ptrdiff_t(3 * p1), 0.f);
-    Accum acc{acc_t_.data(), acc_w_.data(), acc_c_.data()};
-    for (std::uint32_t m = offset[std::size_t(band)]; m < offset[std::size_t(band) + 1]; ++m) {
-      const Streak& s = banded_[m];
-      const float ext = s.R < 1 ? 1.f : s.R + 0.5f;
-      const int ya = std::max(r0, int(std::floor(std::min(s.y0, s.y1) - ext)));
-      const int yb = std::min(r1, int(std::ceil(std::max(s.y0, s.y1) + ext)) + 1);
-      if (ya < yb && raster(s, ya, yb, W, depth_.data(), acc)) visible[s.drop].store(1, std::memory_order_relaxed);
-    }
-  });
-
-  // Composite: image = (clear T_u + airlight (1 - T_u)) T_s + streak colour (1 - T_s).
+  // Per band of rows, one task: its streaks rasterised into the band's accumulators, then the band
+  // composited while they are still in cache: image = (clear T_u + airlight (1 - T_u)) T_s + streak
+  // colour (1 - T_s).
+  acc_.resize(npx);
   const int ch = frame.channels;
   if (out.image.width != W || out.image.height != H || out.image.channels != ch) out.image = Image(W, H, ch);
   out.image.channel_names = frame.channel_names;
@@ -399,37 +426,58 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   std::vector<double> row_tu(std::size_t(H), 0), row_gain(std::size_t(H), 0), row_bg(std::size_t(H), 0),
       row_alpha(std::size_t(H), 0);
   std::vector<std::uint32_t> row_streak_px(std::size_t(H), 0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), [&](const tbb::blocked_range<int>& rows) {
-    std::vector<Vec3> air_row;  // one buffer for the block's rows
-    for (int y = rows.begin(); y < rows.end(); ++y) {
+  std::vector<std::atomic<std::uint8_t>> visible(n_streaks);
+  tbb::parallel_for(0, bands, [&](int band) {
+    const int r0 = band * kBandRows, r1 = std::min(H, r0 + kBandRows);
+    const std::size_t p0 = std::size_t(r0) * W, p1 = std::size_t(r1) * W;
+    std::fill(acc_.begin() + std::ptrdiff_t(p0), acc_.begin() + std::ptrdiff_t(p1), kAccClear);
+    Accum acc{acc_.data() + p0, p0};
+    const float* tile_far = tile_far_.data() + std::size_t(band) * std::size_t(tiles_x_);
+    for (std::uint32_t m = offset[std::size_t(band)]; m < offset[std::size_t(band) + 1]; ++m) {
+      const Streak& s = banded_[m];
+      const float ext = s.R < 1 ? 1.f : s.R + 0.5f;
+      const int ya = std::max(r0, int(std::floor(std::min(s.y0, s.y1) - ext)));
+      const int yb = std::min(r1, int(std::ceil(std::max(s.y0, s.y1) + ext)) + 1);
+      if (ya < yb && raster(s, ya, yb, W, depth_.data(), tile_far, acc))
+        visible[s.drop].store(1, std::memory_order_relaxed);
+    }
+
+    std::vector<float> air_row;  // the airlight along a row, RGB
+    for (int y = r0; y < r1; ++y) {
       double tu_sum = 0, gain = 0, bg_sum = 0, alpha_sum = 0;
       std::uint32_t streak_px = 0;
       // The airlight along the row: the drop light at the row's two ends of each grid cell, lerped.
       light_.row(y + 0.5, air_row);
-      for (int x = 0; x < W; ++x) {
-        const std::size_t i = std::size_t(y) * W + x;
-        const float tu = transmittance_[i];
-        const float ts = acc_t_[i], as = 1 - ts;
-        const float inv_w = acc_w_[i] > 0 ? 1 / acc_w_[i] : 0.f;
+      const std::size_t row0 = std::size_t(y) * W;
+      const float* in = frame.pixels.data() + row0 * std::size_t(ch);
+      float* im = out.image.pixels.data() + row0 * std::size_t(ch);
+      float* al = out.alpha.pixels.data() + row0;
+      float* ly = with_layer ? out.layer.pixels.data() + row0 * 4 : nullptr;
+      const float* tur = transmittance_.data() + row0;
+      const AccPx* ar = acc_.data() + row0;
+      for (int x = 0; x < W; ++x, in += ch, im += ch) {
+        const float tu = tur[x];
+        const AccPx& q = ar[x];
+        const float ts = q.T, as = 1 - ts;
+        const float inv_w = q.W > 0 ? 1 / q.W : 0.f;
         // The streaks' own change is measured against the background they cover (with the unresolved
         // rain's veil, which lies behind them).
         float luma_in = 0, luma_out = 0, layer[3];
         for (int k = 0; k < 3; ++k) {
-          const float clear = std::max(0.f, frame.pixels[i * std::size_t(ch) + std::size_t(k)]);
-          const float air = float(air_row[std::size_t(x)][k]) * (1 - tu);
-          layer[k] = air * ts + acc_c_[i * 3 + std::size_t(k)] * inv_w * as;
+          const float clear = std::max(0.f, in[k]);
+          const float air = air_row[std::size_t(x) * 3 + std::size_t(k)] * (1 - tu);
+          layer[k] = air * ts + q.C[k] * inv_w * as;
           const float v = clear * tu * ts + layer[k];
-          out.image.pixels[i * std::size_t(ch) + std::size_t(k)] = v;
+          im[k] = v;
           luma_in += kLuma[k] * (clear * tu + air);
           luma_out += kLuma[k] * v;
         }
-        for (int k = 3; k < ch; ++k)
-          out.image.pixels[i * std::size_t(ch) + std::size_t(k)] = frame.pixels[i * std::size_t(ch) + std::size_t(k)];
+        for (int k = 3; k < ch; ++k) im[k] = in[k];
         const float alpha = 1 - tu * ts;
-        out.alpha.pixels[i] = alpha;
-        if (with_layer) {
-          for (int k = 0; k < 3; ++k) out.layer.pixels[i * 4 + std::size_t(k)] = layer[k];
-          out.layer.pixels[i * 4 + 3] = alpha;
+        al[x] = alpha;
+        if (ly) {
+          for (int k = 0; k < 3; ++k) ly[std::size_t(x) * 4 + std::size_t(k)] = layer[k];
+          ly[std::size_t(x) * 4 + 3] = alpha;
         }
         tu_sum += tu;
         alpha_sum += alpha;

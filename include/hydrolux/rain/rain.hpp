@@ -210,8 +210,8 @@ class DropLight {
   void update(const Image& frame);
   // The drop radiance seen at image position (px, py): bilinear between grid nodes.
   Vec3 at(double px, double py) const;
-  // at(x + 1/2, py) for every pixel x of a row, into `out` (width values).
-  void row(double py, std::vector<Vec3>& out) const;
+  // at(x + 1/2, py) for every pixel x of a row, into `out` (width RGB triples, as floats).
+  void row(double py, std::vector<float>& out) const;
   Vec3 sky() const { return sky_; }
   Vec3 ground() const { return ground_; }
 
@@ -226,6 +226,9 @@ class DropLight {
   std::vector<float> sky_w_, ground_w_;          // per node, for directions outside it
   std::vector<float> small_;                     // the frame reduced, RGB
   std::vector<Vec3> node_;                       // per node radiance
+  std::vector<int> col_cell_;                    // per image column: the grid cell it lies in
+  std::vector<double> col_ax_;                   // ... and its position in that cell, [0, 1]
+  std::vector<int> col_small_;                   // per image column: its column of the small frame
   Vec3 sky_, ground_;
 };
 
@@ -270,6 +273,14 @@ struct RainFrame {
   RainStats stats;
 };
 
+// What the streaks over one pixel add up to while a frame is rasterised (RainRenderer's scratch; the
+// five side by side, so that a streak's pixel is one cache line).
+struct StreakAccum {
+  float T;     // product of (1 - alpha)
+  float W;     // sum of alpha
+  float C[3];  // sum of alpha * rgb
+};
+
 // The memory, in bytes, that rendering one frame of the camera's size takes beyond the drops
 // themselves: the frame as decoded (`input_channels` floats a pixel), the renderer's per-pixel
 // buffers, the rainy frame, its alpha, the layer if asked for, and the encoded output on its way to
@@ -311,9 +322,11 @@ class RainRenderer {
   std::vector<float> depth_;  // the scene depth per pixel
   bool ground_plane_ = false; // depth_ (and transmittance_) hold the ground plane's
   std::vector<float> transmittance_;  // of the unresolved rain, per pixel
+  std::vector<float> tile_far_;       // the farthest scene depth per tile of 16 x 16 pixels
+  int tiles_x_ = 0;
   // Kept between frames so that a sequence allocates once.
   std::vector<std::vector<Streak>> per_block_;
-  std::vector<float> acc_t_, acc_w_, acc_c_;
+  std::vector<StreakAccum> acc_;  // per pixel
   std::vector<Streak> banded_;
   std::vector<std::uint32_t> band_offset_;
 };
