@@ -69,7 +69,7 @@ test: deps
 
 $(SAN_DIR)/build.ninja:
 	CC=$(SAN_CC) CXX=$(SAN_CXX) cmake -S . -B $(SAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Sanitize \
-	  -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g" -DHYDROLUX_FUZZ=ON -DHYDROLUX_BUILD_BENCH=OFF -DHYDROLUX_BUILD_PYTHON=OFF \
+	  -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -gline-tables-only" -DHYDROLUX_FUZZ=ON -DHYDROLUX_BUILD_BENCH=OFF -DHYDROLUX_BUILD_PYTHON=OFF \
 	  -DHYDROLUX_FUZZ_SMOKE_SECONDS=$(FUZZ_SMOKE_SECONDS)
 
 fuzz-build: $(SAN_DIR)/build.ninja
@@ -83,10 +83,12 @@ sanitize-build: $(SAN_DIR)/build.ninja
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer (the CLI it drives too), but for
 # the web demo's browser test (the Release suite runs it; its CLI runs, export and sky, are run under the
-# sanitizers by tests/cli) and with the robustness test's documented subset (tests/cli/test_robustness.cpp).
+# sanitizers by tests/cli) and the whole gallery's render (the Release suite runs it; each figure's
+# physics and renderer have their own tests here), and with the robustness test's documented subset
+# (tests/cli/test_robustness.cpp).
 test-sanitize: deps
 	@$(MAKE) --no-print-directory sanitize-build
-	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -LE "fuzz|web"
+	cd $(SAN_DIR) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -LE "fuzz|web|gallery"
 
 # Each fuzz target (or those named in FUZZ_TARGETS, e.g. FUZZ_TARGETS=fuzz_image) for FUZZ_SECONDS
 # on a scratch copy of its seed corpus; findings go to $(SAN_DIR)/fuzz-runs/<target>/findings/.
