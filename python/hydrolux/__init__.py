@@ -862,7 +862,7 @@ def _declared(job: str, *groups: str) -> list:
     return [p for p in _core.params(job) if p["group"] in groups]
 
 
-_RAIN_PARAMS = _declared("rain", "rain", "camera")
+_RAIN_PARAMS = _declared("rain", "rain", "camera", "fog")
 _RAIN_OPTIONS = tuple(p["name"] for p in _RAIN_PARAMS)
 _CAMERA_OPTIONS = tuple(p["name"] for p in _RAIN_PARAMS if p["group"] == "camera")
 

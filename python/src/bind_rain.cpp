@@ -55,10 +55,13 @@ class PyRainRenderer {
     const rain::RainOptions o = rain_options(kw);
     const rain::RainSettings& s = o.settings;
     rain::validate(s);
+    if (const auto name = rain::fog_setting_without_fog(o); !name.empty())
+      throw Error(fmt::format("{}: sets the fog; give visibility_m or lwc_g_m3 with it", name));
     const rain::RainCamera c = rain_camera(o, width, height);
     py::gil_scoped_release release;
     try {
       renderer_ = std::make_unique<rain::RainRenderer>(rain::RainField(s, c, ground_plane));
+      if (o.has_fog()) renderer_->set_fog(o.fog);
     } catch (const rain::TooManyDrops& e) {
       throw Error(fmt::format("min_alpha {:g}: the rain field would hold {:.3g} drops, more than the limit of {:.3g}; "
                               "raise min_alpha, near_m or min_radius_mm, or lower far_m or rate_mmh",

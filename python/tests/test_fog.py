@@ -102,3 +102,23 @@ def test_batch_fog_matches_the_cli(tmp_path, cli):
     assert main(["fog", "--input-dir", str(frames), "--output-dir", str(tmp_path / "x"), "--visibility-m", "0.5",
                  "-q"]) == 2
     assert not (tmp_path / "x").exists()
+
+
+def test_rain_with_fog_is_one_pass_and_without_rain_the_fog_alone():
+    """hydrolux.rain(..., visibility_m=V): fog and rain in one veil (docs/fog.md, "With rain"); at
+    0 mm/h it is hydrolux.fog on the same depth (float compositing: 1e-5)."""
+    img = _frame()
+    h, w = img.shape[:2]
+    depth = np.full((h, w), 60, np.float32)
+    r = hydrolux.rain(img, depth, rate_mmh=0, visibility_m=150, glow=False)
+    f, _, _ = hydrolux.fog(img, depth, visibility_m=150, glow=False)
+    np.testing.assert_allclose(r.image, f, atol=1e-5)
+    assert r.stats["fog"]["visibility_m"] == pytest.approx(150)
+    wet = hydrolux.rain(img, depth, rate_mmh=25, visibility_m=150, glow=False)
+    assert wet.stats["drops_in_view"] > 0 and "fog" in wet.stats
+    assert "fog" not in hydrolux.rain(img, depth, rate_mmh=25).stats
+
+
+def test_rain_fog_setting_without_fog_is_refused():
+    with pytest.raises(ValueError, match="mode_radius_um"):
+        hydrolux.rain(_frame(), rate_mmh=5, mode_radius_um=4)

@@ -101,7 +101,9 @@ struct Run {
   // The renderer for one camera, with the library's "too many drops" said in the flags.
   rain::RainRenderer make_renderer(const rain::RainCamera& cam, bool ground_plane) const {
     try {
-      return rain::RainRenderer(rain::RainField(a.options.settings, cam, ground_plane));
+      rain::RainRenderer r(rain::RainField(a.options.settings, cam, ground_plane));
+      if (a.options.has_fog()) r.set_fog(a.options.fog);
+      return r;
     } catch (const rain::TooManyDrops& e) {
       throw Error(fmt::format(
           "--min-alpha {:g}: the rain field would hold {:.3g} drops, more than the limit of {:.3g}; "
@@ -596,6 +598,8 @@ RainJobResult run_rain_job(const RainJob& a, const RainJobHooks& hooks) {
   if (a.mask_dir && !a.input_dir) throw Error("--mask-dir: goes with --input-dir (use --mask-out with --image)");
   if (a.depth_dir && !a.input_dir) throw Error("--depth-dir: goes with --input-dir (use --depth with --image)");
   rain::rain_param("png_compression").check(double(a.files.png_compression));  // the declared range (params.cpp)
+  if (const auto name = rain::fog_setting_without_fog(a.options); !name.empty())
+    throw Error(fmt::format("{}: sets the fog; give --visibility-m or --lwc-g-m3 with it", rain::rain_param(name).flag));
   const Run run{a, hooks, Clock::now(), {}};
   if (a.image) return run_image(run);
   if (a.input_dir) return run_folder(run);

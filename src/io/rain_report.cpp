@@ -3,7 +3,7 @@
 namespace hydrolux::io {
 
 nlohmann::json rain_stats_json(const rain::RainStats& s) {
-  return {{"drops_total", s.drops_total},
+  nlohmann::json j = {{"drops_total", s.drops_total},
           {"drops_in_view", s.drops_in_view},
           {"drops_visible", s.drops_visible},
           {"streak_length_px", {{"mean", s.streak_length_px_mean}, {"p50", s.streak_length_px_p50},
@@ -16,6 +16,13 @@ nlohmann::json rain_stats_json(const rain::RainStats& s) {
           {"alpha_mean", s.alpha_mean},
           {"unresolved_transmittance_mean", s.unresolved_transmittance_mean},
           {"negative_values_clamped", s.negative_values_clamped}};
+  if (s.fog_beta_per_m > 0)
+    j["fog"] = {{"beta_per_m", s.fog_beta_per_m},
+                {"visibility_m", s.fog_visibility_m},
+                {"transmittance_mean", s.fog_transmittance_mean},
+                {"sky", {s.fog_sky.x, s.fog_sky.y, s.fog_sky.z}},
+                {"glow_mean", s.fog_glow_mean}};
+  return j;
 }
 
 nlohmann::json rain_run_json(const rain::RainField& field, const std::string& depth) {

@@ -255,8 +255,8 @@ Image fog_glow(const Image& source_in, const RainCamera& cam, const PhaseTable& 
   return out;
 }
 
-FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& cam, const FogSettings& s,
-                    const FogOptics& optics, std::optional<Vec3> sky_given) {
+FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& cam, const FogSettings& s,
+                 const FogOptics& optics, std::optional<Vec3> sky_given) {
   validate(cam);
   if (frame.width != cam.width || frame.height != cam.height || frame.channels < 3)
     throw Error(fmt::format("fog: the frame is {}x{}x{}; the camera is {}x{} and needs 3 channels at least", frame.width,
@@ -264,30 +264,39 @@ FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& ca
   if (depth && (depth->width != frame.width || depth->height != frame.height || depth->channels != 1))
     throw Error("fog: the depth map must be one channel of the frame's size");
   const int W = frame.width, H = frame.height, C = frame.channels;
-  FogFrame out;
+  FogVeil out;
   FogStats& st = out.stats;
   // Finite input, negatives read as 0.
-  Image clear = frame;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
       for (int c = 0; c < C; ++c) {
-        float& v = clear.at(x, y, c);
+        const float v = frame.at(x, y, c);
         if (!std::isfinite(v))
           throw Error(fmt::format("pixel ({}, {}) channel {} is {}: fog needs finite linear values (negative ones read as 0)",
                                   x, y, c, std::isnan(v) ? "NaN" : v > 0 ? "+inf" : "-inf"));
-        if (c < 3 && v < 0) {
-          v = 0;
-          ++st.negative_values_clamped;
-        }
+        if (c < 3 && v < 0) ++st.negative_values_clamped;
       }
-  const Vec3 A = sky_given ? *sky_given : estimate_sky(clear);
+  const auto clear = [&](int x, int y, int c) { return std::max(0.f, frame.at(x, y, c)); };
+  Vec3 A;
+  if (sky_given) {
+    A = *sky_given;
+  } else if (st.negative_values_clamped == 0) {
+    A = estimate_sky(frame);
+  } else {
+    Image clamped = frame;
+    for (std::size_t i = 0; i < clamped.pixels.size(); ++i)
+      if (int(i % std::size_t(C)) < 3) clamped.pixels[i] = std::max(0.f, clamped.pixels[i]);
+    A = estimate_sky(clamped);
+  }
+  out.sky = A;
   std::vector<float> z;
   if (!depth) z = ground_plane_depth(cam, s.backdrop_m);
-  out.image = clear;
-  out.alpha = Image(W, H, 1);
+  const std::size_t npx = std::size_t(W) * std::size_t(H);
+  out.t.assign(npx, 0.0);
+  out.tau.assign(npx, std::numeric_limits<float>::infinity());
   Image source(W, H, 3);
   std::vector<float> ranges;
-  ranges.reserve(std::size_t(W) * std::size_t(H));
+  ranges.reserve(npx);
   double tsum = 0, tmin = 1, tmax = 0;
   std::size_t sky_px = 0, glow_src = 0;
   for (int y = 0; y < H; ++y)
@@ -299,38 +308,33 @@ FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& ca
         const double d = zc / cam.ray(x + 0.5, y + 0.5).z;
         tau = optics.beta_per_m * d;
         t = std::exp(-tau);
+        out.tau[i] = float(tau);
         ranges.push_back(float(d));
       } else {
         ++sky_px;
       }
+      out.t[i] = t;
       tsum += t;
       tmin = std::min(tmin, t);
       tmax = std::max(tmax, t);
-      out.alpha.pixels[i] = float(1 - t);
       bool src = false;
       for (int c = 0; c < 3; ++c) {
-        const double I = clear.at(x, y, c);
-        out.image.at(x, y, c) = float(I * t + A[c] * (1 - t));
-        const double excess = std::max(0.0, I - A[c]);
+        const double excess = std::max(0.0, double(clear(x, y, c)) - A[c]);
         if (excess > 0) src = true;
         source.at(x, y, c) = float(excess * tau * t);  // scattered once, and not again
       }
       glow_src += src ? 1 : 0;
     }
-  const double npx = double(W) * double(H);
   if (s.glow) {
-    const Image glow = fog_glow(source, cam, optics.apparent);
+    out.glow = fog_glow(source, cam, optics.apparent);
     double gl = 0;
     for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        for (int c = 0; c < 3; ++c) out.image.at(x, y, c) += glow.at(x, y, c);
-        gl += luminance(glow.at(x, y, 0), glow.at(x, y, 1), glow.at(x, y, 2));
-      }
-    st.glow_mean = gl / npx;
+      for (int x = 0; x < W; ++x) gl += luminance(out.glow.at(x, y, 0), out.glow.at(x, y, 1), out.glow.at(x, y, 2));
+    st.glow_mean = gl / double(npx);
   }
   st.beta_per_m = optics.beta_per_m;
   st.visibility_m = optics.visibility_m;
-  st.transmittance_mean = tsum / npx;
+  st.transmittance_mean = tsum / double(npx);
   st.transmittance_min = tmin;
   st.transmittance_max = tmax;
   if (!ranges.empty()) {
@@ -338,9 +342,32 @@ FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& ca
     std::nth_element(ranges.begin(), mid, ranges.end());
     st.range_m_median = *mid;
   }
-  st.sky_fraction = double(sky_px) / npx;
+  st.sky_fraction = double(sky_px) / double(npx);
   st.sky = A;
-  st.glow_source_fraction = double(glow_src) / npx;
+  st.glow_source_fraction = double(glow_src) / double(npx);
+  return out;
+}
+
+FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& cam, const FogSettings& s,
+                    const FogOptics& optics, std::optional<Vec3> sky_given) {
+  const FogVeil veil = fog_veil(frame, depth, cam, s, optics, sky_given);
+  const int W = frame.width, H = frame.height;
+  FogFrame out;
+  out.stats = veil.stats;
+  out.image = frame;
+  out.alpha = Image(W, H, 1);
+  const Vec3& A = veil.sky;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+      const double t = veil.t[i];
+      out.alpha.pixels[i] = float(1 - t);
+      for (int c = 0; c < 3; ++c) {
+        const double I = std::max(0.f, frame.at(x, y, c));
+        out.image.at(x, y, c) = float(I * t + A[c] * (1 - t));
+        if (!veil.glow.pixels.empty()) out.image.at(x, y, c) += veil.glow.at(x, y, c);
+      }
+    }
   return out;
 }
 
@@ -350,29 +377,40 @@ namespace {
 using K = ParamKind;
 }  // namespace
 
+// The fog itself, declared here once: hydrolux fog's rows and hydrolux rain's fog rows (rain with fog,
+// one veil) are these. A table of its own, made on first use, so that rain's table can take them
+// while it is made.
+const Param& fog_medium_param(std::string_view name) {
+  static const Param table[] = {
+      {"visibility_m", "--visibility-m", "fog", K::real, "m", 1, 1e5,
+       "Meteorological visibility, m: beta = 3.912 / V (Koschmieder, 2% contrast); instead of --lwc-g-m3", "lwc_g_m3"},
+      {"lwc_g_m3", "--lwc-g-m3", "fog", K::real, "g/m^3", 1e-4, 5,
+       "Liquid water content, g/m^3: beta from Lorenz-Mie over the droplets (instead of --visibility-m)"},
+      {"mode_radius_um", "--mode-radius-um", "fog", K::real, "um", 0.5, 50,
+       "Droplets' mode radius, um (Shettle & Fenn 1979: 10 advection fog, 2 radiation fog)"},
+      {"size_alpha", "--size-alpha", "fog", K::real, "", 1, 20,
+       "Shape alpha of the droplets' modified gamma r^alpha exp(-alpha r / r_mode) (3 advection, 6 radiation fog)"},
+      {"wavelength_nm", "--wavelength-nm", "fog", K::real, "nm", 380, 780, "Wavelength of the Mie optics, nm (fog is grey)"},
+      {"glow", "--no-glow", "fog", K::flag, "", 0, 1, "Leave out the forward-scattered glow around lights brighter than the sky"},
+  };
+  for (const Param& p : table)
+    if (p.name == name) return p;
+  throw std::logic_error("fog_medium_param: no parameter " + std::string(name));
+}
+
 // The camera and the files are hydrolux rain's (rain/params.cpp): the same quantities, declared
 // there once; fog's rows copy them (made on first use, after rain's tables exist).
 std::span<const Field<FogOptions>> fog_params() {
   static const Field<FogOptions> table[] = {
-      {{"visibility_m", "--visibility-m", "fog", K::real, "m", 1, 1e5,
-        "Meteorological visibility, m: beta = 3.912 / V (Koschmieder, 2% contrast); instead of --lwc-g-m3", "lwc_g_m3"},
-       HYDROLUX_PARAM_OPTIONAL(settings.visibility_m)},
-      {{"lwc_g_m3", "--lwc-g-m3", "fog", K::real, "g/m^3", 1e-4, 5,
-        "Liquid water content, g/m^3: beta from Lorenz-Mie over the droplets (instead of --visibility-m)"},
-       HYDROLUX_PARAM_OPTIONAL(settings.lwc_g_m3)},
-      {{"mode_radius_um", "--mode-radius-um", "fog", K::real, "um", 0.5, 50,
-        "Droplets' mode radius, um (Shettle & Fenn 1979: 10 advection fog, 2 radiation fog)"},
-       HYDROLUX_PARAM_MEMBER(settings.mode_radius_um)},
-      {{"size_alpha", "--size-alpha", "fog", K::real, "", 1, 20,
-        "Shape alpha of the droplets' modified gamma r^alpha exp(-alpha r / r_mode) (3 advection, 6 radiation fog)"},
-       HYDROLUX_PARAM_MEMBER(settings.size_alpha)},
-      {{"wavelength_nm", "--wavelength-nm", "fog", K::real, "nm", 380, 780, "Wavelength of the Mie optics, nm (fog is grey)"},
-       HYDROLUX_PARAM_MEMBER(settings.wavelength_nm)},
+      {fog_medium_param("visibility_m"), HYDROLUX_PARAM_OPTIONAL(settings.visibility_m)},
+      {fog_medium_param("lwc_g_m3"), HYDROLUX_PARAM_OPTIONAL(settings.lwc_g_m3)},
+      {fog_medium_param("mode_radius_um"), HYDROLUX_PARAM_MEMBER(settings.mode_radius_um)},
+      {fog_medium_param("size_alpha"), HYDROLUX_PARAM_MEMBER(settings.size_alpha)},
+      {fog_medium_param("wavelength_nm"), HYDROLUX_PARAM_MEMBER(settings.wavelength_nm)},
       {{"backdrop_m", "--backdrop-m", "fog", K::real, "m", 1, 1e6,
         "Without --depth: the scene is the ground plane up to a backdrop this far, m"},
        HYDROLUX_PARAM_MEMBER(settings.backdrop_m)},
-      {{"glow", "--no-glow", "fog", K::flag, "", 0, 1, "Leave out the forward-scattered glow around lights brighter than the sky"},
-       HYDROLUX_PARAM_MEMBER(settings.glow)},
+      {fog_medium_param("glow"), HYDROLUX_PARAM_MEMBER(settings.glow)},
       {rain_param("focal_mm"), HYDROLUX_PARAM_MEMBER(camera.focal_mm)},
       {rain_param("fov_deg"), HYDROLUX_PARAM_OPTIONAL(fov_deg)},
       {rain_param("sensor_width_mm"), HYDROLUX_PARAM_MEMBER(camera.sensor_width_mm)},

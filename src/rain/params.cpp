@@ -67,6 +67,13 @@ const Field<RainOptions> kRain[] = {
     {{"radius_classes", "--radius-classes", "rain", K::integer, "", 1, 256,
       "Drop radius classes, log-spaced from --min-radius-mm to --max-radius-mm (more: finer sizes, slower)"},
      HYDROLUX_PARAM_MEMBER(settings.radius_classes)},
+    // Fog with the rain: the fog's own rows (rain/fog.cpp), on the rain's camera and scene.
+    {fog_medium_param("visibility_m"), HYDROLUX_PARAM_OPTIONAL(fog.visibility_m)},
+    {fog_medium_param("lwc_g_m3"), HYDROLUX_PARAM_OPTIONAL(fog.lwc_g_m3)},
+    {fog_medium_param("mode_radius_um"), HYDROLUX_PARAM_MEMBER(fog.mode_radius_um)},
+    {fog_medium_param("size_alpha"), HYDROLUX_PARAM_MEMBER(fog.size_alpha)},
+    {fog_medium_param("wavelength_nm"), HYDROLUX_PARAM_MEMBER(fog.wavelength_nm)},
+    {fog_medium_param("glow"), HYDROLUX_PARAM_MEMBER(fog.glow)},
     {{"seed", "--seed", "rain", K::integer, "", 0, double(kMaxSeed),
       "Random seed: the same seed gives the same rain, bytes for bytes"},
      HYDROLUX_PARAM_MEMBER(settings.seed)},
@@ -96,6 +103,17 @@ const Param& rain_param(std::string_view name) {
   if (const auto* f = find_field(rain_params(), name)) return f->param;
   if (const auto* f = find_field(rain_file_params(), name)) return f->param;
   throw std::logic_error("rain_param: no parameter " + std::string(name));
+}
+
+std::string_view fog_setting_without_fog(const RainOptions& o) {
+  if (o.has_fog()) return {};
+  const FogSettings d;
+  const FogSettings& f = o.fog;
+  if (f.mode_radius_um != d.mode_radius_um) return "mode_radius_um";
+  if (f.size_alpha != d.size_alpha) return "size_alpha";
+  if (f.wavelength_nm != d.wavelength_nm) return "wavelength_nm";
+  if (f.glow != d.glow) return "glow";
+  return {};
 }
 
 RainCamera camera_for(const RainOptions& o, int width, int height) {

@@ -12,6 +12,7 @@
 #include "field_detail.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/rain/fog.hpp"
 #include "hydrolux/rain/rain.hpp"
 #include "hydrolux/scene/environment.hpp"
 
@@ -239,6 +240,14 @@ RainRenderer::RainRenderer(RainField field, int light_grid_x, int light_grid_y)
     : field_(std::move(field)),
       light_(field_.camera(), field_.settings().refractive_index, light_grid_x, light_grid_y) {}
 
+void RainRenderer::set_fog(const FogSettings& settings, std::optional<Vec3> sky) {
+  auto s = std::make_shared<FogSettings>(settings);
+  s->backdrop_m = field_.settings().backdrop_m;  // one scene: the rain's ground plane and backdrop
+  fog_optics_ = std::make_shared<const FogOptics>(fog_optics(*s));
+  fog_settings_ = std::move(s);
+  fog_sky_ = sky;
+}
+
 void RainRenderer::streaks(std::int64_t frame_index, std::vector<Streak>& out) const {
   std::vector<std::vector<Streak>> per_block;
   collect_streaks(frame_index, per_block);
@@ -312,7 +321,11 @@ void RainRenderer::collect_streaks(std::int64_t frame_index, std::vector<std::ve
       s.r = float(r);
       s.R = float(R);
       s.z = float(zm);
-      const Vec3 rgb = light_.at(0.5 * (px0 + px1), 0.5 * (py0 + py1));
+      Vec3 rgb = light_.at(0.5 * (px0 + px1), 0.5 * (py0 + py1));
+      if (fog_beta_ > 0) {  // seen through the fog in front of the drop, with its airlight
+        const double range = zm / cam.ray(0.5 * (px0 + px1), 0.5 * (py0 + py1)).z, t = std::exp(-fog_beta_ * range);
+        rgb = rgb * t + *fog_sky_ * (1 - t);
+      }
       for (int k = 0; k < 3; ++k) s.rgb[k] = float(rgb[k]);
       if (amp > 0) {
         const double freq = std::sqrt(8 * kSurfaceTension / (kWaterDensity * d.radius * d.radius * d.radius)) /
@@ -376,6 +389,13 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   }
 
   light_.update(frame);
+  // Fog: its transmittance, airlight and glow along every ray, the sky colour kept from the first frame.
+  std::optional<FogVeil> fog;
+  if (fog_optics_) {
+    fog = fog_veil(frame, depth, cam, *fog_settings_, *fog_optics_, fog_sky_);
+    if (!fog_sky_) fog_sky_ = fog->sky;
+    fog_beta_ = fog_optics_->beta_per_m;
+  }
   collect_streaks(frame_index, per_block_);
   // Streak j of the frame is per_block_[b][j - first[b]]; bands list j.
   std::vector<std::uint32_t> first(per_block_.size() + 1, 0);
@@ -460,20 +480,32 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
         const AccPx& q = ar[x];
         const float ts = q.T, as = 1 - ts;
         const float inv_w = q.W > 0 ? 1 / q.W : 0.f;
-        // The streaks' own change is measured against the background they cover (with the unresolved
-        // rain's veil, which lies behind them).
+        // The veil behind the streaks: the unresolved rain's, or with fog one medium of both optical
+        // depths whose airlight mixes the drops' light and the fog's sky in their proportion.
+        float T = tu, air[3];
+        for (int k = 0; k < 3; ++k) air[k] = air_row[std::size_t(x) * 3 + std::size_t(k)] * (1 - tu);
+        if (fog) {
+          const std::size_t i = row0 + std::size_t(x);
+          const float tau_f = fog->tau[i], tau_u = tu < 1 ? -std::log(tu) : 0.f;
+          T = tu * float(fog->t[i]);
+          const float wr = std::isinf(tau_f) ? 0.f : tau_u + tau_f > 0 ? tau_u / (tau_u + tau_f) : 1.f;
+          for (int k = 0; k < 3; ++k)
+            air[k] = (wr * air_row[std::size_t(x) * 3 + std::size_t(k)] + (1 - wr) * float((*fog_sky_)[k])) * (1 - T) +
+                     (fog->glow.pixels.empty() ? 0.f : fog->glow.pixels[i * 3 + std::size_t(k)]);
+        }
+        // The streaks' own change is measured against the background they cover (with the veil,
+        // which lies behind them).
         float luma_in = 0, luma_out = 0, layer[3];
         for (int k = 0; k < 3; ++k) {
           const float clear = std::max(0.f, in[k]);
-          const float air = air_row[std::size_t(x) * 3 + std::size_t(k)] * (1 - tu);
-          layer[k] = air * ts + q.C[k] * inv_w * as;
-          const float v = clear * tu * ts + layer[k];
+          layer[k] = air[k] * ts + q.C[k] * inv_w * as;
+          const float v = clear * T * ts + layer[k];
           im[k] = v;
-          luma_in += kLuma[k] * (clear * tu + air);
+          luma_in += kLuma[k] * (clear * T + air[k]);
           luma_out += kLuma[k] * v;
         }
         for (int k = 3; k < ch; ++k) im[k] = in[k];
-        const float alpha = 1 - tu * ts;
+        const float alpha = 1 - T * ts;
         al[x] = alpha;
         if (ly) {
           for (int k = 0; k < 3; ++k) ly[std::size_t(x) * 4 + std::size_t(k)] = layer[k];
@@ -530,6 +562,13 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   st.streak_pixel_fraction = streak_px / double(npx);
   st.alpha_mean = std::accumulate(row_alpha.begin(), row_alpha.end(), 0.0) / double(npx);
   st.unresolved_transmittance_mean = std::accumulate(row_tu.begin(), row_tu.end(), 0.0) / double(npx);
+  if (fog) {
+    st.fog_beta_per_m = fog->stats.beta_per_m;
+    st.fog_visibility_m = fog->stats.visibility_m;
+    st.fog_transmittance_mean = fog->stats.transmittance_mean;
+    st.fog_glow_mean = fog->stats.glow_mean;
+    st.fog_sky = *fog_sky_;
+  }
 }
 
 }  // namespace hydrolux::rain

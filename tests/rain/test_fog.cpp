@@ -315,5 +315,139 @@ TEST(Fog, Validation) {
   EXPECT_THROW(render_fog(bad, nullptr, camera(32, 32), s, fog_optics(s, 129, 8)), Error);
 }
 
+
+// ---- fog with rain, one veil (RainRenderer::set_fog) ----
+
+// A frame with structure and a few lights brighter than the sky (so the glow has sources).
+Image street(int w, int h) {
+  Image img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int k = 0; k < 3; ++k)
+        img.at(x, y, k) = y < h / 3 ? 0.6f + 0.1f * float(k) : 0.1f + 0.05f * float((x / 8 + y / 8) % 3) + 0.02f * float(k);
+  for (int k = 0; k < 3; ++k) img.at(w / 4, h / 2, k) = img.at(3 * w / 4, h / 2 + 3, k) = 40.f;
+  return img;
+}
+
+RainRenderer rain_renderer(double rate_mmh, const RainCamera& c) {
+  RainSettings s;
+  s.rate_mmh = rate_mmh;
+  s.wind_mps = 2;
+  return RainRenderer(RainField(s, c));
+}
+
+// Without rain the one veil is the fog's alone: rain over a frame at 0 mm/h with fog equals
+// render_fog on the same ground plane and backdrop (the rain's), glow included. Tolerance 2e-6 of the
+// sky's value: the renderer composites in float what render_fog does in double.
+TEST(FogWithRain, WithoutRainIsTheFogAlone) {
+  const RainCamera c = camera(96, 64);
+  const Image frame = street(96, 64);
+  RainRenderer r = rain_renderer(0, c);
+  FogSettings s = visibility(150, true);
+  r.set_fog(s);
+  const RainFrame rf = r.render(frame, nullptr, 0);
+  s.backdrop_m = RainSettings{}.backdrop_m;
+  const FogFrame ff = render_fog(frame, nullptr, c, s, fog_optics(s));
+  double worst = 0;
+  for (std::size_t i = 0; i < ff.image.pixels.size(); ++i)
+    worst = std::max(worst, std::abs(double(rf.image.pixels[i]) - double(ff.image.pixels[i])));
+  EXPECT_LT(worst, 2e-6);
+  double alpha = 0;
+  for (std::size_t i = 0; i < ff.alpha.pixels.size(); ++i)
+    alpha = std::max(alpha, std::abs(double(rf.alpha.pixels[i]) - double(ff.alpha.pixels[i])));
+  EXPECT_LT(alpha, 1e-6);
+  EXPECT_GT(rf.stats.fog_glow_mean, 0);
+  EXPECT_NEAR(rf.stats.fog_transmittance_mean, ff.stats.transmittance_mean, 1e-12);
+}
+
+// In the limit of no fog (visibility 100 km over a scene 2 m away: tau = 8e-5), rain with fog is the
+// rain alone: every value within 1e-4 of it, relative above 1 (the fog's share is tau times the value).
+TEST(FogWithRain, ThinFogIsTheRainAlone) {
+  const RainCamera c = camera(320, 180);
+  const Image frame = street(320, 180);
+  Image depth(320, 180, 1);
+  for (auto& z : depth.pixels) z = 2;
+  RainRenderer plain = rain_renderer(100, c), fogged = rain_renderer(100, c);
+  fogged.set_fog(visibility(1e5, false));
+  const RainFrame a = plain.render(frame, &depth, 3), b = fogged.render(frame, &depth, 3);
+  ASSERT_GT(a.stats.drops_visible, 10u);
+  double worst = 0;  // relative to the value where it exceeds 1 (the frame's lights of 40)
+  for (std::size_t i = 0; i < a.image.pixels.size(); ++i)
+    worst = std::max(worst, std::abs(double(a.image.pixels[i]) - double(b.image.pixels[i])) /
+                                std::max(1.0, std::abs(double(a.image.pixels[i]))));
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_GT(worst, 0);  // the fog is there
+}
+
+// Each streak is seen through the fog in front of it: its colour c t + A (1 - t) with t = exp(-beta
+// d), d its range at its centre, A the airlight (here given) - the exact composite of a drop inside a
+// homogeneous medium (docs/fog.md). Checked streak by streak against the renderer without fog.
+TEST(FogWithRain, StreaksSeenThroughTheFogInFrontOfThem) {
+  const RainCamera c = camera(160, 90);
+  const Image frame = street(160, 90);
+  RainRenderer plain = rain_renderer(25, c), fogged = rain_renderer(25, c);
+  const Vec3 A(0.5, 0.6, 0.7);
+  fogged.set_fog(visibility(10, false), A);
+  plain.render(frame, nullptr, 2);
+  fogged.render(frame, nullptr, 2);
+  std::vector<Streak> sp, sf;
+  plain.streaks(2, sp);
+  fogged.streaks(2, sf);
+  ASSERT_EQ(sp.size(), sf.size());
+  ASSERT_GT(sp.size(), 50u);
+  const double beta = koschmieder_beta_per_m(10);
+  double far_t = 1;
+  for (std::size_t j = 0; j < sp.size(); ++j) {
+    const double cx = 0.5 * (double(sp[j].x0) + double(sp[j].x1)), cy = 0.5 * (double(sp[j].y0) + double(sp[j].y1));
+    const double t = std::exp(-beta * double(sp[j].z) / c.ray(cx, cy).z);
+    far_t = std::min(far_t, t);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(sf[j].rgb[k], sp[j].rgb[k] * t + A[k] * (1 - t), 2e-6 + 1e-6 * A[k]) << j;
+  }
+  EXPECT_LT(far_t, 0.5);  // some streaks deep in the fog
+}
+
+// Fog and rain on one frame are one medium, not two veils laid one over the other: the value of a
+// pixel is clear T_u T_f + (w L_rain + (1 - w) A)(1 - T_u T_f) with w = tau_u / (tau_u + tau_f), checked
+// against that formula with T_u and L_rain from the rain alone. All the rain unresolved here (no drop
+// drawn beyond 0.1 m), so that no streak covers a pixel. 1e-4: the renderer's float logarithms and
+// exponentials, and L_rain recovered by a division by 1 - T_u.
+TEST(FogWithRain, OneVeilMixesTheAirlights) {
+  const RainCamera c = camera(96, 64);
+  const Image frame = street(96, 64);
+  Image depth(96, 64, 1);
+  for (auto& z : depth.pixels) z = 400;
+  RainSettings rs;
+  rs.rate_mmh = 50;
+  rs.near_m = 0.05;
+  rs.far_m = 0.1;
+  const Vec3 A(0.5, 0.6, 0.7);
+  RainRenderer plain{RainField(rs, c)}, fogged{RainField(rs, c)};
+  FogSettings s = visibility(800, false);
+  fogged.set_fog(s, A);
+  const RainFrame a = plain.render(frame, &depth, 1, true), b = fogged.render(frame, &depth, 1, true);
+  ASSERT_EQ(a.stats.drops_visible, 0u);
+  s.backdrop_m = rs.backdrop_m;
+  const FogVeil veil = fog_veil(frame, &depth, c, s, fog_optics(s), A);
+  double worst = 0, w_lo = 1, w_hi = 0;
+  for (std::size_t i = 0; i < std::size_t(96 * 64); ++i) {
+    const double tu = 1 - double(a.alpha.pixels[i]);
+    ASSERT_LT(tu, 0.99);  // the unresolved rain's veil is there
+    const double tau_u = -std::log(tu), tau_f = double(veil.tau[i]), T = tu * veil.t[i];
+    const double w = tau_u / (tau_u + tau_f);
+    w_lo = std::min(w_lo, w);
+    w_hi = std::max(w_hi, w);
+    for (int k = 0; k < 3; ++k) {
+      const double L_rain = double(a.layer.pixels[i * 4 + std::size_t(k)]) / (1 - tu);
+      const double expect = double(frame.pixels[i * 3 + std::size_t(k)]) * T + (w * L_rain + (1 - w) * A[k]) * (1 - T);
+      worst = std::max(worst, std::abs(double(b.image.pixels[i * 3 + std::size_t(k)]) - expect));
+    }
+    EXPECT_NEAR(b.alpha.pixels[i], 1 - T, 1e-6);
+  }
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_LT(w_lo, 0.9);  // both media weigh in
+  EXPECT_GT(w_hi, 0.1);
+}
+
 }  // namespace
 }  // namespace hydrolux::rain

@@ -146,6 +146,19 @@ struct FogFrame {
   FogStats stats;
 };
 
+// The fog along each pixel's ray, for a renderer that composites it with other media (rain's one
+// veil, RainRenderer): transmittance t = exp(-tau) per pixel (0 and tau = inf where the ray meets no
+// geometry: the sky), the airlight colour and the glow (empty without it). Checks as render_fog.
+struct FogVeil {
+  std::vector<double> t;
+  std::vector<float> tau;
+  Vec3 sky{0.0};
+  Image glow;  // 3 channels, or empty
+  FogStats stats;
+};
+FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& camera, const FogSettings& s,
+                 const FogOptics& optics, std::optional<Vec3> sky = std::nullopt);
+
 // Fog over `frame` (linear RGB, >= 3 channels, the camera's size). `depth`: null (the ground plane)
 // or 1 channel of camera z, m. `sky`: the airlight colour, or estimate_sky(frame). NonFinitePixel
 // for a non-finite input value; negative values read as 0. Deterministic, single-threaded.
@@ -176,6 +189,9 @@ struct FogFileOptions {
 std::span<const Field<FogOptions>> fog_params();
 std::span<const Field<FogFileOptions>> fog_file_params();
 const Param& fog_param(std::string_view name);
+// The fog's own parameters (visibility_m, lwc_g_m3, mode_radius_um, size_alpha, wavelength_nm, glow),
+// which hydrolux rain's fog rows take too.
+const Param& fog_medium_param(std::string_view name);
 RainCamera fog_camera_for(const FogOptions& o, int width, int height);
 
 }  // namespace hydrolux::rain

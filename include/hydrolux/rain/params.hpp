@@ -7,6 +7,7 @@
 #include <span>
 
 #include "hydrolux/core/params.hpp"
+#include "hydrolux/rain/fog.hpp"
 #include "hydrolux/rain/rain.hpp"
 
 namespace hydrolux::rain {
@@ -18,6 +19,9 @@ struct RainOptions {
   std::optional<double> fov_deg;         // instead of camera.focal_mm
   std::optional<double> pixel_pitch_um;  // instead of camera.sensor_width_mm (times the width)
   std::optional<double> fps;             // of still frames (a video has its own); else camera.fps
+  // Fog with the rain (one veil: RainRenderer::set_fog), on when visibility_m or lwc_g_m3 is given.
+  FogSettings fog;
+  bool has_fog() const { return fog.visibility_m || fog.lwc_g_m3; }
 };
 
 // The options of a run over files: where the sequence starts, how video and PNG files are encoded,
@@ -39,5 +43,8 @@ const Param& rain_param(std::string_view name);
 // turned into the focal length and the sensor width; the still frames' rate where given. Not
 // validated (validate(RainCamera) names what is out of range).
 RainCamera camera_for(const RainOptions& options, int width, int height);
+// The name of a fog parameter set away from its default while the fog is off (no visibility_m or
+// lwc_g_m3), for the doors' refusal; empty when there is none.
+std::string_view fog_setting_without_fog(const RainOptions& options);
 
 }  // namespace hydrolux::rain

@@ -41,6 +41,8 @@
 // or without one the ground plane closed by a backdrop at backdrop_m.
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "hydrolux/core/error.hpp"
@@ -249,6 +251,9 @@ struct RainStats {
   double unresolved_transmittance_mean = 0;
   // Negative input values (a colour transform's undershoot in an EXR) read as 0; how many there were.
   std::uint64_t negative_values_clamped = 0;
+  // With fog (RainRenderer::set_fog): its extinction, mean transmittance, airlight colour and glow.
+  double fog_beta_per_m = 0, fog_visibility_m = 0, fog_transmittance_mean = 1, fog_glow_mean = 0;
+  Vec3 fog_sky{0.0};
 };
 
 // What the renderer does with the frame's values: a non-finite one (NaN, +-inf) in any channel is
@@ -294,10 +299,21 @@ std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channel
 void check_render_memory(const RainCamera& camera, int input_channels, bool with_layer, const std::string& what,
                          double extra_bytes_per_pixel = 0);
 
+struct FogSettings;
+struct FogOptics;
+
 class RainRenderer {
  public:
   explicit RainRenderer(RainField field, int light_grid_x = 32, int light_grid_y = 18);
   const RainField& field() const { return field_; }
+
+  // Fog with the rain, as one medium along each ray (docs/fog.md, "With rain"): the fog's extinction
+  // (rain/fog.hpp) and the unresolved rain's add, their airlights mix in proportion to their optical
+  // depths, and each streak is seen through the fog in front of it. The ground plane's backdrop is
+  // the rain's. The airlight colour is `sky`, or the first frame's (estimate_sky), kept for the
+  // sequence. Throws as rain::validate(FogSettings) for bad settings.
+  void set_fog(const FogSettings& settings, std::optional<Vec3> sky = std::nullopt);
+  bool has_fog() const { return fog_optics_ != nullptr; }
 
   // The streaks of frame `index` (exposure from index / fps), in drop order: those whose footprint
   // touches the image. Colours from light() as last updated.
@@ -329,6 +345,12 @@ class RainRenderer {
   std::vector<StreakAccum> acc_;  // per pixel
   std::vector<Streak> banded_;
   std::vector<std::uint32_t> band_offset_;
+  // Fog (set_fog): its settings and optics, the airlight colour and, while a frame renders, its
+  // extinction for the streaks.
+  std::shared_ptr<const FogSettings> fog_settings_;
+  std::shared_ptr<const FogOptics> fog_optics_;
+  std::optional<Vec3> fog_sky_;
+  double fog_beta_ = 0;
 };
 
 // The builtin scene (scene::BuiltinSky without its sun disk: a sky, a road, grass and landmarks) as the
