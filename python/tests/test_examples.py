@@ -20,8 +20,8 @@ import time
 
 import pytest
 
-MODULES = ["hydrolux", "hydrolux.batch", "hydrolux.batch.rain", "hydrolux.batch.fog", "hydrolux.batch.lee_atlas",
-           "hydrolux.batch.__main__"]
+MODULES = ["hydrolux", "hydrolux.batch", "hydrolux.batch.rain", "hydrolux.batch.fog", "hydrolux.batch.lens_drops",
+           "hydrolux.batch.lee_atlas", "hydrolux.batch.__main__"]
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
 NOT_RUN = "# example: not run"
 SOURCE = os.environ.get("HYDROLUX_SOURCE_DIR") or os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")

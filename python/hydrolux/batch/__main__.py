@@ -1,10 +1,10 @@
-"""python3 -m hydrolux.batch {rain,fog,lee-atlas} ...: hydrolux's batch jobs on Dask distributed."""
+"""python3 -m hydrolux.batch {rain,fog,lens-drops,lee-atlas} ...: hydrolux's batch jobs on Dask distributed."""
 from __future__ import annotations
 
 import argparse
 import sys
 
-from . import fog, lee_atlas, rain
+from . import fog, lee_atlas, lens_drops, rain
 from ._common import WORKER_BYTES, RunFailure, UsageError, printable, usable_cores
 
 
@@ -32,6 +32,8 @@ def main(argv=None) -> int:
     sub = p.add_subparsers(dest="job", required=True, parser_class=_Parser)
     jobs = {"rain": (rain, "Rain over a folder of frames (hydrolux rain --input-dir), in chunks of one rain field"),
             "fog": (fog, "Fog, haze or mist over a folder of frames (hydrolux fog --input-dir), one fog and one sky"),
+            "lens-drops": (lens_drops, "Drops on the lens or windshield over a folder of frames (hydrolux lens-drops "
+                                       "--input-dir), frame k with the drops of seed + k"),
             "lee-atlas": (lee_atlas, "An atlas of Lee tables (hydrolux lee) from a JSON spec")}
     for name, (module, text) in jobs.items():
         s = sub.add_parser(name, help=text, description=(module.__doc__ or text).strip(),
