@@ -9,6 +9,7 @@
 #include <limits>
 #include <numeric>
 
+#include "composite.hpp"
 #include "field_detail.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
@@ -50,14 +51,30 @@ inline void clip_linear(float a, float inv_a, float b, float lo, float hi, float
   x1 = std::min(x1, v);
 }
 
-using AccPx = StreakAccum;
-constexpr AccPx kAccClear{1.f, 0.f, {0.f, 0.f, 0.f}};
+constexpr std::size_t kLanes = kStreakAccumLanes, kBlock = kStreakAccumFloats;
 
-// Accumulators for the pixels from index `origin` on (a band of rows, or a whole image).
+// Rows [r0, ...) of accumulators, `stride` pixels a row (a whole number of blocks; rain.hpp).
 struct Accum {
-  AccPx* px;
-  std::size_t origin;
+  float* base;
+  int r0;
+  std::size_t stride;
+  // Pixel (x, y)'s T; its W is kLanes floats on, its C[k] (2 + k) kLanes on.
+  float* at(int y, int x) const {
+    const std::size_t j = std::size_t(y - r0) * stride + std::size_t(x);
+    return base + (j / kLanes) * kBlock + j % kLanes;
+  }
 };
+
+// Accumulator rows padded to whole blocks.
+std::size_t accum_stride(int width) { return (std::size_t(width) + kLanes - 1) / kLanes * kLanes; }
+
+// `blocks` blocks cleared: T = 1, W = C = 0.
+void clear_blocks(float* p, std::size_t blocks) {
+  for (std::size_t b = 0; b < blocks; ++b, p += kBlock) {
+    std::fill(p, p + kLanes, 1.f);
+    std::fill(p + kLanes, p + kBlock, 0.f);
+  }
+}
 
 // The scene's farthest depth over tiles of kBandRows x kTileCols pixels, so that a streak's row behind
 // the scene is skipped whole (at 25 mm/h over the ground plane, about a quarter of the raster's time
@@ -132,10 +149,10 @@ bool raster(const Streak& st, int row0, int row1, int width, const float* depth,
       }
       const bool keep = a > 1e-7f && !(depth[i] < st.z);
       a = keep ? std::min(a, 1.f) : 0.f;
-      AccPx& q = acc.px[i - acc.origin];
-      q.T *= 1 - a;
-      q.W += a;
-      for (int k = 0; k < 3; ++k) q.C[k] += a * st.rgb[k];
+      float* q = acc.at(y, x);
+      q[0] *= 1 - a;
+      q[kLanes] += a;
+      for (std::size_t k = 0; k < 3; ++k) q[(2 + k) * kLanes] += a * st.rgb[k];
       touched |= keep;
     }
   }
@@ -215,12 +232,15 @@ Image builtin_scene(const RainCamera& c) {
 
 Image streak_alpha(const Streak& streak, int width, int height) {
   const std::size_t n = std::size_t(width) * std::size_t(height);
-  std::vector<AccPx> px(n, kAccClear);
+  const std::size_t stride = accum_stride(width), blocks = stride / kLanes * std::size_t(height);
+  std::vector<float> px(blocks * kBlock);
+  clear_blocks(px.data(), blocks);
   const std::vector<float> depth(n, std::numeric_limits<float>::infinity());
-  Accum acc{px.data(), 0};
+  Accum acc{px.data(), 0, stride};
   raster(streak, 0, height, width, depth.data(), nullptr, acc);
   Image a(width, height, 1);
-  for (std::size_t i = 0; i < n; ++i) a.pixels[i] = 1 - px[i].T;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) a.pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)] = 1 - *acc.at(y, x);
   return a;
 }
 
@@ -436,22 +456,23 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   // Per band of rows, one task: its streaks rasterised into the band's accumulators, then the band
   // composited while they are still in cache: image = (clear T_u + airlight (1 - T_u)) T_s + streak
   // colour (1 - T_s).
-  acc_.resize(npx);
+  const std::size_t stride = accum_stride(W), band_blocks = stride / kLanes * std::size_t(kBandRows);
+  acc_.resize(std::size_t(bands) * band_blocks * kBlock);
   const int ch = frame.channels;
   if (out.image.width != W || out.image.height != H || out.image.channels != ch) out.image = Image(W, H, ch);
   out.image.channel_names = frame.channel_names;
   if (out.alpha.width != W || out.alpha.height != H) out.alpha = Image(W, H, 1);
   if (with_layer && (out.layer.width != W || out.layer.height != H)) out.layer = Image(W, H, 4);
   if (!with_layer) out.layer = Image();
-  std::vector<double> row_tu(std::size_t(H), 0), row_gain(std::size_t(H), 0), row_bg(std::size_t(H), 0),
-      row_alpha(std::size_t(H), 0);
-  std::vector<std::uint32_t> row_streak_px(std::size_t(H), 0);
+  std::vector<detail::RowSums> row_sums(static_cast<std::size_t>(H));
   std::vector<std::atomic<std::uint8_t>> visible(n_streaks);
+  // RGB frames without fog: whole blocks of a row in SIMD (composite.cpp), the rest here.
+  const bool simd = ch == 3 && !fog;
   tbb::parallel_for(0, bands, [&](int band) {
     const int r0 = band * kBandRows, r1 = std::min(H, r0 + kBandRows);
-    const std::size_t p0 = std::size_t(r0) * W, p1 = std::size_t(r1) * W;
-    std::fill(acc_.begin() + std::ptrdiff_t(p0), acc_.begin() + std::ptrdiff_t(p1), kAccClear);
-    Accum acc{acc_.data() + p0, p0};
+    float* band_acc = acc_.data() + std::size_t(band) * band_blocks * kBlock;
+    clear_blocks(band_acc, band_blocks);
+    Accum acc{band_acc, r0, stride};
     const float* tile_far = tile_far_.data() + std::size_t(band) * std::size_t(tiles_x_);
     for (std::uint32_t m = offset[std::size_t(band)]; m < offset[std::size_t(band) + 1]; ++m) {
       const Streak& s = banded_[m];
@@ -464,8 +485,7 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
 
     std::vector<float> air_row;  // the airlight along a row, RGB
     for (int y = r0; y < r1; ++y) {
-      double tu_sum = 0, gain = 0, bg_sum = 0, alpha_sum = 0;
-      std::uint32_t streak_px = 0;
+      detail::RowSums& sums = row_sums[std::size_t(y)];
       // The airlight along the row: the drop light at the row's two ends of each grid cell, lerped.
       light_.row(y + 0.5, air_row);
       const std::size_t row0 = std::size_t(y) * W;
@@ -474,12 +494,19 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
       float* al = out.alpha.pixels.data() + row0;
       float* ly = with_layer ? out.layer.pixels.data() + row0 * 4 : nullptr;
       const float* tur = transmittance_.data() + row0;
-      const AccPx* ar = acc_.data() + row0;
-      for (int x = 0; x < W; ++x, in += ch, im += ch) {
+      int x = 0;
+      if (simd) {
+        const std::size_t n = std::size_t(W) / kLanes * kLanes;
+        detail::composite_rgb_row({in, tur, acc.at(y, 0), air_row.data(), im, al, ly, n, &sums});
+        x = int(n);
+        in += n * 3;
+        im += n * 3;
+      }
+      for (; x < W; ++x, in += ch, im += ch) {
         const float tu = tur[x];
-        const AccPx& q = ar[x];
-        const float ts = q.T, as = 1 - ts;
-        const float inv_w = q.W > 0 ? 1 / q.W : 0.f;
+        const float* q = acc.at(y, x);
+        const float ts = q[0], as = 1 - ts, qw = q[kLanes];
+        const float inv_w = qw > 0 ? 1 / qw : 0.f;
         // The veil behind the streaks: the unresolved rain's, or with fog one medium of both optical
         // depths whose airlight mixes the drops' light and the fog's sky in their proportion.
         float T = tu, air[3];
@@ -494,11 +521,11 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
                      (fog->glow.pixels.empty() ? 0.f : fog->glow.pixels[i * 3 + std::size_t(k)]);
         }
         // The streaks' own change is measured against the background they cover (with the veil,
-        // which lies behind them).
+        // which lies behind them). composite.cpp does the same, lane by lane.
         float luma_in = 0, luma_out = 0, layer[3];
-        for (int k = 0; k < 3; ++k) {
+        for (std::size_t k = 0; k < 3; ++k) {
           const float clear = std::max(0.f, in[k]);
-          layer[k] = air[k] * ts + q.C[k] * inv_w * as;
+          layer[k] = air[k] * ts + q[(2 + k) * kLanes] * inv_w * as;
           const float v = clear * T * ts + layer[k];
           im[k] = v;
           luma_in += kLuma[k] * (clear * T + air[k]);
@@ -511,19 +538,14 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
           for (int k = 0; k < 3; ++k) ly[std::size_t(x) * 4 + std::size_t(k)] = layer[k];
           ly[std::size_t(x) * 4 + 3] = alpha;
         }
-        tu_sum += tu;
-        alpha_sum += alpha;
+        sums.tu += tu;
+        sums.alpha += alpha;
         if (as >= 0.01f) {
-          ++streak_px;
-          gain += luma_out - luma_in;
-          bg_sum += luma_in;
+          ++sums.streak_px;
+          sums.gain += luma_out - luma_in;
+          sums.bg += luma_in;
         }
       }
-      row_tu[std::size_t(y)] = tu_sum;
-      row_gain[std::size_t(y)] = gain;
-      row_bg[std::size_t(y)] = bg_sum;
-      row_alpha[std::size_t(y)] = alpha_sum;
-      row_streak_px[std::size_t(y)] = streak_px;
     }
   });
 
@@ -554,14 +576,22 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
     st.streak_length_px_p50 = percentile(lengths, 0.5);
     st.streak_length_px_p95 = percentile(lengths, 0.95);
   }
-  const double streak_px = std::accumulate(row_streak_px.begin(), row_streak_px.end(), 0.0);
+  detail::RowSums total;  // rows in order: the same sums whatever the threads
+  for (const auto& r : row_sums) {
+    total.tu += r.tu;
+    total.alpha += r.alpha;
+    total.gain += r.gain;
+    total.bg += r.bg;
+    total.streak_px += r.streak_px;
+  }
+  const double streak_px = double(total.streak_px);
   if (streak_px > 0) {
-    st.streak_luminance_gain = std::accumulate(row_gain.begin(), row_gain.end(), 0.0) / streak_px;
-    st.background_luminance_mean = std::accumulate(row_bg.begin(), row_bg.end(), 0.0) / streak_px;
+    st.streak_luminance_gain = total.gain / streak_px;
+    st.background_luminance_mean = total.bg / streak_px;
   }
   st.streak_pixel_fraction = streak_px / double(npx);
-  st.alpha_mean = std::accumulate(row_alpha.begin(), row_alpha.end(), 0.0) / double(npx);
-  st.unresolved_transmittance_mean = std::accumulate(row_tu.begin(), row_tu.end(), 0.0) / double(npx);
+  st.alpha_mean = total.alpha / double(npx);
+  st.unresolved_transmittance_mean = total.tu / double(npx);
   if (fog) {
     st.fog_beta_per_m = fog->stats.beta_per_m;
     st.fog_visibility_m = fog->stats.visibility_m;

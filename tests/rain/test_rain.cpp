@@ -9,6 +9,7 @@
 #include <set>
 
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/simd.hpp"
 #include "hydrolux/drop/physics.hpp"
 #include "hydrolux/rain/rain.hpp"
 #include "hydrolux/scene/compositor.hpp"
@@ -389,6 +390,80 @@ TEST(RainRenderer, DropsAreBrighterThanTheirBackground) {
   const Vec3 mid = r.light().at(c.width / 2.0, c.height / 2.0);
   EXPECT_LE(mid.y, 0.5 * (1 + 1e-9));
   EXPECT_GT(mid.y, 0.5 * 0.85);
+}
+
+// The composite of RGB frames runs in SIMD over whole blocks of 8 pixels a row (rain/composite.cpp),
+// the rest of the row and frames of other channel counts in the scalar reference (render.cpp): the
+// same operations in the same order. A 3-channel frame (SIMD) against the same frame with a 4th
+// channel (scalar): every RGB value, alpha and layer value equal, and the statistics within 1e-6
+// (float lane sums against double). A width of 101 exercises the scalar tail.
+TEST(RainRenderer, SimdCompositeAgreesWithScalar) {
+  RainCamera c = small_camera();
+  c.width = 101;
+  c.height = 60;
+  RainSettings s;
+  s.rate_mmh = 60;
+  s.wind_mps = 3;
+  RainRenderer a{RainField(s, c)}, b{RainField(s, c)};
+  Image rgb = frame(c, 0.7f, 0.2f), rgba(c.width, c.height, 4);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      rgb.at(x, y, 1) *= 1 + 0.01f * float(x % 7);
+      for (int k = 0; k < 3; ++k) rgba.at(x, y, k) = rgb.at(x, y, k);
+      rgba.at(x, y, 3) = 0.5f;
+    }
+  const RainFrame fa = a.render(rgb, nullptr, 2, true), fb = b.render(rgba, nullptr, 2, true);
+  ASSERT_GT(fa.stats.drops_visible, 20u);
+  double worst = 0;
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      for (int k = 0; k < 3; ++k)
+        worst = std::max(worst, double(std::abs(fa.image.at(x, y, k) - fb.image.at(x, y, k))));
+      for (int k = 0; k < 4; ++k)
+        worst = std::max(worst, double(std::abs(fa.layer.at(x, y, k) - fb.layer.at(x, y, k))));
+      worst = std::max(worst, double(std::abs(fa.alpha.at(x, y, 0) - fb.alpha.at(x, y, 0))));
+      EXPECT_EQ(fb.image.at(x, y, 3), 0.5f);
+    }
+  EXPECT_EQ(worst, 0.0);
+  EXPECT_NEAR(fa.stats.alpha_mean, fb.stats.alpha_mean, 1e-6 * fb.stats.alpha_mean);
+  EXPECT_NEAR(fa.stats.unresolved_transmittance_mean, fb.stats.unresolved_transmittance_mean, 1e-6);
+  EXPECT_NEAR(fa.stats.streak_pixel_fraction, fb.stats.streak_pixel_fraction, 1e-12);
+  EXPECT_NEAR(fa.stats.streak_luminance_gain, fb.stats.streak_luminance_gain,
+              1e-6 * std::abs(fb.stats.streak_luminance_gain) + 1e-9);
+}
+
+// Every SIMD target this CPU runs (AVX-512, AVX2, SSE4, SSSE3, the emulated 128-bit fallback) gives
+// the same floats: the lanes do the same operations whatever their count, and none is fused
+// (src/CMakeLists.txt compiles the composite without contraction), so a data set rendered on one
+// machine is the same bytes on another.
+TEST(RainRenderer, SameFloatsOnEverySimdTarget) {
+  RainCamera c = small_camera();
+  RainSettings s;
+  s.rate_mmh = 25;
+  const Image img = frame(c, 0.8f, 0.15f);
+  std::vector<float> first;
+  int targets = 0;
+  for (int bit = 0; bit < 63; ++bit) {
+    const std::int64_t t = std::int64_t(1) << bit;
+    if (!(simd::supported_targets() & t)) continue;
+    simd::set_targets_for_test(t);
+    RainRenderer r{RainField(s, c)};
+    const RainFrame f = r.render(img, nullptr, 1, true);
+    if (first.empty()) {
+      first = f.image.pixels;
+    } else {
+      double worst = 0;
+      std::size_t n = 0;
+      for (std::size_t i = 0; i < first.size(); ++i) {
+        worst = std::max(worst, double(std::abs(f.image.pixels[i] - first[i])));
+        n += f.image.pixels[i] != first[i];
+      }
+      EXPECT_EQ(n, 0u) << simd::target_name(t) << ": worst " << worst;
+    }
+    ++targets;
+  }
+  simd::set_targets_for_test(0);
+  EXPECT_GE(targets, 2);
 }
 
 }  // namespace

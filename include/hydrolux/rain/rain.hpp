@@ -278,13 +278,13 @@ struct RainFrame {
   RainStats stats;
 };
 
-// What the streaks over one pixel add up to while a frame is rasterised (RainRenderer's scratch; the
-// five side by side, so that a streak's pixel is one cache line).
-struct StreakAccum {
-  float T;     // product of (1 - alpha)
-  float W;     // sum of alpha
-  float C[3];  // sum of alpha * rgb
-};
+// What the streaks over the pixels add up to while a frame is rasterised (RainRenderer's scratch),
+// in blocks of kStreakAccumLanes pixels: the block's T (product of 1 - alpha), W (sum of alpha) and
+// C (sum of alpha * rgb, three channels), each kStreakAccumLanes floats side by side, so that the
+// raster touches one block a streak pixel and the composite loads each quantity as a vector. Rows
+// are padded to a whole number of blocks.
+inline constexpr int kStreakAccumLanes = 8;
+inline constexpr int kStreakAccumFloats = 5 * kStreakAccumLanes;
 
 // The memory, in bytes, that rendering one frame of the camera's size takes beyond the drops
 // themselves: the frame as decoded (`input_channels` floats a pixel), the renderer's per-pixel
@@ -342,7 +342,7 @@ class RainRenderer {
   int tiles_x_ = 0;
   // Kept between frames so that a sequence allocates once.
   std::vector<std::vector<Streak>> per_block_;
-  std::vector<StreakAccum> acc_;  // per pixel
+  std::vector<float> acc_;  // the streaks' accumulators, blocks of kStreakAccumLanes pixels
   std::vector<Streak> banded_;
   std::vector<std::uint32_t> band_offset_;
   // Fog (set_fog): its settings and optics, the airlight colour and, while a frame renders, its
