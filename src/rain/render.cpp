@@ -408,13 +408,28 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
     });
   }
 
-  light_.update(frame);
   // Fog: its transmittance, airlight and glow along every ray, the sky colour kept from the first frame.
+  // The drops are lit by the scene as the fog lets them see it: the drop light from the fogged frame.
   std::optional<FogVeil> fog;
   if (fog_optics_) {
     fog = fog_veil(frame, depth, cam, *fog_settings_, *fog_optics_, fog_sky_);
     if (!fog_sky_) fog_sky_ = fog->sky;
     fog_beta_ = fog_optics_->beta_per_m;
+    Image seen(W, H, 3);
+    tbb::parallel_for(0, H, [&](int y) {
+      for (int x = 0; x < W; ++x) {
+        const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
+        const double t = fog->t[i];
+        for (std::size_t k = 0; k < 3; ++k) {
+          const double clear = std::max(0.f, frame.pixels[i * std::size_t(frame.channels) + k]);
+          seen.pixels[i * 3 + k] = float(clear * t + (*fog_sky_)[int(k)] * (1 - t)) +
+                                   (fog->glow.pixels.empty() ? 0.f : fog->glow.pixels[i * 3 + k]);
+        }
+      }
+    });
+    light_.update(seen);
+  } else {
+    light_.update(frame);
   }
   collect_streaks(frame_index, per_block_);
   // Streak j of the frame is per_block_[b][j - first[b]]; bands list j.

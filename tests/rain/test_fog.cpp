@@ -381,14 +381,19 @@ TEST(FogWithRain, ThinFogIsTheRainAlone) {
 
 // Each streak is seen through the fog in front of it: its colour c t + A (1 - t) with t = exp(-beta
 // d), d its range at its centre, A the airlight (here given) - the exact composite of a drop inside a
-// homogeneous medium (docs/fog.md). Checked streak by streak against the renderer without fog.
+// homogeneous medium (docs/fog.md) - and c the drop lit by the fogged scene. Checked streak by streak
+// against the renderer without fog over the fogged frame (2e-6: float against double fog).
 TEST(FogWithRain, StreaksSeenThroughTheFogInFrontOfThem) {
   const RainCamera c = camera(160, 90);
   const Image frame = street(160, 90);
   RainRenderer plain = rain_renderer(25, c), fogged = rain_renderer(25, c);
   const Vec3 A(0.5, 0.6, 0.7);
-  fogged.set_fog(visibility(10, false), A);
-  plain.render(frame, nullptr, 2);
+  FogSettings s = visibility(10, false);
+  fogged.set_fog(s, A);
+  // The drops are lit by the fogged scene: the plain renderer gets the fogged frame (render_fog on the
+  // rain's backdrop), so that its streaks are the drops' light before the fog in front of them.
+  s.backdrop_m = RainSettings{}.backdrop_m;
+  plain.render(render_fog(frame, nullptr, c, s, fog_optics(s), A).image, nullptr, 2);
   fogged.render(frame, nullptr, 2);
   std::vector<Streak> sp, sf;
   plain.streaks(2, sp);
@@ -409,7 +414,8 @@ TEST(FogWithRain, StreaksSeenThroughTheFogInFrontOfThem) {
 
 // Fog and rain on one frame are one medium, not two veils laid one over the other: the value of a
 // pixel is clear T_u T_f + (w L_rain + (1 - w) A)(1 - T_u T_f) with w = tau_u / (tau_u + tau_f), checked
-// against that formula with T_u and L_rain from the rain alone. All the rain unresolved here (no drop
+// against that formula with T_u and L_rain from the rain alone (over the fogged frame, whose light the
+// drops see). All the rain unresolved here (no drop
 // drawn beyond 0.1 m), so that no streak covers a pixel. 1e-4: the renderer's float logarithms and
 // exponentials, and L_rain recovered by a division by 1 - T_u.
 TEST(FogWithRain, OneVeilMixesTheAirlights) {
@@ -425,10 +431,13 @@ TEST(FogWithRain, OneVeilMixesTheAirlights) {
   RainRenderer plain{RainField(rs, c)}, fogged{RainField(rs, c)};
   FogSettings s = visibility(800, false);
   fogged.set_fog(s, A);
-  const RainFrame a = plain.render(frame, &depth, 1, true), b = fogged.render(frame, &depth, 1, true);
-  ASSERT_EQ(a.stats.drops_visible, 0u);
   s.backdrop_m = rs.backdrop_m;
   const FogVeil veil = fog_veil(frame, &depth, c, s, fog_optics(s), A);
+  // The drops' light L_rain is that of the fogged scene: the rain alone over the fogged frame gives it
+  // (and T_u, the same field over the same depth).
+  const Image seen = render_fog(frame, &depth, c, s, fog_optics(s), A).image;
+  const RainFrame a = plain.render(seen, &depth, 1, true), b = fogged.render(frame, &depth, 1, true);
+  ASSERT_EQ(a.stats.drops_visible, 0u);
   double worst = 0, w_lo = 1, w_hi = 0;
   for (std::size_t i = 0; i < std::size_t(96 * 64); ++i) {
     const double tu = 1 - double(a.alpha.pixels[i]);
