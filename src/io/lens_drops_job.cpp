@@ -74,7 +74,9 @@ LensDropsJobResult run_image(const LensDropsJob& a, const ImageCodec& codec, con
                              PngOptions{16, a.files.png_compression}));
   out.write(codec.encode(r.image, out_format, PngOptions{8, a.files.png_compression}));
   files.commit();
-  return summary(r, 1, start);
+  auto result = summary(r, 1, start);
+  result.frames_total = 1;
+  return result;
 }
 
 LensDropsJobResult run_folder(const LensDropsJob& a, const ImageCodec& codec, const Warn& warn) {
@@ -97,24 +99,40 @@ LensDropsJobResult run_folder(const LensDropsJob& a, const ImageCodec& codec, co
     if (dir) fs::create_directories(*dir, ec);
     if (ec) throw IoError(fmt::format("{} {}: cannot create: {}", flag, *dir, ec.message()));
   }
+  // A frame that cannot be used is named and left out once one frame is written (as rain and fog
+  // do); the first frame's failure is bad input, nothing written.
   rain::LensDropsResult last;
+  std::size_t written = 0;
+  std::vector<std::string> left_out;
   for (std::size_t k = 0; k < plan.frames.size(); ++k) {
     const std::string name = plan.frames[k].string();
-    const Image frame = read_image(codec, "--input-dir", name, warn);
-    rain::LensDropSettings s = a.settings;
-    s.seed = (a.settings.seed + k) % (rain::kMaxSeed + 1);
-    last = render(frame, s, "--input-dir " + name);
-    const fs::path& out_name = plan.outputs[k];
-    const auto format = out_name.extension() == ".exr" ? ImageFormat::exr : ImageFormat::png;
-    write_file(out_dir / out_name, codec.encode(last.image, format, PngOptions{8, a.files.png_compression}),
-               "--output-dir");
-    if (a.mask_dir)
-      write_file(fs::path(*a.mask_dir) / out_name,
-                 codec.encode(coverage_for_encoding(last.mask, format), format, PngOptions{16, a.files.png_compression}),
-                 "--mask-dir");
+    try {
+      const Image frame = read_image(codec, "--input-dir", name, warn);
+      rain::LensDropSettings s = a.settings;
+      s.seed = (a.settings.seed + k) % (rain::kMaxSeed + 1);
+      last = render(frame, s, "--input-dir " + name);
+      const fs::path& out_name = plan.outputs[k];
+      const auto format = out_name.extension() == ".exr" ? ImageFormat::exr : ImageFormat::png;
+      write_file(out_dir / out_name, codec.encode(last.image, format, PngOptions{8, a.files.png_compression}),
+                 "--output-dir");
+      if (a.mask_dir)
+        write_file(fs::path(*a.mask_dir) / out_name,
+                   codec.encode(coverage_for_encoding(last.mask, format), format, PngOptions{16, a.files.png_compression}),
+                   "--mask-dir");
+      ++written;
+    } catch (const IoFailure&) {
+      throw;
+    } catch (const Error& e) {
+      if (written == 0) throw;
+      if (warn) warn(fmt::format("{} (left out)", e.what()));
+      left_out.push_back(plan.frames[k].filename().string());
+    }
   }
   files.commit();
-  return summary(last, plan.frames.size(), start);
+  auto r = summary(last, written, start);
+  r.frames_total = plan.frames.size();
+  r.left_out = std::move(left_out);
+  return r;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "hydrolux/io/image_io.hpp"
@@ -90,6 +91,36 @@ TEST(LensDropsCli, FolderOfFramesWithMasks) {
   const fs::path single = dir() / "single6.exr";
   ASSERT_EQ(run("lens-drops -q --image " + clean_exr().string() + " --seed 6 -o " + single.string()).code, 0);
   EXPECT_EQ(slurp(single), slurp(out / "f1.exr"));
+}
+
+// A frame that cannot be read is named and left out once a frame is written, as rain and fog do:
+// exit 1, the others written; a bad first frame is bad input: exit 2, nothing written.
+TEST(LensDropsCli, BadFrameLeftOutOthersWritten) {
+  const fs::path in = dir() / "bad_frames", out = dir() / "bad_out";
+  fs::create_directories(in);
+  fs::copy_file(clean_exr(), in / "f0.exr", fs::copy_options::overwrite_existing);
+  {
+    std::ofstream f(in / "f1.exr");
+    f << "not an image";
+  }
+  fs::copy_file(clean_exr(), in / "f2.exr", fs::copy_options::overwrite_existing);
+  auto r = run("lens-drops -q --input-dir " + in.string() + " --output-dir " + out.string() + " --seed 5");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("1 of 3 frames left out (f1.exr); the others are written"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_regular_file(out / "f0.exr"));
+  EXPECT_FALSE(fs::exists(out / "f1.exr"));
+  EXPECT_TRUE(fs::is_regular_file(out / "f2.exr"));
+  // Frame 2 keeps its seed + 2 whatever frame 1 did.
+  const fs::path single = dir() / "single7.exr";
+  ASSERT_EQ(run("lens-drops -q --image " + clean_exr().string() + " --seed 7 -o " + single.string()).code, 0);
+  EXPECT_EQ(slurp(single), slurp(out / "f2.exr"));
+  const fs::path in2 = dir() / "bad_first", out2 = dir() / "bad_first_out";
+  fs::create_directories(in2);
+  fs::copy_file(in / "f1.exr", in2 / "a.exr", fs::copy_options::overwrite_existing);
+  fs::copy_file(clean_exr(), in2 / "b.exr", fs::copy_options::overwrite_existing);
+  r = run("lens-drops -q --input-dir " + in2.string() + " --output-dir " + out2.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_FALSE(fs::exists(out2 / "b.exr"));
 }
 
 TEST(LensDropsCli, BadValuesAreOneLineNamingTheFlag) {

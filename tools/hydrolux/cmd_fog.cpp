@@ -36,12 +36,7 @@ int run_fog(FogArgs& a, const CLI::App& sub) {
   hooks.finish_progress = [&bar] { bar.finish(); };
   const io::FogJobResult r = io::run_fog_job(job, hooks);
   if (!a.quiet) fmt::print(stderr, "{}\n", io::fog_summary(r));
-  if (r.left_out.empty()) return 0;
-  std::string list;
-  for (const auto& f : r.left_out) list += (list.empty() ? "" : ", ") + f;
-  fmt::print(stderr, "{}: {} of {} frames left out ({}); the others are written\n", program_name(), r.left_out.size(),
-             r.frames_total, printable(list));
-  return kExitFailure;
+  return report_left_out(r.left_out, r.frames_total);
 }
 
 }  // namespace

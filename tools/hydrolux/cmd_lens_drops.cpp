@@ -47,7 +47,7 @@ Command add_lens_drops(CLI::App& app) {
   cmd.run = [a] {
     const auto r = io::run_lens_drops_job(*a->job, image_codec(), [](const std::string& text) { warn(text); });
     if (!a->quiet) fmt::print(stderr, "{}\n", io::lens_drops_summary(r));
-    return 0;
+    return report_left_out(r.left_out, r.frames_total);
   };
   return cmd;
 }

@@ -137,6 +137,15 @@ std::string program_name() {
 
 void warn(const std::string& text) { fmt::print(stderr, "{}: warning: {}\n", program_name(), printable(text)); }
 
+int report_left_out(const std::vector<std::string>& left_out, std::size_t frames_total) {
+  if (left_out.empty()) return 0;
+  std::string list;
+  for (const auto& f : left_out) list += (list.empty() ? "" : ", ") + f;
+  fmt::print(stderr, "{}: {} of {} frames left out ({}); the others are written\n", program_name(), left_out.size(),
+             frames_total, printable(list));
+  return kExitFailure;
+}
+
 ImageOutput declare_output_image(io::FileSet& files, const std::string& flag, const std::string& path) {
   const io::ImageFormat format = io::output_image_format(path, flag);
   return {&files.output(flag, path), format};

@@ -100,6 +100,9 @@ void set_program_name(std::string name);
 std::string program_name();  // thread-safe: the signal thread reads it
 // One line on stderr: "<program>: warning: <text>".
 void warn(const std::string& text);
+// A folder run's frames left out (rain, fog, lens-drops): none, 0; else one line naming them on
+// stderr ("N of M frames left out (...); the others are written") and kExitFailure.
+int report_left_out(const std::vector<std::string>& left_out, std::size_t frames_total);
 
 // An image output declared in a FileSet: where it goes and in which format.
 struct ImageOutput {

@@ -7,6 +7,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "hydrolux/core/params.hpp"
 #include "hydrolux/io/image_io.hpp"
@@ -24,7 +25,9 @@ struct LensDropsJob {
 };
 
 struct LensDropsJobResult {
-  std::size_t frames = 0;
+  std::size_t frames = 0;       // written
+  std::size_t frames_total = 0;  // in the folder (1 for --image)
+  std::vector<std::string> left_out;  // a folder's frames that could not be used (named, warned)
   std::size_t drops = 0;        // the last frame's
   double coverage = 0;          // the last frame's sharp coverage
   double blur_diameter_px = 0;  // the last frame's circle of confusion at the glass
@@ -33,7 +36,8 @@ struct LensDropsJobResult {
 
 // Runs the job: Error (bad input, before anything is written), IoError, IoFailure as io/files.hpp
 // says. A folder's frame k gets the drops of seed + k (each frame its own drops); a frame that
-// cannot be read stops the run (the frames before it stay written). `warn` gets one line each.
+// cannot be read is named and left out once one frame is written, as rain and fog do (the first
+// frame's failure is bad input: Error, nothing written). `warn` gets one line each.
 LensDropsJobResult run_lens_drops_job(const LensDropsJob& job, const ImageCodec& codec,
                                       const std::function<void(const std::string&)>& warn);
 
