@@ -2,6 +2,7 @@
 #include "hydrolux/rain/fog.hpp"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -348,26 +349,32 @@ FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& cam, 
   return out;
 }
 
-FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& cam, const FogSettings& s,
-                    const FogOptics& optics, std::optional<Vec3> sky_given) {
-  const FogVeil veil = fog_veil(frame, depth, cam, s, optics, sky_given);
+Image apply_fog_veil(const Image& frame, const FogVeil& veil) {
   const int W = frame.width, H = frame.height;
-  FogFrame out;
-  out.stats = veil.stats;
-  out.image = frame;
-  out.alpha = Image(W, H, 1);
+  Image out = frame;
   const Vec3& A = veil.sky;
-  for (int y = 0; y < H; ++y)
+  tbb::parallel_for(0, H, [&](int y) {
     for (int x = 0; x < W; ++x) {
       const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
       const double t = veil.t[i];
-      out.alpha.pixels[i] = float(1 - t);
       for (int c = 0; c < 3; ++c) {
         const double I = std::max(0.f, frame.at(x, y, c));
-        out.image.at(x, y, c) = float(I * t + A[c] * (1 - t));
-        if (!veil.glow.pixels.empty()) out.image.at(x, y, c) += veil.glow.at(x, y, c);
+        out.at(x, y, c) = float(I * t + A[c] * (1 - t));
+        if (!veil.glow.pixels.empty()) out.at(x, y, c) += veil.glow.at(x, y, c);
       }
     }
+  });
+  return out;
+}
+
+FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& cam, const FogSettings& s,
+                    const FogOptics& optics, std::optional<Vec3> sky_given) {
+  FogVeil veil = fog_veil(frame, depth, cam, s, optics, sky_given);
+  FogFrame out;
+  out.stats = veil.stats;
+  out.image = apply_fog_veil(frame, veil);
+  out.alpha = Image(frame.width, frame.height, 1);
+  for (std::size_t i = 0; i < out.alpha.pixels.size(); ++i) out.alpha.pixels[i] = float(1 - veil.t[i]);
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "hydrolux/rain/params.hpp"
 
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -107,12 +108,9 @@ const Param& rain_param(std::string_view name) {
 
 std::string_view fog_setting_without_fog(const RainOptions& o) {
   if (o.has_fog()) return {};
-  const FogSettings d;
-  const FogSettings& f = o.fog;
-  if (f.mode_radius_um != d.mode_radius_um) return "mode_radius_um";
-  if (f.size_alpha != d.size_alpha) return "size_alpha";
-  if (f.wavelength_nm != d.wavelength_nm) return "wavelength_nm";
-  if (f.glow != d.glow) return "glow";
+  const RainOptions defaults;
+  for (const auto& f : rain_params())
+    if (f.param.group == "fog" && f.get(o) != f.get(defaults) && !std::isnan(f.get(o))) return f.param.name;
   return {};
 }
 

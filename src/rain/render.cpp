@@ -76,14 +76,8 @@ void clear_blocks(float* p, std::size_t blocks) {
   }
 }
 
-// The scene's farthest depth over tiles of kBandRows x kTileCols pixels, so that a streak's row behind
-// the scene is skipped whole (at 25 mm/h over the ground plane, about a quarter of the raster's time
-// went to pixels the scene hides).
-constexpr int kTileCols = 16;
-
 // Rasterises the rows [row0, row1) of one streak into `acc`. Returns whether it touched a pixel.
-// `tile_far`: null, or the farthest depth of each tile of the band holding rows [row0, row1).
-bool raster(const Streak& st, int row0, int row1, int width, const float* depth, const float* tile_far, Accum& acc) {
+bool raster(const Streak& st, int row0, int row1, int width, const float* depth, Accum& acc) {
   const float dx = st.x1 - st.x0, dy = st.y1 - st.y0;
   float L = std::sqrt(dx * dx + dy * dy);
   float ux = 0, uy = 1;
@@ -109,11 +103,6 @@ bool raster(const Streak& st, int row0, int row1, int width, const float* depth,
     clip_linear(ux, inv_ux, -st.x0 * ux + (qy - st.y0) * uy, -ext, L + ext, xa, xb);
     if (xb < xa) continue;
     const int ia = std::max(0, int(std::ceil(xa - 0.5f))), ib = std::min(width - 1, int(std::floor(xb - 0.5f)));
-    if (tile_far && ia <= ib) {
-      float far = 0;
-      for (int t = ia / kTileCols; t <= ib / kTileCols; ++t) far = std::max(far, tile_far[t]);
-      if (far < st.z) continue;  // every pixel of the row's span: the scene is nearer than the drop
-    }
     const std::size_t row = std::size_t(y) * std::size_t(width);
     // Thin streaks (nearly all of them) without a branch a pixel: a pixel the streak misses, or whose
     // scene is nearer than the drop, adds alpha 0, which leaves its accumulators exactly as they were.
@@ -237,7 +226,7 @@ Image streak_alpha(const Streak& streak, int width, int height) {
   clear_blocks(px.data(), blocks);
   const std::vector<float> depth(n, std::numeric_limits<float>::infinity());
   Accum acc{px.data(), 0, stride};
-  raster(streak, 0, height, width, depth.data(), nullptr, acc);
+  raster(streak, 0, height, width, depth.data(), acc);
   Image a(width, height, 1);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) a.pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)] = 1 - *acc.at(y, x);
@@ -390,14 +379,6 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
       depth_ = ground_plane_depth(cam, field_.settings().backdrop_m);
     }
     ground_plane_ = depth == nullptr;
-    tiles_x_ = (W + kTileCols - 1) / kTileCols;
-    const int tiles_y = (H + kBandRows - 1) / kBandRows;
-    tile_far_.assign(std::size_t(tiles_x_) * std::size_t(tiles_y), 0.f);
-    tbb::parallel_for(0, tiles_y, [&](int ty) {
-      float* far = tile_far_.data() + std::size_t(ty) * std::size_t(tiles_x_);
-      for (int y = ty * kBandRows; y < std::min(H, (ty + 1) * kBandRows); ++y)
-        for (int x = 0; x < W; ++x) far[x / kTileCols] = std::max(far[x / kTileCols], depth_[std::size_t(y) * W + x]);
-    });
     transmittance_.resize(npx);
     tbb::parallel_for(0, H, [&](int y) {
       for (int x = 0; x < W; ++x) {
@@ -415,19 +396,7 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
     fog = fog_veil(frame, depth, cam, *fog_settings_, *fog_optics_, fog_sky_);
     if (!fog_sky_) fog_sky_ = fog->sky;
     fog_beta_ = fog_optics_->beta_per_m;
-    Image seen(W, H, 3);
-    tbb::parallel_for(0, H, [&](int y) {
-      for (int x = 0; x < W; ++x) {
-        const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-        const double t = fog->t[i];
-        for (std::size_t k = 0; k < 3; ++k) {
-          const double clear = std::max(0.f, frame.pixels[i * std::size_t(frame.channels) + k]);
-          seen.pixels[i * 3 + k] = float(clear * t + (*fog_sky_)[int(k)] * (1 - t)) +
-                                   (fog->glow.pixels.empty() ? 0.f : fog->glow.pixels[i * 3 + k]);
-        }
-      }
-    });
-    light_.update(seen);
+    light_.update(apply_fog_veil(frame, *fog));
   } else {
     light_.update(frame);
   }
@@ -488,13 +457,12 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
     float* band_acc = acc_.data() + std::size_t(band) * band_blocks * kBlock;
     clear_blocks(band_acc, band_blocks);
     Accum acc{band_acc, r0, stride};
-    const float* tile_far = tile_far_.data() + std::size_t(band) * std::size_t(tiles_x_);
     for (std::uint32_t m = offset[std::size_t(band)]; m < offset[std::size_t(band) + 1]; ++m) {
       const Streak& s = banded_[m];
       const float ext = s.R < 1 ? 1.f : s.R + 0.5f;
       const int ya = std::max(r0, int(std::floor(std::min(s.y0, s.y1) - ext)));
       const int yb = std::min(r1, int(std::ceil(std::max(s.y0, s.y1) + ext)) + 1);
-      if (ya < yb && raster(s, ya, yb, W, depth_.data(), tile_far, acc))
+      if (ya < yb && raster(s, ya, yb, W, depth_.data(), acc))
         visible[s.drop].store(1, std::memory_order_relaxed);
     }
 

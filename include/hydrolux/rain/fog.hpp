@@ -159,6 +159,10 @@ struct FogVeil {
 FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& camera, const FogSettings& s,
                  const FogOptics& optics, std::optional<Vec3> sky = std::nullopt);
 
+// The frame seen through the veil: clear t + sky (1 - t) + glow per RGB value (negatives read as 0),
+// the channels beyond 3 copied. Rows in parallel; the same floats whatever the threads.
+Image apply_fog_veil(const Image& frame, const FogVeil& veil);
+
 // Fog over `frame` (linear RGB, >= 3 channels, the camera's size). `depth`: null (the ground plane)
 // or 1 channel of camera z, m. `sky`: the airlight colour, or estimate_sky(frame). NonFinitePixel
 // for a non-finite input value; negative values read as 0. Deterministic, single-threaded.

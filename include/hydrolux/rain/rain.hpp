@@ -338,8 +338,6 @@ class RainRenderer {
   std::vector<float> depth_;  // the scene depth per pixel
   bool ground_plane_ = false; // depth_ (and transmittance_) hold the ground plane's
   std::vector<float> transmittance_;  // of the unresolved rain, per pixel
-  std::vector<float> tile_far_;       // the farthest scene depth per tile of 16 x 16 pixels
-  int tiles_x_ = 0;
   // Kept between frames so that a sequence allocates once.
   std::vector<std::vector<Streak>> per_block_;
   std::vector<float> acc_;  // the streaks' accumulators, blocks of kStreakAccumLanes pixels
