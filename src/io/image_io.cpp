@@ -19,6 +19,7 @@
 
 #include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
+#include "io/png_codec.hpp"
 
 namespace hydrolux::io {
 
@@ -227,19 +228,29 @@ bool read_coded(OIIO::ImageInput& in, int alpha, Image& img) {
   return true;
 }
 
+// PNG stores colour unassociated with alpha; hydrolux's RGBA images hold it multiplied by the
+// alpha (a drop's coverage over black). The 4th channel's colour is divided by it, in linear light,
+// before the curve (a pixel of alpha 0 holds black); alpha itself is stored linearly.
+float straight(const float* pixel, int c) {
+  const float a = pixel[3];
+  return a > 0.0f ? pixel[c] / a : 0.0f;
+}
+
 template <typename T>
 std::vector<T> quantise_srgb(const Image& img, double max_code) {
   std::vector<T> out(img.pixels.size());
+  const std::size_t c = std::size_t(img.channels);
   for (std::size_t i = 0; i < out.size(); ++i) {
-    // Alpha (4th channel) is stored linearly, colour through the sRGB curve.
-    const bool alpha = img.channels == 4 && i % 4 == 3;
-    const double v = alpha ? std::clamp(double(img.pixels[i]), 0.0, 1.0) : color::srgb_encode(double(img.pixels[i]));
+    const float* pixel = img.pixels.data() + i / c * c;
+    const double v = c != 4         ? color::srgb_encode(double(img.pixels[i]))
+                     : i % 4 == 3 ? std::clamp(double(img.pixels[i]), 0.0, 1.0)
+                                  : color::srgb_encode(double(straight(pixel, int(i % 4))));
     out[i] = static_cast<T>(std::lround(v * max_code));
   }
   return out;
 }
 
-// 8-bit codes: colour through the encoder's table, alpha (4th channel) linearly, as quantise_srgb.
+// 8-bit codes through the encoder's table, as quantise_srgb.
 std::vector<std::uint8_t> quantise_srgb8(const Image& img) {
   std::vector<std::uint8_t> out(img.pixels.size());
   const Srgb8Encoder& encode = srgb8_encoder();
@@ -248,7 +259,8 @@ std::vector<std::uint8_t> quantise_srgb8(const Image& img) {
     for (std::size_t i = 0; i < out.size(); ++i) out[i] = encode(px[i]);
   } else {
     for (std::size_t i = 0; i < out.size(); ++i)
-      out[i] = i % 4 == 3 ? std::uint8_t(std::lround(std::clamp(double(px[i]), 0.0, 1.0) * 255.0)) : encode(px[i]);
+      out[i] = i % 4 == 3 ? std::uint8_t(std::lround(std::clamp(double(px[i]), 0.0, 1.0) * 255.0))
+                          : encode(straight(px + i / 4 * 4, int(i % 4)));
   }
   return out;
 }
@@ -269,9 +281,53 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
   const auto format = sniff_image_format(bytes);
   if (!format) throw fail("not an image hydrolux reads (PNG, EXR, Radiance HDR, PNM, JPEG or TIFF)");
 
-  std::lock_guard lock(decode_mutex());
   DecodedImage result;
   result.format = *format;
+  // The codecs trust their headers: each file's structure is walked first (image_format.cpp). A
+  // truncated PNG, for one, would otherwise reach OpenImageIO 2.4's PNG reader, which leaks the
+  // error message that libpng's longjmp skips (fuzz/lsan.supp).
+  if (const std::string problem = image_structure_problem(*format, bytes, limits); !problem.empty())
+    throw fail(fmt::format("malformed, truncated or oversized {} file: {}", format_name(*format), problem));
+
+  // What the header claims against the limits, before any pixel is allocated.
+  const auto check_claim = [&](std::int64_t w, std::int64_t h, std::int64_t c) {
+    if (w <= 0 || h <= 0 || c <= 0) throw fail(fmt::format("the header claims an empty image ({} x {} x {})", w, h, c));
+    const std::string claim = fmt::format("the header claims {} x {} pixels x {} channels", w, h, c);
+    if (w > limits.max_side || h > limits.max_side)
+      throw fail(fmt::format("{}; the limit is {} pixels a side", claim, limits.max_side));
+    if (w * h > limits.max_pixels) throw fail(fmt::format("{}; the limit is {} pixels", claim, limits.max_pixels));
+    if (c > limits.max_channels) throw fail(fmt::format("{}; the limit is {} channels", claim, limits.max_channels));
+    if (w * h * c > limits.max_values)
+      throw fail(fmt::format("{} ({} values); the limit is {} values", claim, w * h * c, limits.max_values));
+    return claim;
+  };
+
+  // Plain 8- and 16-bit grey or RGB PNGs (cameras', renderers', hydrolux's own) through libdeflate
+  // without the codec's lock; the same floats as OpenImageIO's reader gives (tests/io/test_png.cpp).
+  // Anything else, or a file the fast reader finds bad, goes to OpenImageIO below.
+  if (*format == ImageFormat::png) {
+    if (const auto header = png::plain_header(bytes)) {
+      check_claim(header->width, header->height, header->channels);
+      std::vector<std::uint8_t> samples;
+      if (png::read_samples(bytes, *header, samples)) {
+        Image img(header->width, header->height, header->channels);
+        const float* linear = srgb_decode_table(header->bits == 16).linear.data();
+        float* out = img.pixels.data();
+        if (header->bits == 8) {
+          for (std::size_t i = 0; i < img.pixels.size(); ++i) out[i] = linear[samples[i]];
+        } else {
+          for (std::size_t i = 0; i < img.pixels.size(); ++i)
+            out[i] = linear[std::size_t(samples[2 * i]) << 8 | samples[2 * i + 1]];
+        }
+        result.channel_names = header->channels == 3 ? std::vector<std::string>{"R", "G", "B"}
+                                                     : std::vector<std::string>{"Y"};
+        result.image = std::move(img);
+        return result;
+      }
+    }
+  }
+
+  std::lock_guard lock(decode_mutex());
   CapturedStderr captured;
   std::vector<std::string> why;
   const auto codec_failure = [&](const std::string& oiio_message) {
@@ -280,12 +336,6 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
     const std::string reason = join(why);
     return fail(fmt::format("cannot read the {} data: {}", format_name(*format), reason.empty() ? "malformed" : reason));
   };
-
-  // The codecs trust their headers: each file's structure is walked first (image_format.cpp). A
-  // truncated PNG, for one, would otherwise reach OpenImageIO 2.4's PNG reader, which leaks the
-  // error message that libpng's longjmp skips (fuzz/lsan.supp).
-  if (const std::string problem = image_structure_problem(*format, bytes, limits); !problem.empty())
-    throw fail(fmt::format("malformed, truncated or oversized {} file: {}", format_name(*format), problem));
 
   std::string stripped;
   if (*format == ImageFormat::jpeg) {
@@ -304,14 +354,7 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
 
   const std::int64_t w = spec.width, h = spec.height, c = spec.nchannels;
   if (spec.deep) throw fail("deep images are not supported");
-  if (w <= 0 || h <= 0 || c <= 0) throw fail(fmt::format("the header claims an empty image ({} x {} x {})", w, h, c));
-  const std::string claim = fmt::format("the header claims {} x {} pixels x {} channels", w, h, c);
-  if (w > limits.max_side || h > limits.max_side)
-    throw fail(fmt::format("{}; the limit is {} pixels a side", claim, limits.max_side));
-  if (w * h > limits.max_pixels) throw fail(fmt::format("{}; the limit is {} pixels", claim, limits.max_pixels));
-  if (c > limits.max_channels) throw fail(fmt::format("{}; the limit is {} channels", claim, limits.max_channels));
-  if (w * h * c > limits.max_values)
-    throw fail(fmt::format("{} ({} values); the limit is {} values", claim, w * h * c, limits.max_values));
+  const std::string claim = check_claim(w, h, c);
   const int bits = int(spec.format.size() * 8);
   const bool walked = *format != ImageFormat::hdr && *format != ImageFormat::pnm;  // bounded above
   const std::uint64_t least =
@@ -353,51 +396,35 @@ std::string encode_image(const Image& image, ImageFormat format, PngOptions png)
   if (format == ImageFormat::png && (png.compression < 0 || png.compression > kMaxPngCompression))
     throw IoError(fmt::format("PNG compression level {} (use 0 to {})", png.compression, kMaxPngCompression));
 
-  OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT;
-  std::vector<std::uint8_t> px8;
-  std::vector<std::uint16_t> px16;
-  const void* data = image.pixels.data();
   if (format == ImageFormat::png) {
-    if (png.bits == 8) {
-      px8 = quantise_srgb8(image);
-      type = OIIO::TypeDesc::UINT8;
-      data = px8.data();
-    } else {
-      px16 = quantise_srgb<std::uint16_t>(image, 65535.0);
-      type = OIIO::TypeDesc::UINT16;
-      data = px16.data();
-    }
+    if (png.bits == 8) return png::encode(quantise_srgb8(image).data(), image.width, image.height, image.channels, 8,
+                                          png.compression);
+    const std::vector<std::uint16_t> codes = quantise_srgb<std::uint16_t>(image, 65535.0);
+    std::vector<std::uint8_t> big_endian(2 * codes.size());
+    for (std::size_t i = 0; i < codes.size(); ++i)
+      big_endian[2 * i] = std::uint8_t(codes[i] >> 8), big_endian[2 * i + 1] = std::uint8_t(codes[i]);
+    return png::encode(big_endian.data(), image.width, image.height, image.channels, 16, png.compression);
   }
+
+  const OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT;
+  const void* data = image.pixels.data();
   std::vector<unsigned char> buffer;
   OIIO::Filesystem::IOVecOutput proxy(buffer);
   auto out = OIIO::ImageOutput::create(oiio_format(format));
   if (!out) throw IoError(fmt::format("cannot encode {}: {}", format_name(format), OIIO::geterror()));
   OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
-  spec.attribute("oiio:ColorSpace", format == ImageFormat::png ? "sRGB" : "linear");
-  if (format == ImageFormat::exr && !image.channel_names.empty()) {
+  spec.attribute("oiio:ColorSpace", "linear");
+  if (!image.channel_names.empty()) {
     if (image.channel_names.size() != std::size_t(image.channels))
       throw IoError("cannot encode an image whose channel names do not match its channels");
     spec.channelnames = image.channel_names;
     const auto a = std::find(image.channel_names.begin(), image.channel_names.end(), "A");
     spec.alpha_channel = a == image.channel_names.end() ? -1 : int(a - image.channel_names.begin());
   }
-  if (format == ImageFormat::png) {
-    spec.attribute("png:compressionLevel", png.compression);
-    // libpng's filters (png.h's PNG_FILTER_NONE, PNG_FILTER_UP). By default libpng tries all five on
-    // every row and keeps the one of least sum: at level 1 that costs as much as the deflate. The fast
-    // levels filter every row with Up (one subtraction a byte, and files within a few per cent of the
-    // adaptive choice's at level 1), level 0 stores the rows unfiltered; levels 3-9 keep libpng's
-    // adaptive choice (level 6 is zlib's default and writes the bytes hydrolux wrote before the level
-    // was an option).
-    constexpr int kFilterNone = 0x08, kFilterUp = 0x20;
-    if (png.compression <= 2) spec.attribute("png:filter", png.compression == 0 ? kFilterNone : kFilterUp);
-  }
-  if (format == ImageFormat::exr) {
-    spec.attribute("compression", "zip");
-    // Same image, same bytes: OpenImageIO stamps EXR files with the time of writing unless
-    // DateTime is set; an empty one is written as an empty capDate.
-    spec.attribute("DateTime", "");
-  }
+  spec.attribute("compression", "zip");
+  // Same image, same bytes: OpenImageIO stamps EXR files with the time of writing unless
+  // DateTime is set; an empty one is written as an empty capDate.
+  spec.attribute("DateTime", "");
   void* proxy_ptr = &proxy;
   spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy_ptr);
   if (!out->open("memory", spec) || !out->write_image(type, data) || !out->close()) {

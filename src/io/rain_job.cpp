@@ -237,6 +237,15 @@ class BoundedQueue {
     cv_.notify_all();
     return true;
   }
+  // An item if one is waiting, else nothing, at once.
+  std::optional<T> try_pop() {
+    std::lock_guard lock(m_);
+    if (stopped_ || q_.empty()) return std::nullopt;
+    T item = std::move(q_.front());
+    q_.pop_front();
+    cv_.notify_all();
+    return item;
+  }
   std::optional<T> pop() {
     std::unique_lock lock(m_);
     cv_.wait(lock, [&] { return stopped_ || closed_ || !q_.empty(); });
@@ -265,32 +274,32 @@ class BoundedQueue {
   bool closed_ = false, stopped_ = false;
 };
 
-// A frame of a folder as read (or why not), and as rendered.
-struct FolderFrame {
+// A frame of a folder or a video as read (or why not), and as rendered.
+struct DecodedFrame {
   std::size_t k = 0;
   Image frame, depth;
   std::vector<std::string> warnings;
   std::exception_ptr error, depth_error;
 };
-struct FolderRendered {
+struct RenderedFrame {
   std::size_t k = 0;
   std::unique_ptr<rain::RainFrame> result;
   std::vector<std::string> warnings;
   std::exception_ptr error;
 };
 
-// The frames in flight of a folder run, bounded: one being decoded, kDecodedFrames decoded and
+// The frames in flight of a folder or video run, bounded: one being decoded, kDecodedFrames decoded and
 // waiting, one being rendered, and kRenderedFrames rendered frames (each rendered into one of as many
 // reused RainFrames) waiting for or being encoded. At 1920 x 1080 RGB: three frames of 24 MB in and
 // three of 32 MB out (frame and alpha), measured 115 MB above one frame at a time at the peak.
-class FolderPipeline {
+class FramePipeline {
  public:
   static constexpr std::size_t kDecodedFrames = 1, kRenderedFrames = 3;
   // What that adds to one frame at a time, per pixel, for the memory check: the measured 115 MB
   // over 1920 x 1080 pixels.
   static constexpr double kExtraBytesPerPixel = 115e6 / (1920.0 * 1080.0);
-  BoundedQueue<FolderFrame> decoded{kDecodedFrames};
-  BoundedQueue<FolderRendered> rendered{kRenderedFrames};
+  BoundedQueue<DecodedFrame> decoded{kDecodedFrames};
+  BoundedQueue<RenderedFrame> rendered{kRenderedFrames};
 
   // A RainFrame to render into: a new one until kRenderedFrames exist, then one the writer has
   // released; nothing once stopped.
@@ -303,6 +312,14 @@ class FolderPipeline {
     return f ? std::move(*f) : nullptr;
   }
   void release(std::unique_ptr<rain::RainFrame> f) { (void)free_.push(std::move(f)); }
+
+  // An input frame's buffer to decode into: one the render stage has finished with, else a new one
+  // (at most kDecodedFrames + 2 are ever in use: decoding, waiting, rendering).
+  Image spare_input() {
+    auto img = spare_inputs_.try_pop();
+    return img ? std::move(*img) : Image();
+  }
+  void recycle_input(Image&& img) { (void)spare_inputs_.push(std::move(img)); }
 
   // Runs `read` and `write` on threads of their own and `render` on this one. The first exception
   // any stage lets out stops the others and is rethrown here once all three have ended.
@@ -334,9 +351,11 @@ class FolderPipeline {
     decoded.stop();
     rendered.stop();
     free_.stop();
+    spare_inputs_.stop();
   }
   std::size_t made_ = 0;  // the render stage's alone
   BoundedQueue<std::unique_ptr<rain::RainFrame>> free_{kRenderedFrames};
+  BoundedQueue<Image> spare_inputs_{kDecodedFrames + 2};
 };
 
 RainJobResult run_folder(const Run& run) {
@@ -372,7 +391,7 @@ RainJobResult run_folder(const Run& run) {
   // and left out, the others written, and the run ends with the list, as the batch job does: found
   // only by decoding, it would otherwise cost a second pass over every frame before the work.
   //
-  // Three stages overlap over neighbouring frames (FolderPipeline): one thread reads and decodes
+  // Three stages overlap over neighbouring frames (FramePipeline): one thread reads and decodes
   // frames in order, this one renders them in order (the rain field is one sequence; the renderer's
   // own loops use every core), and a third encodes and writes them in order, and does all the
   // bookkeeping a frame's end needs (its warnings, left out or written, statistics, progress), so
@@ -385,11 +404,11 @@ RainJobResult run_folder(const Run& run) {
   NegativeValues negatives;
   rain::RainStats last_stats;
 
-  FolderPipeline pipe;
+  FramePipeline pipe;
   // Stage 1: read and decode; the codec's warnings travel with the frame, said when it is written.
   const auto read_stage = [&] {
     for (std::size_t k = 0; k < frames.size(); ++k) {
-      FolderFrame f;
+      DecodedFrame f;
       f.k = k;
       const Warn sink = [&f](const std::string& text) { f.warnings.push_back(text); };
       try {
@@ -451,7 +470,7 @@ RainJobResult run_folder(const Run& run) {
   // Stage 2, on this thread: render in order.
   const auto render_stage = [&] {
     while (auto f = pipe.decoded.pop()) {
-      FolderRendered out;
+      RenderedFrame out;
       out.k = f->k;
       out.warnings = std::move(f->warnings);
       out.error = f->error;
@@ -462,7 +481,7 @@ RainJobResult run_folder(const Run& run) {
           if (!renderer) {
             const rain::RainCamera cam = rain::camera_for(a.options, frame.width, frame.height);
             rain::check_render_memory(cam, frame.channels, false, "--input-dir " + name,
-                                      FolderPipeline::kExtraBytesPerPixel);
+                                      FramePipeline::kExtraBytesPerPixel);
             renderer.emplace(run.make_renderer(cam, !a.depth_dir));
           } else if (const auto& c = renderer->field().camera(); frame.width != c.width || frame.height != c.height) {
             throw IoError(fmt::format("--input-dir {}: is {}x{}, unlike the first frame ({}x{}); one sequence has one size",
@@ -538,42 +557,76 @@ RainJobResult run_video(const Run& run) {
   rain::RainCamera cam = rain::camera_for(a.options, info.width, info.height);
   cam.fps = info.fps();
   check_video_camera(cam, *a.video);
-  rain::check_render_memory(cam, 3, false, "--video " + *a.video);
+  rain::check_render_memory(cam, 3, false, "--video " + *a.video, FramePipeline::kExtraBytesPerPixel);
   rain::RainRenderer renderer = run.make_renderer(cam, true);
   auto writer = api.open_writer([&out](std::uint64_t off, std::string_view bytes) { out.write_at(off, bytes); }, ext,
                                 info, a.files.crf, fmt::format("-o {}", *a.output));
   const color::Srgb8Tables tables;
-  VideoFrame in_frame, out_frame;
-  Image linear;
-  rain::RainFrame result;
   nlohmann::json per_frame = nlohmann::json::array();
   NegativeValues negatives;
-  std::int64_t k = 0;
+  rain::RainStats last_stats;
+  std::int64_t k = 0;  // frames written
   // The frame count for the progress: the container's, else the duration times the rate (Matroska).
   const std::int64_t expected = info.frame_count > 0 ? info.frame_count
                                 : info.duration_s > 0 ? std::llround(info.duration_s * info.fps())
                                                       : -1;
-  while (reader->read(in_frame)) {
-    // 8-bit frames to linear float and back through the library's tables.
-    if (linear.width != in_frame.width || linear.height != in_frame.height || linear.channels != 3)
-      linear = Image(in_frame.width, in_frame.height, 3);
-    tables.to_linear(in_frame.rgb.data(), std::size_t(in_frame.width) * in_frame.height, linear.pixels.data());
-    render_frame(renderer, linear, nullptr, a.files.frame_index + k, false, result, "--video " + *a.video);
-    negatives.add(result.stats);
-    const Image& img = result.image;
-    out_frame.width = img.width;
-    out_frame.height = img.height;
-    out_frame.rgb.resize(std::size_t(img.width) * img.height * 3);
-    tables.to_srgb8(img.pixels.data(), std::size_t(img.width) * img.height, img.channels, out_frame.rgb.data());
-    writer->write(out_frame);
-    if (stats) {
-      auto j = rain_stats_json(result.stats);
-      j["frame_index"] = a.files.frame_index + k;
-      per_frame.push_back(std::move(j));
+  // Three overlapping stages, as for a folder (FramePipeline): this thread renders in order while one
+  // decodes the next frames and another encodes the last ones, in order, so the encoder's time is
+  // not added to the renderer's; the same bytes as one frame at a time. A decoding, rendering or
+  // encoding failure ends the run (a video has no frame to leave out).
+  FramePipeline pipe;
+  const auto read_stage = [&] {
+    VideoFrame in_frame;
+    for (std::size_t n = 0; reader->read(in_frame); ++n) {
+      DecodedFrame f;
+      f.k = n;
+      // 8-bit frames to linear float (and back below) through the library's tables, into a buffer
+      // of an earlier frame (a fresh 1080p frame costs its 24 MB of page faults).
+      f.frame = pipe.spare_input();
+      if (f.frame.width != in_frame.width || f.frame.height != in_frame.height || f.frame.channels != 3)
+        f.frame = Image(in_frame.width, in_frame.height, 3);
+      tables.to_linear(in_frame.rgb.data(), std::size_t(in_frame.width) * in_frame.height, f.frame.pixels.data());
+      if (!pipe.decoded.push(std::move(f))) return;
     }
-    ++k;
-    if (expected > 0) run.progress(std::min(1.0, double(k) / double(expected)), fmt::format("frame {}/{}", k, expected));
-  }
+    pipe.decoded.close();
+  };
+  const auto render_stage = [&] {
+    while (auto f = pipe.decoded.pop()) {
+      auto result = pipe.acquire();
+      if (!result) return;  // stopped
+      render_frame(renderer, f->frame, nullptr, a.files.frame_index + std::int64_t(f->k), false, *result,
+                   "--video " + *a.video);
+      pipe.recycle_input(std::move(f->frame));
+      RenderedFrame rendered;
+      rendered.k = f->k;
+      rendered.result = std::move(result);
+      if (!pipe.rendered.push(std::move(rendered))) return;
+    }
+    pipe.rendered.close();
+  };
+  const auto write_stage = [&] {
+    VideoFrame out_frame;
+    while (auto item = pipe.rendered.pop()) {
+      const rain::RainFrame& result = *item->result;
+      const Image& img = result.image;
+      out_frame.width = img.width;
+      out_frame.height = img.height;
+      out_frame.rgb.resize(std::size_t(img.width) * img.height * 3);
+      tables.to_srgb8(img.pixels.data(), std::size_t(img.width) * img.height, img.channels, out_frame.rgb.data());
+      writer->write(out_frame);
+      negatives.add(result.stats);
+      last_stats = result.stats;
+      if (stats) {
+        auto j = rain_stats_json(result.stats);
+        j["frame_index"] = a.files.frame_index + k;
+        per_frame.push_back(std::move(j));
+      }
+      pipe.release(std::move(item->result));
+      ++k;
+      if (expected > 0) run.progress(std::min(1.0, double(k) / double(expected)), fmt::format("frame {}/{}", k, expected));
+    }
+  };
+  pipe.run(read_stage, render_stage, write_stage);
   writer->finish();
   run.finish_progress();
   negatives.report(run, "--video " + *a.video, std::size_t(k));
@@ -586,7 +639,7 @@ RainJobResult run_video(const Run& run) {
     stats->write(j.dump(2) + "\n");
   }
   files.commit();
-  return run.result(renderer, result.stats, std::size_t(k), std::size_t(k));
+  return run.result(renderer, last_stats, std::size_t(k), std::size_t(k));
 }
 
 }  // namespace

@@ -87,7 +87,7 @@ const Field<RainFileOptions> kRainFiles[] = {
       "H.264 quality of --video's output (0 lossless .. 51; 18 visually lossless)"},
      HYDROLUX_PARAM_MEMBER(crf)},
     {{"png_compression", "--png-compression", "files", K::integer, "", 0, 9,
-      "zlib level of PNG outputs: 0 stored, 1 fastest, 9 smallest, 6 zlib's default; the same pixels at "
+      "Deflate level of PNG outputs (libdeflate): 0 stored, 1 fastest, 9 smallest; the same pixels at "
       "every level (BENCHMARKS.md: time and size)"},
      HYDROLUX_PARAM_MEMBER(png_compression)},
     {{"depth_scale_m", "--depth-scale-m", "files", K::real, "m", 1e-6, 1e3,

@@ -538,37 +538,54 @@ TEST(SrgbTables, DecodeGivesTheCurvesFloatsForEveryCode) {
   }
 }
 
-// The PNG that encode_image wrote before its table and the level option: the curve's codes (alpha
-// linear), written by OpenImageIO with zlib's default level and libpng's default filters; `level`, if
-// given, set as encode_image sets it (with the Up filter at levels 1 and 2, none at 0).
-std::string curve_png(const Image& img, std::optional<int> level) {
-  std::vector<std::uint8_t> codes(img.pixels.size());
-  for (std::size_t i = 0; i < codes.size(); ++i)
-    codes[i] = img.channels == 4 && i % 4 == 3
-                   ? std::uint8_t(std::lround(std::clamp(double(img.pixels[i]), 0.0, 1.0) * 255.0))
-                   : std::uint8_t(curve_code(img.pixels[i]));
-  std::vector<unsigned char> buffer;
-  OIIO::Filesystem::IOVecOutput proxy(buffer);
-  auto out = OIIO::ImageOutput::create("png");
-  OIIO::ImageSpec spec(img.width, img.height, img.channels, OIIO::TypeDesc::UINT8);
-  spec.attribute("oiio:ColorSpace", "sRGB");
-  if (level) {
-    spec.attribute("png:compressionLevel", *level);
-    if (*level <= 2) spec.attribute("png:filter", *level == 0 ? 0x08 : 0x20);
-  }
+// The codes libpng (through OpenImageIO, alpha left unassociated) reads from a PNG, and the
+// file's chunk types in order.
+std::vector<std::uint16_t> libpng_codes(const std::string& png, std::vector<std::string>* chunks = nullptr) {
+  OIIO::Filesystem::IOMemReader proxy(const_cast<char*>(png.data()), png.size());
+  OIIO::ImageSpec config;
   void* proxy_ptr = &proxy;
-  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy_ptr);
-  EXPECT_TRUE(out->open("memory", spec) && out->write_image(OIIO::TypeDesc::UINT8, codes.data()) && out->close());
-  return std::string(buffer.begin(), buffer.end());
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy_ptr);
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::create("png");
+  OIIO::ImageSpec spec;
+  EXPECT_TRUE(in->open("x.png", spec, config)) << in->geterror();
+  std::vector<std::uint16_t> codes(spec.image_pixels() * std::size_t(spec.nchannels));
+  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT16, codes.data())) << in->geterror();
+  EXPECT_EQ(in->geterror(), "");
+  if (spec.format == OIIO::TypeDesc::UINT8)
+    for (auto& c : codes) c = std::uint16_t(c / 257);  // OpenImageIO widens 8-bit codes by 257
+  if (chunks)
+    for (std::size_t pos = 8; pos + 8 <= png.size();) {
+      const auto u8 = [&](std::size_t at) { return std::uint32_t(static_cast<unsigned char>(png[at])); };
+      chunks->push_back(png.substr(pos + 4, 4));
+      pos += 12 + (u8(pos) << 24 | u8(pos + 1) << 16 | u8(pos + 2) << 8 | u8(pos + 3));
+    }
+  return codes;
 }
 
-// encode_image's 8-bit PNGs are byte for byte the curve's, on images with NaN, infinite, negative,
-// above-1 and random values, in RGB and RGBA, at every level; level 6 (zlib's default) writes the very
-// bytes hydrolux wrote before the option (and before the table); higher levels are smaller; levels
-// outside 0-9 are refused.
-TEST(SrgbTables, EncodeWritesTheCurvesBytesAtEveryLevel) {
+// The codes a PNG of `img` must hold: colour through the curve, unassociated from alpha in linear
+// light for RGBA (hydrolux's RGBA images carry colour multiplied by alpha; PNG stores it divided),
+// alpha linear.
+std::vector<std::uint16_t> curve_codes(const Image& img, double max_code) {
+  std::vector<std::uint16_t> codes(img.pixels.size());
+  for (std::size_t i = 0; i < codes.size(); ++i) {
+    const float* px = img.pixels.data() + i / std::size_t(img.channels) * std::size_t(img.channels);
+    double v = 0;
+    if (img.channels == 4 && i % 4 == 3) v = std::clamp(double(img.pixels[i]), 0.0, 1.0);
+    else if (img.channels == 4) v = color::srgb_encode(double(px[3] > 0 ? img.pixels[i] / px[3] : 0.0f));
+    else v = color::srgb_encode(double(img.pixels[i]));
+    codes[i] = std::uint16_t(std::lround(v * max_code));
+  }
+  return codes;
+}
+
+// encode_image's PNGs (libdeflate, io/png_codec.cpp) read back through libpng as the curve's codes,
+// 8- and 16-bit, on images with NaN, infinite, negative, above-1 and random values, in grey, RGB and
+// RGBA, at every level, with sRGB, gAMA and cHRM before the image data; higher levels are smaller;
+// levels outside 0-9 are refused.
+TEST(SrgbTables, EncodeWritesTheCurvesCodesAtEveryLevel) {
   std::vector<Image> images;
-  for (int c : {1, 3, 4}) {
+  for (int c : {1, 2, 3, 4}) {
     Image img(97, 31, c);
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(-0.1f, 1.1f);
@@ -576,15 +593,20 @@ TEST(SrgbTables, EncodeWritesTheCurvesBytesAtEveryLevel) {
     img.pixels[0] = std::numeric_limits<float>::quiet_NaN();
     img.pixels[1] = -std::numeric_limits<float>::infinity();
     img.pixels[5] = std::numeric_limits<float>::infinity();
+    if (c == 4) img.pixels[7] = 0.0f;  // a transparent pixel: black
     images.push_back(std::move(img));
   }
   images.push_back(gradient(256, 64, 3));
   for (const Image& img : images) {
-    for (int level = 0; level <= kMaxPngCompression; ++level)
-      EXPECT_EQ(encode_image(img, ImageFormat::png, {8, level}), curve_png(img, level))
+    for (int level = 0; level <= kMaxPngCompression; ++level) {
+      std::vector<std::string> chunks;
+      EXPECT_EQ(libpng_codes(encode_image(img, ImageFormat::png, {8, level}), &chunks), curve_codes(img, 255.0))
           << "level " << level << ", " << img.channels << " channels";
-    EXPECT_EQ(encode_image(img, ImageFormat::png, {8, 6}), curve_png(img, std::nullopt));
-    EXPECT_EQ(encode_image(img, ImageFormat::png), curve_png(img, kDefaultPngCompression));
+      EXPECT_EQ(chunks, (std::vector<std::string>{"IHDR", "sRGB", "gAMA", "cHRM", "IDAT", "IEND"}));
+    }
+    for (int level : {0, 1, 6})
+      EXPECT_EQ(libpng_codes(encode_image(img, ImageFormat::png, {16, level})), curve_codes(img, 65535.0))
+          << "16 bits, level " << level << ", " << img.channels << " channels";
   }
   const Image& smooth = images.back();
   EXPECT_LT(encode_image(smooth, ImageFormat::png, {8, 9}).size(), encode_image(smooth, ImageFormat::png, {8, 1}).size());

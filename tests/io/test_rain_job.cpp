@@ -1,21 +1,26 @@
-// io::run_rain_job over a folder of frames (issue 27): the read, render and write of neighbouring
-// frames overlap on three threads; the files must be those of one frame at a time, whatever the
+// io::run_rain_job over a folder of frames or a video (issue 27): the read, render and write of
+// neighbouring frames overlap on three threads; the files must be those of one frame at a time, whatever the
 // number of threads, a frame that cannot be used left out as before, and a bad first frame still
 // stops the run with nothing written.
 #include <gtest/gtest.h>
 #include <oneapi/tbb/global_control.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/image_io.hpp"
 #include "hydrolux/io/rain_job.hpp"
+#include "hydrolux/io/video.hpp"
 #include "hydrolux/rain/params.hpp"
 #include "hydrolux/rain/rain.hpp"
 
@@ -189,6 +194,68 @@ TEST_F(RainJobFolder, APngCompressionLevelOutsideTheRangeIsRefused) {
   j.files.png_compression = 10;
   EXPECT_THROW((void)run(j), Error);
   EXPECT_TRUE(written("out").empty());
+}
+
+// A video's frames overlap the same way (decode, render and encode on three threads): the output
+// is the bytes of one frame at a time, decoded, rendered and encoded in order, on one thread or two.
+TEST_F(RainJobFolder, OverlappedVideoWritesTheBytesOfOneFrameAtATime) {
+  const fs::path in = dir_ / "in.mp4";
+  const std::string make = "ffmpeg -v error -y -f lavfi -i testsrc2=size=160x96:rate=25 -frames:v 9 -pix_fmt yuv420p "
+                           "-c:v libx264 " + in.string();
+  ASSERT_EQ(std::system(make.c_str()), 0) << "ffmpeg (Debian's ffmpeg package; scripts/install-deps)";
+  RainJob j;
+  j.video = in.string();
+  j.options.settings.rate_mmh = 25;
+  j.options.settings.wind_mps = 3;
+  j.options.settings.seed = 4;
+  j.files.frame_index = 10;
+
+  // One frame at a time: read, render, encode, in order, on this thread.
+  const VideoApi& api = video_api();
+  const std::string bytes = read_file(in);
+  auto reader = api.open_reader(
+      [&bytes](std::uint64_t off, char* buf, std::size_t n) {
+        const std::size_t got = off < bytes.size() ? std::min<std::size_t>(n, bytes.size() - std::size_t(off)) : 0;
+        std::memcpy(buf, bytes.data() + off, got);
+        return got;
+      },
+      bytes.size(), "in.mp4", VideoLimits{});
+  std::string expected;
+  auto writer = api.open_writer(
+      [&expected](std::uint64_t off, std::string_view b) {
+        if (expected.size() < off + b.size()) expected.resize(std::size_t(off) + b.size());
+        std::memcpy(expected.data() + off, b.data(), b.size());
+      },
+      ".mp4", reader->info(), j.files.crf, "expected.mp4");
+  rain::RainCamera cam = rain::camera_for(j.options, reader->info().width, reader->info().height);
+  cam.fps = reader->info().fps();
+  rain::RainRenderer r(rain::RainField(j.options.settings, cam, true));
+  const color::Srgb8Tables tables;
+  VideoFrame frame, out_frame;
+  rain::RainFrame out;
+  int frames = 0;
+  for (; reader->read(frame); ++frames) {
+    Image linear(frame.width, frame.height, 3);
+    tables.to_linear(frame.rgb.data(), std::size_t(frame.width) * frame.height, linear.pixels.data());
+    r.render_into(linear, nullptr, j.files.frame_index + frames, false, out);
+    out_frame.width = frame.width;
+    out_frame.height = frame.height;
+    out_frame.rgb.resize(frame.rgb.size());
+    tables.to_srgb8(out.image.pixels.data(), std::size_t(frame.width) * frame.height, out.image.channels,
+                    out_frame.rgb.data());
+    writer->write(out_frame);
+  }
+  writer->finish();
+  ASSERT_EQ(frames, 9);
+
+  for (std::size_t threads : {std::size_t(1), std::size_t(2)}) {
+    const fs::path o = dir_ / ("out_" + std::to_string(threads) + ".mp4");
+    j.output = o.string();
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const RainJobResult res = run(j);
+    EXPECT_EQ(res.frames, 9u);
+    EXPECT_TRUE(read_file(o) == expected) << threads << " threads";
+  }
 }
 
 }  // namespace

@@ -45,7 +45,7 @@ inline constexpr int kMaxPngCompression = 9;
 
 struct PngOptions {
   int bits = 8;  // 8 or 16
-  int compression = kDefaultPngCompression;  // zlib level, 0 .. kMaxPngCompression
+  int compression = kDefaultPngCompression;  // libdeflate's level, 0 .. kMaxPngCompression
 };
 
 // What a decoded image may claim. The defaults take a 16384 x 16384 RGBA image (4 GiB as float),

@@ -49,7 +49,7 @@ struct LensDropSettings {
 
 // How a run over files encodes its outputs (hydrolux lens-drops; the Python function returns arrays).
 struct LensDropsFileOptions {
-  int png_compression = 1;  // zlib's level for PNG outputs: io::kDefaultPngCompression
+  int png_compression = 1;  // the deflate level of PNG outputs: io::kDefaultPngCompression
 };
 
 std::span<const Field<LensDropSettings>> lens_drops_params();

@@ -30,7 +30,7 @@ struct RainOptions {
 struct RainFileOptions {
   std::int64_t frame_index = 0;
   int crf = 18;
-  int png_compression = 1;  // zlib's level for PNG outputs: io::kDefaultPngCompression
+  int png_compression = 1;  // the deflate level of PNG outputs: io::kDefaultPngCompression
   double depth_scale_m = 0.001;
 };
 
