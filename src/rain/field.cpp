@@ -205,6 +205,7 @@ RainField::RainField(const RainSettings& settings, const RainCamera& camera, boo
     }
     rc.box_lo = lo;
     rc.box_size = hi - lo;
+    rc.box_inv_size = 1.0 / rc.box_size;
     const double mean = rc.number_per_m3 * rc.box_size.x * rc.box_size.y * rc.box_size.z;
     if (mean > double(kMaxDrops)) {
       throw TooManyDrops(mean, fmt::format(
@@ -225,13 +226,6 @@ RainField::RainField(const RainSettings& settings, const RainCamera& camera, boo
                             total_, double(kMaxDrops)));
 }
 
-Vec3 RainField::velocity_of(double radius_m) const {
-  const double x = std::clamp((radius_m - lut_lo_) / lut_step_, 0.0, double(velocity_lut_.size() - 1));
-  const std::size_t i = std::min(std::size_t(x), velocity_lut_.size() - 2);
-  const double v = velocity_lut_[i] + (x - double(i)) * (velocity_lut_[i + 1] - velocity_lut_[i]);
-  return Vec3(wind_.x, -v, wind_.z);
-}
-
 std::size_t RainField::class_of(std::uint64_t index) const {
   const auto it = std::upper_bound(classes_.begin(), classes_.end(), index,
                                    [](std::uint64_t i, const RadiusClass& c) { return i < c.first_index; });
@@ -241,10 +235,13 @@ std::size_t RainField::class_of(std::uint64_t index) const {
 RainField::Drop RainField::drop(std::uint64_t index) const { return drop(index, class_of(index)); }
 
 RainField::Drop RainField::drop(std::uint64_t index, std::size_t cls) const {
+  return drop_with_key(detail::hash(s_.seed, index), cls);
+}
+
+RainField::Drop RainField::drop_with_key(std::uint64_t key, std::size_t cls) const {
   Drop d;
   d.cls = cls;
   const auto& rc = classes_[d.cls];
-  const std::uint64_t key = detail::hash(s_.seed, index);
   const double u0 = detail::variate(key, 0), u1 = detail::variate(key, 1), u2 = detail::variate(key, 2);
   const double u3 = detail::variate(key, 3), u4 = detail::variate(key, 4);
   d.start = rc.box_lo + Vec3(u0, u1, u2) * rc.box_size;

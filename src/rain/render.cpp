@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <tuple>
+#include <utility>
 
 #include "composite.hpp"
 #include "field_detail.hpp"
@@ -26,31 +28,14 @@ namespace {
 // so the result does not depend on the number of threads.
 constexpr int kBandRows = 16;
 // Drops are turned into streaks in blocks of this many, in parallel.
-constexpr std::uint64_t kBlockDrops = std::uint64_t(1) << 15;
+constexpr std::uint64_t kBlockDrops = std::uint64_t(1) << 12;
 // Rayleigh (1879): a drop's fundamental (n = 2) oscillation has angular frequency
 // sqrt(8 sigma / (rho a^3)); water at 20 C: sigma = 0.0728 N/m, rho = 998 kg/m^3.
 constexpr double kSurfaceTension = 0.0728, kWaterDensity = 998.0;
 constexpr float kLuma[3] = {0.2126f, 0.7152f, 0.0722f};
 
-// The integral of the unit tent max(0, 1 - |x|) from -infinity to u.
-// With c = u clamped to [-1, 1]: (1 + c)^2 / 2 for c <= 0 and 1 - (1 - c)^2 / 2 above, both
-// 1/2 + c - c |c| / 2 (no branches in the raster's inner loop).
-inline float tent_cdf(float u) {
-  const float c = std::clamp(u, -1.f, 1.f);
-  return 0.5f + c - 0.5f * c * std::abs(c);
-}
-
-// The interval of x where a x + b lies in [lo, hi], intersected into [x0, x1]; inv_a = 1 / a.
-inline void clip_linear(float a, float inv_a, float b, float lo, float hi, float& x0, float& x1) {
-  if (std::abs(a) < 1e-7f) {
-    if (b < lo || b > hi) x1 = x0 - 1;  // empty
-    return;
-  }
-  float u = (lo - b) * inv_a, v = (hi - b) * inv_a;
-  if (u > v) std::swap(u, v);
-  x0 = std::max(x0, u);
-  x1 = std::min(x1, v);
-}
+using detail::clip_linear;
+using detail::tent_cdf;
 
 constexpr std::size_t kLanes = kStreakAccumLanes, kBlock = kStreakAccumFloats;
 
@@ -78,7 +63,9 @@ void clear_blocks(float* p, std::size_t blocks) {
 }
 
 // Rasterises the rows [row0, row1) of one streak into `acc`. Returns whether it touched a pixel.
-bool raster(const Streak& st, int row0, int row1, int width, const float* depth, Accum& acc) {
+// simd: thin streaks without oscillation (nearly all) through the SIMD raster (composite.cpp), whose
+// lanes do this loop's operations in its order: the same floats.
+bool raster(const Streak& st, int row0, int row1, int width, const float* depth, Accum& acc, bool simd = true) {
   const float dx = st.x1 - st.x0, dy = st.y1 - st.y0;
   float L = std::sqrt(dx * dx + dy * dy);
   float ux = 0, uy = 1;
@@ -95,15 +82,23 @@ bool raster(const Streak& st, int row0, int row1, int width, const float* depth,
   // Reciprocals once a streak, not once a row or a pixel.
   const float inv_ux = std::abs(ux) < 1e-7f ? 0.f : 1 / ux, inv_uy = std::abs(uy) < 1e-7f ? 0.f : 1 / uy;
   const float inv_L = L > 0 ? 1 / L : 0.f;
+  const detail::ThinStreak ts{st.x0, st.y0, ux, uy, L, inv_L, inv_ux, inv_uy, w, st.z,
+                              {st.rgb[0], st.rgb[1], st.rgb[2]}, row0, row1, width, depth, acc.base, acc.r0, acc.stride};
+  if (simd && thin && !(st.osc_amp > 0)) return detail::thin_streak_rows(ts);
   bool touched = false;
   for (int y = row0; y < row1; ++y) {
     const float qy = float(y) + 0.5f;
-    // Pixel centres qx with |p| <= ext and s in [-ext, L + ext].
-    float xa = -std::numeric_limits<float>::max(), xb = std::numeric_limits<float>::max();
-    clip_linear(uy, inv_uy, -st.x0 * uy - (qy - st.y0) * ux, -ext, ext, xa, xb);
-    clip_linear(ux, inv_ux, -st.x0 * ux + (qy - st.y0) * uy, -ext, L + ext, xa, xb);
-    if (xb < xa) continue;
-    const int ia = std::max(0, int(std::ceil(xa - 0.5f))), ib = std::min(width - 1, int(std::floor(xb - 0.5f)));
+    int ia, ib;
+    if (thin) {  // the pixels the SIMD raster visits (composite.hpp)
+      if (!detail::thin_row_range(ts, y, ia, ib)) continue;
+    } else {  // pixel centres qx with |p| <= ext and s in [-ext, L + ext]
+      float xa = -std::numeric_limits<float>::max(), xb = std::numeric_limits<float>::max();
+      clip_linear(uy, inv_uy, -st.x0 * uy - (qy - st.y0) * ux, -ext, ext, xa, xb);
+      clip_linear(ux, inv_ux, -st.x0 * ux + (qy - st.y0) * uy, -ext, L + ext, xa, xb);
+      if (xb < xa) continue;
+      ia = std::max(0, int(std::ceil(xa - 0.5f)));
+      ib = std::min(width - 1, int(std::floor(xb - 0.5f)));
+    }
     const std::size_t row = std::size_t(y) * std::size_t(width);
     // Thin streaks (nearly all of them) without a branch a pixel: a pixel the streak misses, or whose
     // scene is nearer than the drop, adds alpha 0, which leaves its accumulators exactly as they were.
@@ -149,15 +144,35 @@ bool raster(const Streak& st, int row0, int row1, int width, const float* depth,
   return touched;
 }
 
-double percentile(std::vector<float> v, double q) {
-  if (v.empty()) return 0;
-  const auto k = std::size_t(std::clamp(q * double(v.size() - 1), 0.0, double(v.size() - 1)));
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-  return double(v[k]);
+// The q-th and p-th quantiles (q < p) of v (reordered): the element of rank floor(q (n - 1)), by
+// one selection of the higher rank and one among the elements below it.
+std::pair<double, double> percentiles(std::vector<float>& v, double q, double p) {
+  if (v.empty()) return {0, 0};
+  const auto rank = [&](double f) { return std::size_t(std::clamp(f * double(v.size() - 1), 0.0, double(v.size() - 1))); };
+  const std::size_t kq = rank(q), kp = rank(p);
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(kp), v.end());
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(kq), v.begin() + std::ptrdiff_t(kp));
+  return {double(v[kq]), double(v[kp])};
 }
 
 // Refuses a non-finite value anywhere in the frame (NonFinitePixel, the first in row order) and
 // counts the negative RGB values the composite reads as 0. Rows in parallel; the first bad row wins.
+// The negative values among n floats, and whether all are finite: one flat loop the compiler
+// vectorises (exponent bits for finiteness), compiled for AVX-512 and AVX2 too on x86-64.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx512f", "avx2", "default")))
+#endif
+std::uint64_t count_rgb_values(const float* __restrict p, std::size_t n, bool& finite) {
+  std::uint32_t negs = 0, infinite = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(p[i]);
+    negs += p[i] < 0.f ? 1u : 0u;
+    infinite |= (bits & 0x7f800000u) == 0x7f800000u ? 1u : 0u;
+  }
+  finite = infinite == 0;
+  return negs;
+}
+
 std::uint64_t check_frame_values(const Image& frame) {
   const int W = frame.width, H = frame.height, ch = frame.channels;
   std::vector<std::uint64_t> negatives(std::size_t(H), 0);
@@ -166,15 +181,8 @@ std::uint64_t check_frame_values(const Image& frame) {
     const float* row = frame.pixels.data() + std::size_t(y) * std::size_t(W) * std::size_t(ch);  // ch >= 3
     std::uint64_t neg = 0;
     bool finite = true;
-    if (ch == 3) {  // every value a colour: one flat loop the compiler vectorises (exponent bits for finiteness)
-      std::uint32_t negs = 0, infinite = 0;
-      for (int i = 0; i < 3 * W; ++i) {
-        const std::uint32_t bits = std::bit_cast<std::uint32_t>(row[i]);
-        negs += row[i] < 0.f ? 1u : 0u;
-        infinite |= (bits & 0x7f800000u) == 0x7f800000u ? 1u : 0u;
-      }
-      neg = negs;
-      finite = infinite == 0;
+    if (ch == 3) {
+      neg = count_rgb_values(row, std::size_t(W) * 3, finite);
     } else {
       for (int x = 0; x < W; ++x, row += ch) {
         for (int k = 0; k < 3; ++k) neg += row[k] < 0.f ? 1 : 0;
@@ -231,14 +239,14 @@ Image builtin_scene(const RainCamera& c) {
   return img;
 }
 
-Image streak_alpha(const Streak& streak, int width, int height) {
+Image streak_alpha(const Streak& streak, int width, int height, bool simd) {
   const std::size_t n = std::size_t(width) * std::size_t(height);
   const std::size_t stride = accum_stride(width), blocks = stride / kLanes * std::size_t(height);
   std::vector<float> px(blocks * kBlock);
   clear_blocks(px.data(), blocks);
   const std::vector<float> depth(n, std::numeric_limits<float>::infinity());
   Accum acc{px.data(), 0, stride};
-  raster(streak, 0, height, width, depth.data(), acc);
+  raster(streak, 0, height, width, depth.data(), acc, simd);
   Image a(width, height, 1);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) a.pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)] = 1 - *acc.at(y, x);
@@ -296,6 +304,18 @@ void RainRenderer::collect_streaks(std::int64_t frame_index, std::vector<std::ve
   // same streaks as without: the early test is the exact one's arithmetic with a wider margin.
   const bool level = ps == 0.0;
   const Vec3 wind = f.velocity_of(0.0);  // x and z: the wind
+  const std::uint64_t mixed_seed = detail::mix(f.settings().seed);
+  // Per class, the early cull's margin: the largest extent any of its drops drawn (depth in [near,
+  // resolved_to]) can have, its largest radius at the nearest depth with the largest defocus there or
+  // at the farthest (the defocus of a depth is monotonic on each side of the focus).
+  std::vector<double> early_ext(f.classes_.size(), 0.0);
+  for (std::size_t k = 0; k < f.classes_.size(); ++k) {
+    const RadiusClass& rc = f.classes_[k];
+    const double z_far = std::max(near, rc.resolved_to_m);
+    const double r = fpx * rc.radius_hi_m / near;
+    const double b = std::max(cam.defocus_radius_px(near), cam.defocus_radius_px(z_far));
+    early_ext[k] = std::max(1.0, std::sqrt(r * r + b * b) + 0.5) * 1.000001 + 1e-6;
+  }
   tbb::parallel_for(std::uint64_t(0), blocks, [&](std::uint64_t b) {
     auto& list = per_block[b];
     list.clear();
@@ -304,23 +324,31 @@ void RainRenderer::collect_streaks(std::int64_t frame_index, std::vector<std::ve
     for (std::uint64_t i = i0; i < i1; ++i) {
       while (cls + 1 < f.classes_.size() && i >= f.classes_[cls + 1].first_index) ++cls;
       const RadiusClass& rc = f.classes_[cls];
+      const std::uint64_t key = detail::hash_mixed(mixed_seed, i);
+      double level_x = 0, level_z = 0;  // with a level camera: the start's x and z, wrapped (as below)
       if (level) {
-        const std::uint64_t key = detail::hash(f.settings().seed, i);
         const double x0 = detail::wrap1(rc.box_lo.x + detail::variate(key, 0) * rc.box_size.x + wind.x * t0,
-                                        rc.box_lo.x, rc.box_size.x);
+                                        rc.box_lo.x, rc.box_size.x, rc.box_inv_size.x);
         const double wz = detail::wrap1(rc.box_lo.z + detail::variate(key, 2) * rc.box_size.z + wind.z * t0,
-                                        rc.box_lo.z, rc.box_size.z);
+                                        rc.box_lo.z, rc.box_size.z, rc.box_inv_size.z);
         const double x1 = x0 + wind.x * te, z0 = wz * pc, z1 = (wz + wind.z * te) * pc, zm = 0.5 * (z0 + z1);
-        if (zm < near || zm > rc.resolved_to_m || z0 < 0.5 * near || z1 < 0.5 * near) continue;
-        const double r = fpx * rc.radius_hi_m / zm, b_px = cam.defocus_radius_px(zm);
-        const double ext = std::max(1.0, std::sqrt(r * r + b_px * b_px) + 0.5) * 1.000001 + 1e-6;
-        const double px0 = cx + fpx * x0 / z0, px1 = cx + fpx * x1 / z1;
-        if (std::max(px0, px1) + ext < 0 || std::min(px0, px1) - ext > W) continue;
+        const bool in_depth = zm >= near && zm <= rc.resolved_to_m && z0 >= 0.5 * near && z1 >= 0.5 * near;
+        // Both ends left of the image (cx + fpx x / z + ext < 0) or both right of it (> W + ext),
+        // multiplied through by z > 0 (no division; the margin covers the rounding); one branch.
+        const double ext = early_ext[cls], lo = -(cx + ext), hi = W - cx + ext;
+        const bool left = fpx * x0 < lo * z0 && fpx * x1 < lo * z1, right = fpx * x0 > hi * z0 && fpx * x1 > hi * z1;
+        if (!in_depth || left || right) continue;
+        level_x = x0;
+        level_z = wz;
       }
-      const auto d = f.drop(i, cls);
+      const auto d = f.drop_with_key(key, cls);
       const Vec3 vel = f.velocity_of(d.radius);
-      // The start wrapped into the box (as RainField::position), then into the camera frame.
-      const Vec3 w0 = detail::wrap(d.start + vel * t0, rc.box_lo, rc.box_size);
+      // The start wrapped into the box (as RainField::position), then into the camera frame. With a
+      // level camera x and z are those found above: the same arithmetic (the wind is every drop's x
+      // and z velocity), done once.
+      const Vec3 w0 =
+          level ? Vec3(level_x, detail::wrap1(d.start.y + vel.y * t0, rc.box_lo.y, rc.box_size.y, rc.box_inv_size.y), level_z)
+                : detail::wrap(d.start + vel * t0, rc.box_lo, rc.box_size);
       const Vec3 w1 = w0 + vel * te;
       const double z0 = w0.y * ps + w0.z * pc, z1 = w1.y * ps + w1.z * pc, zm = 0.5 * (z0 + z1);
       // Drawn between near_m and the depth where its class stops being resolved (beyond, the
@@ -426,28 +454,40 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
     const float ya = std::max(0.f, std::min(s.y0, s.y1) - ext), yb = std::max(0.f, std::max(s.y0, s.y1) + ext);
     return std::pair<int, int>(std::min(int(ya) / kBandRows, bands - 1), std::min(int(yb) / kBandRows, bands - 1));
   };
-  auto& offset = band_offset_;
-  offset.assign(std::size_t(bands) + 1, 0);
-  for (const auto& l : per_block_)
-    for (const auto& s : l) {
-      const auto [a, b] = band_range(s);
-      for (int k = a; k <= b; ++k) ++offset[std::size_t(k) + 1];
+  // Blocks in parallel: each block's count per band, then each block copies its streaks to the
+  // places the counts give it (a band's streaks in drop order, whatever the threads).
+  const std::size_t nb = per_block_.size(), nbands = std::size_t(bands);
+  std::vector<std::uint32_t> counts(nb * nbands, 0);  // block b, band k at b * nbands + k
+  tbb::parallel_for(std::size_t(0), nb, [&](std::size_t b) {
+    for (const auto& s : per_block_[b]) {
+      const auto [lo, hi] = band_range(s);
+      for (int k = lo; k <= hi; ++k) ++counts[b * nbands + std::size_t(k)];
     }
-  std::partial_sum(offset.begin(), offset.end(), offset.begin());
-  if (banded_.size() < offset.back()) banded_.resize(offset.back());  // grown, never shrunk: no refill
-  {
-    std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
-    for (std::size_t b = 0; b < per_block_.size(); ++b)
-      for (std::size_t j = 0; j < per_block_[b].size(); ++j) {
-        const Streak& s = per_block_[b][j];
-        const auto [lo, hi] = band_range(s);
-        for (int k = lo; k <= hi; ++k) {
-          Streak& c = banded_[fill[std::size_t(k)]++];
-          c = s;
-          c.drop = first[b] + std::uint32_t(j);  // the streak's index in the frame, for its visibility
-        }
-      }
+  });
+  auto& offset = band_offset_;
+  offset.assign(nbands + 1, 0);
+  for (std::size_t k = 0; k < nbands; ++k) {  // counts become each block's first place in band k
+    std::uint32_t at = offset[k];
+    for (std::size_t b = 0; b < nb; ++b) {
+      const std::uint32_t n = counts[b * nbands + k];
+      counts[b * nbands + k] = at;
+      at += n;
+    }
+    offset[k + 1] = at;
   }
+  if (banded_.size() < offset.back()) banded_.resize(offset.back());  // grown, never shrunk: no refill
+  tbb::parallel_for(std::size_t(0), nb, [&](std::size_t b) {
+    std::uint32_t* fill = counts.data() + b * nbands;
+    for (std::size_t j = 0; j < per_block_[b].size(); ++j) {
+      const Streak& s = per_block_[b][j];
+      const auto [lo, hi] = band_range(s);
+      for (int k = lo; k <= hi; ++k) {
+        Streak& c = banded_[fill[std::size_t(k)]++];
+        c = s;
+        c.drop = first[b] + std::uint32_t(j);  // the streak's index in the frame, for its visibility
+      }
+    }
+  });
 
   // Per band of rows, one task: its streaks rasterised into the band's accumulators, then the band
   // composited while they are still in cache: image = (clear T_u + airlight (1 - T_u)) T_s + streak
@@ -549,27 +589,39 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   st.negative_values_clamped = negatives;
   st.drops_total = field_.drop_count();
   st.drops_in_view = n_streaks;
-  std::vector<float> lengths;
-  lengths.reserve(n_streaks);
-  double width_sum = 0, luma_sum = 0;
-  for (std::uint32_t j = 0; j < n_streaks; ++j)
-    if (visible[j].load(std::memory_order_relaxed)) ++st.drops_visible;
-  for (const auto& block : per_block_) {
-    for (const Streak& s : block) {
-      const float len = std::hypot(s.x1 - s.x0, s.y1 - s.y0);
-      lengths.push_back(len);
-      st.streak_length_px_max = std::max(st.streak_length_px_max, double(len));
-      width_sum += 2.0 * s.R;
-      st.streak_width_px_max = std::max(st.streak_width_px_max, 2.0 * s.R);
-      luma_sum += kLuma[0] * s.rgb[0] + kLuma[1] * s.rgb[1] + kLuma[2] * s.rgb[2];
+  // Per block in parallel (sums per block, added in block order: the same whatever the threads).
+  struct BlockStats {
+    double width_sum = 0, luma_sum = 0, length_max = 0, width_max = 0;
+    std::uint32_t visible = 0;
+  };
+  std::vector<BlockStats> block_stats(per_block_.size());
+  std::vector<float> lengths(n_streaks);
+  tbb::parallel_for(std::size_t(0), per_block_.size(), [&](std::size_t b) {
+    BlockStats& bs = block_stats[b];
+    for (std::size_t j = 0; j < per_block_[b].size(); ++j) {
+      const Streak& s = per_block_[b][j];
+      const float dx = s.x1 - s.x0, dy = s.y1 - s.y0, len = std::sqrt(dx * dx + dy * dy);
+      lengths[first[b] + j] = len;
+      bs.length_max = std::max(bs.length_max, double(len));
+      bs.width_sum += 2.0 * s.R;
+      bs.width_max = std::max(bs.width_max, 2.0 * s.R);
+      bs.luma_sum += kLuma[0] * s.rgb[0] + kLuma[1] * s.rgb[1] + kLuma[2] * s.rgb[2];
+      bs.visible += visible[first[b] + j].load(std::memory_order_relaxed);
     }
+  });
+  double width_sum = 0, luma_sum = 0;
+  for (const BlockStats& bs : block_stats) {
+    width_sum += bs.width_sum;
+    luma_sum += bs.luma_sum;
+    st.streak_length_px_max = std::max(st.streak_length_px_max, bs.length_max);
+    st.streak_width_px_max = std::max(st.streak_width_px_max, bs.width_max);
+    st.drops_visible += bs.visible;
   }
   if (n_streaks > 0) {
     st.streak_length_px_mean = std::accumulate(lengths.begin(), lengths.end(), 0.0) / double(n_streaks);
     st.streak_width_px_mean = width_sum / double(n_streaks);
     st.drop_luminance_mean = luma_sum / double(n_streaks);
-    st.streak_length_px_p50 = percentile(lengths, 0.5);
-    st.streak_length_px_p95 = percentile(lengths, 0.95);
+    std::tie(st.streak_length_px_p50, st.streak_length_px_p95) = percentiles(lengths, 0.5, 0.95);
   }
   detail::RowSums total;  // rows in order: the same sums whatever the threads
   for (const auto& r : row_sums) {

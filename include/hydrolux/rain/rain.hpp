@@ -39,6 +39,7 @@
 // light (airlight), so the rain's total extinction is the same whether a drop is drawn or not. The
 // line of sight ends at the scene's depth: from the depth map (extent_m where it has none, the sky),
 // or without one the ground plane closed by a backdrop at backdrop_m.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -127,6 +128,7 @@ struct RadiusClass {
   double resolved_to_m = 0;       // depth to which the class is drawn (its largest drop's peak alpha
                                   // reaches min_alpha there), <= far_m; near_m if never
   Vec3 box_lo, box_size;          // the periodic box, world frame, metres
+  Vec3 box_inv_size;              // 1 / box_size, per axis
   std::uint64_t count = 0;        // drops in the box
   std::uint64_t first_index = 0;  // of its first drop among all drops
   // The inverse CDF of the class's truncated exponential: a = lo - log1p(u cdf_span) inv_lambda.
@@ -189,8 +191,16 @@ class RainField {
   };
   Drop drop(std::uint64_t index) const;
   Drop drop(std::uint64_t index, std::size_t cls) const;
+  // The same from the drop's key, detail::hash(seed, index) (the renderer has it already).
+  Drop drop_with_key(std::uint64_t key, std::size_t cls) const;
   std::size_t class_of(std::uint64_t index) const;
-  Vec3 velocity_of(double radius_m) const;
+  // The velocity of a drop of this radius: the wind across, the terminal speed down (tabulated).
+  Vec3 velocity_of(double radius_m) const {
+    const double x = std::clamp((radius_m - lut_lo_) / lut_step_, 0.0, double(velocity_lut_.size() - 1));
+    const std::size_t i = std::min(std::size_t(x), velocity_lut_.size() - 2);
+    const double v = velocity_lut_[i] + (x - double(i)) * (velocity_lut_[i + 1] - velocity_lut_[i]);
+    return Vec3(wind_.x, -v, wind_.z);
+  }
 
   RainSettings s_;
   RainCamera c_;
@@ -231,6 +241,8 @@ class DropLight {
   std::vector<int> col_cell_;                    // per image column: the grid cell it lies in
   std::vector<double> col_ax_;                   // ... and its position in that cell, [0, 1]
   std::vector<int> col_small_;                   // per image column: its column of the small frame
+  std::vector<int> cell_col_begin_;              // per grid cell (gx_ entries): its first image column
+  std::vector<int> small_col_begin_;             // per small column (small_w_ + 1): its first image column
   Vec3 sky_, ground_;
 };
 
@@ -357,7 +369,9 @@ class RainRenderer {
 Image builtin_scene(const RainCamera& camera);
 
 // The alpha one streak alone puts on a width x height image (1 channel), as the renderer rasterises it.
-Image streak_alpha(const Streak& streak, int width, int height);
+// simd = false: thin streaks through the scalar reference raster instead of the SIMD one (the same
+// floats; tests/rain/test_rain.cpp compares them).
+Image streak_alpha(const Streak& streak, int width, int height, bool simd = true);
 
 // The scene depth (camera z, m) assumed without a depth map: the ground plane, and a backdrop at
 // backdrop_m (camera z) wherever the ground is farther or absent (above the horizon), so the scene's
