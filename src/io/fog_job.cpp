@@ -156,23 +156,16 @@ FogJobResult run_folder(const Run& run) {
   if (a.depth) throw Error("--depth: one depth map serves one --image; give a folder's maps with --depth-dir");
   if (a.mask_out) throw Error("--mask-out: with --input-dir give --mask-dir for the masks");
   if (a.depth_scale_given && !a.depth_dir) throw Error("--depth-scale-m: scales PNG maps of --depth-dir; none is given");
-  const FrameFolder plan = plan_frame_folder({*a.input_dir, *a.output_dir, a.mask_dir, a.depth_dir});
+  const FrameFolderRequest request{*a.input_dir, *a.output_dir, a.mask_dir, a.depth_dir};
+  const FrameFolder plan = plan_frame_folder(request);
   if (!plan.skipped.empty()) run.warn(plan.skipped_warning(*a.input_dir));
   const fs::path out_dir(*a.output_dir);
   const auto& frames = plan.frames;
   FileSet files;
-  for (const auto& f : frames) files.input("--input-dir", f);
-  for (const auto& d : plan.depth_maps) files.input("--depth-dir", d);
-  for (const auto& n : plan.outputs) files.planned_output("--output-dir", out_dir / n);
-  if (a.mask_dir)
-    for (const auto& n : plan.outputs) files.planned_output("--mask-dir", fs::path(*a.mask_dir) / n);
+  declare_frame_folder(files, plan, request);
   OutputFile* stats = a.stats_json ? &files.output("--stats-json", *a.stats_json) : nullptr;
   const rain::FogOptics optics = optics_for(a);
-  for (const auto& [flag, dir] : {std::pair{"--output-dir", a.output_dir}, {"--mask-dir", a.mask_dir}}) {
-    std::error_code ec;
-    if (dir) fs::create_directories(*dir, ec);
-    if (ec) throw IoError(fmt::format("{} {}: cannot create: {}", flag, *dir, ec.message()));
-  }
+  create_output_folders(request);
   // A frame that cannot be used is named and left out once one frame is written (as rain does); the
   // first frame's failure is bad input, nothing written.
   FogJobResult r;

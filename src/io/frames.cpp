@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <map>
+#include <utility>
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
@@ -107,6 +108,23 @@ FrameFolder plan_frame_folder(const FrameFolderRequest& r) {
   if (r.mask_dir && same_file(*r.mask_dir, r.output_dir))
     throw Error(fmt::format("--mask-dir {}: is --output-dir; masks and frames share names", *r.mask_dir));
   return plan;
+}
+
+void declare_frame_folder(FileSet& files, const FrameFolder& plan, const FrameFolderRequest& request) {
+  for (const auto& f : plan.frames) files.input("--input-dir", f);
+  for (const auto& d : plan.depth_maps) files.input("--depth-dir", d);
+  for (const auto& n : plan.outputs) files.planned_output("--output-dir", fs::path(request.output_dir) / n);
+  if (request.mask_dir)
+    for (const auto& n : plan.outputs) files.planned_output("--mask-dir", fs::path(*request.mask_dir) / n);
+}
+
+void create_output_folders(const FrameFolderRequest& request) {
+  for (const auto& [flag, dir] : {std::pair<const char*, std::optional<std::string>>{"--output-dir", request.output_dir},
+                                  {"--mask-dir", request.mask_dir}}) {
+    std::error_code ec;
+    if (dir) fs::create_directories(*dir, ec);
+    if (ec) throw IoError(fmt::format("{} {}: cannot create: {}", flag, *dir, ec.message()));
+  }
 }
 
 }  // namespace hydrolux::io

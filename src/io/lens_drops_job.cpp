@@ -84,21 +84,15 @@ LensDropsJobResult run_folder(const LensDropsJob& a, const ImageCodec& codec, co
   if (a.output) throw Error("-o: with --input-dir the frames go to --output-dir");
   if (a.mask_out) throw Error("--mask-out: with --input-dir give --mask-dir for the masks");
   if (!a.output_dir) throw Error("--output-dir: give the folder for the frames with drops (with --input-dir)");
-  const FrameFolder plan = plan_frame_folder({*a.input_dir, *a.output_dir, a.mask_dir, std::nullopt});
+  const FrameFolderRequest request{*a.input_dir, *a.output_dir, a.mask_dir, std::nullopt};
+  const FrameFolder plan = plan_frame_folder(request);
   if (!plan.skipped.empty() && warn) warn(plan.skipped_warning(*a.input_dir));
   const fs::path out_dir(*a.output_dir);
   FileSet files;
-  for (const auto& f : plan.frames) files.input("--input-dir", f);
-  for (const auto& n : plan.outputs) files.planned_output("--output-dir", out_dir / n);
-  if (a.mask_dir)
-    for (const auto& n : plan.outputs) files.planned_output("--mask-dir", fs::path(*a.mask_dir) / n);
+  declare_frame_folder(files, plan, request);
   // The settings are checked before any folder is made (a frame's size is not needed for that).
   (void)rain::place_lens_drops(a.settings, 1, 1);
-  for (const auto& [flag, dir] : {std::pair{"--output-dir", a.output_dir}, {"--mask-dir", a.mask_dir}}) {
-    std::error_code ec;
-    if (dir) fs::create_directories(*dir, ec);
-    if (ec) throw IoError(fmt::format("{} {}: cannot create: {}", flag, *dir, ec.message()));
-  }
+  create_output_folders(request);
   // A frame that cannot be used is named and left out once one frame is written (as rain and fog
   // do); the first frame's failure is bad input, nothing written.
   rain::LensDropsResult last;

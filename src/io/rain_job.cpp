@@ -367,7 +367,8 @@ RainJobResult run_folder(const Run& run) {
   if (a.layer_out) throw Error("--layer-out: available with --image");
   if (a.crf_given) throw Error("--crf: sets the H.264 quality of --video's output; --input-dir writes pictures");
   if (a.depth_scale_given && !a.depth_dir) throw Error("--depth-scale-m: scales PNG maps of --depth-dir; none is given");
-  const FrameFolder plan = plan_frame_folder({*a.input_dir, *a.output_dir, a.mask_dir, a.depth_dir});
+  const FrameFolderRequest request{*a.input_dir, *a.output_dir, a.mask_dir, a.depth_dir};
+  const FrameFolder plan = plan_frame_folder(request);
   if (!plan.skipped.empty()) run.warn(plan.skipped_warning(*a.input_dir));
   const fs::path out_dir(*a.output_dir);
   const auto& frames = plan.frames;
@@ -375,17 +376,9 @@ RainJobResult run_folder(const Run& run) {
   // --stats-json naming a frame, a link in --output-dir to a frame) or two outputs on one path are
   // refused here, whichever folders they are in.
   FileSet files;
-  for (const auto& f : frames) files.input("--input-dir", f);
-  for (const auto& d : plan.depth_maps) files.input("--depth-dir", d);
-  for (const auto& n : plan.outputs) files.planned_output("--output-dir", out_dir / n);
-  if (a.mask_dir)
-    for (const auto& n : plan.outputs) files.planned_output("--mask-dir", fs::path(*a.mask_dir) / n);
+  declare_frame_folder(files, plan, request);
   OutputFile* stats = a.stats_json ? &files.output("--stats-json", *a.stats_json) : nullptr;
-  for (const auto& [flag, dir] : {std::pair{"--output-dir", a.output_dir}, {"--mask-dir", a.mask_dir}}) {
-    std::error_code ec;
-    if (dir) fs::create_directories(*dir, ec);
-    if (ec) throw IoError(fmt::format("{} {}: cannot create: {}", flag, *dir, ec.message()));
-  }
+  create_output_folders(request);
 
   // A frame that cannot be used (unreadable, truncated, of another size, a non-finite value) is named
   // and left out, the others written, and the run ends with the list, as the batch job does: found

@@ -25,12 +25,7 @@ fs::path dir() {
 }
 
 const fs::path& clear_exr() {
-  static const fs::path p = [] {
-    const fs::path f = dir() / "clear.exr";
-    const auto r = run("rain -q --image builtin --size 160x90 --rate-mmh 0 -o " + f.string());
-    EXPECT_EQ(r.code, 0) << r.err;
-    return f;
-  }();
+  static const fs::path p = hydrolux::testing::builtin_frame(dir() / "clear.exr", "160x90");
   return p;
 }
 

@@ -24,12 +24,7 @@ fs::path dir() {
 }
 
 const fs::path& clean_exr() {
-  static const fs::path p = [] {
-    const fs::path f = dir() / "clean.exr";
-    const auto r = run("rain -q --image builtin --size 320x180 --rate-mmh 0 -o " + f.string());
-    EXPECT_EQ(r.code, 0) << r.err;
-    return f;
-  }();
+  static const fs::path p = hydrolux::testing::builtin_frame(dir() / "clean.exr", "320x180");
   return p;
 }
 

@@ -27,21 +27,11 @@ fs::path dir() {
 
 // The built-in street, clear, as a linear EXR and an 8-bit PNG (made once).
 const fs::path& clear_exr() {
-  static const fs::path p = [] {
-    const fs::path f = dir() / "clear.exr";
-    const auto r = run("rain -q --image builtin --size 320x180 --rate-mmh 0 -o " + f.string());
-    EXPECT_EQ(r.code, 0) << r.err;
-    return f;
-  }();
+  static const fs::path p = hydrolux::testing::builtin_frame(dir() / "clear.exr", "320x180");
   return p;
 }
 const fs::path& clear_png() {
-  static const fs::path p = [] {
-    const fs::path f = dir() / "clear.png";
-    const auto r = run("rain -q --image builtin --size 320x180 --rate-mmh 0 -o " + f.string());
-    EXPECT_EQ(r.code, 0) << r.err;
-    return f;
-  }();
+  static const fs::path p = hydrolux::testing::builtin_frame(dir() / "clear.png", "320x180");
   return p;
 }
 

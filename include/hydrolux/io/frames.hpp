@@ -39,4 +39,11 @@ struct FrameFolder {
 // input folder, the depth folder, or (masks) the output folder.
 FrameFolder plan_frame_folder(const FrameFolderRequest& request);
 
+class FileSet;
+// Declares in `files` every file of a run over `plan`, before any work: its frames and depth maps
+// read, each frame's output in request.output_dir and (with request.mask_dir) its mask planned.
+void declare_frame_folder(FileSet& files, const FrameFolder& plan, const FrameFolderRequest& request);
+// Makes the output and mask folders; IoError naming the flag.
+void create_output_folders(const FrameFolderRequest& request);
+
 }  // namespace hydrolux::io

@@ -154,10 +154,62 @@ def _is_done(rec, input_path: str, output_path: str) -> bool:
         out["size"] == rec.get("output_size")
 
 
+def plan_folder(input_dir: str, output_dir: str, mask_dir: Optional[str], depth_dir: Optional[str],
+                tag: str) -> Dict[str, Any]:
+    """The frames of ``input_dir`` as the CLI plans them (the library's one definition,
+    ``_core.plan_frame_folder``), a UsageError naming the flag otherwise; skipped entries said in one
+    warning line on stderr, ``hydrolux.<tag>: warning: ...``."""
+    def path(p):  # as bytes: a name that is not UTF-8 reaches the library as it is
+        return None if p is None else os.fsencode(p)
+
+    try:
+        plan = _common.native("_core").plan_frame_folder(path(input_dir), path(output_dir), path(mask_dir),
+                                                         path(depth_dir))
+    except UnicodeDecodeError:  # a name the library returns is not UTF-8, so not a Python str
+        raise UsageError(f"--input-dir {input_dir}: holds a name that is not UTF-8") from None
+    except ValueError as e:
+        raise UsageError(str(e) or f"--input-dir {input_dir}: refused (a path that is not UTF-8)") from None
+    if plan["skipped_warning"]:
+        sys.stderr.write(printable(f"hydrolux.{tag}: warning: {plan['skipped_warning']}") + "\n")
+        sys.stderr.flush()
+    return plan
+
+
+def checked_members(input_dir: str, output_dir: str, mask_dir: Optional[str], depth_dir: Optional[str],
+                    plan: Dict[str, Any]) -> tuple:
+    """The run's folders made absolute and each frame's depth map (or None), after checking member by
+    member that no output file (a frame, a mask, the manifest or its lock) is, through a link, an input
+    frame, a depth map or another output: ``(in_dir, out_dir, mask_dir, depth_dir, depths)``."""
+    frames, names = plan["frames"], plan["outputs"]
+    in_dir, out_dir = os.path.abspath(input_dir), os.path.abspath(output_dir)
+    mask_dir = os.path.abspath(mask_dir) if mask_dir else None
+    depth_dir = os.path.abspath(depth_dir) if depth_dir else None
+    depths = plan["depth_maps"] if depth_dir else [None] * len(frames)
+    inputs = [("--input-dir", os.path.join(in_dir, f)) for f in frames]
+    if depth_dir:
+        inputs += [("--depth-dir", os.path.join(depth_dir, d)) for d in depths]
+    outputs = [("--output-dir", os.path.join(out_dir, n)) for n in names + [_common.MANIFEST, _common.LOCK]]
+    if mask_dir:
+        outputs += [("--mask-dir", os.path.join(mask_dir, n)) for n in names]
+    _common.check_members(inputs, outputs)
+    return in_dir, out_dir, mask_dir, depth_dir, depths
+
+
+def first_readable_frame(in_dir: str, frames: List[str]):
+    """The first of the frames that can be read (an unreadable one is reported with the rest by the
+    run), as an array; a UsageError when none can."""
+    _image = _common.native("_image")
+    for f in frames:
+        try:
+            return _image.read(os.path.join(in_dir, f))[0]
+        except (ValueError, OSError):
+            continue
+    raise UsageError(f"--input-dir {in_dir}: no frame could be read")
+
+
 def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
     """The job: 0 when every frame is in place, 1 when some failed, a UsageError naming the flag for bad
     input before any work."""
-    _image = _common.native("_image")
     tag = f"batch {fj.name}"
     depth_dir_arg = getattr(a, "depth_dir", None) if fj.depth else None
     if a.input_dir is None:
@@ -171,41 +223,13 @@ def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
     if fj.require:
         fj.require(opts)
 
-    def path(p):
-        return None if p is None else os.fsencode(p)
-
-    try:
-        plan = _common.native("_core").plan_frame_folder(path(a.input_dir), path(a.output_dir), path(a.mask_dir),
-                                                         path(depth_dir_arg))
-    except UnicodeDecodeError:
-        raise UsageError(f"--input-dir {a.input_dir}: holds a name that is not UTF-8") from None
-    except ValueError as e:
-        raise UsageError(str(e) or f"--input-dir {a.input_dir}: refused") from None
-    if plan["skipped_warning"]:
-        sys.stderr.write(printable(f"hydrolux.{tag}: warning: {plan['skipped_warning']}") + "\n")
+    plan = plan_folder(a.input_dir, a.output_dir, a.mask_dir, depth_dir_arg, tag)
     frames, names = plan["frames"], plan["outputs"]
-    in_dir, out_dir = os.path.abspath(a.input_dir), os.path.abspath(a.output_dir)
-    mask_dir = os.path.abspath(a.mask_dir) if a.mask_dir else None
-    depth_dir = os.path.abspath(depth_dir_arg) if depth_dir_arg else None
-    depths = plan["depth_maps"] if depth_dir else [None] * len(frames)
-    inputs = [("--input-dir", os.path.join(in_dir, f)) for f in frames]
-    if depth_dir:
-        inputs += [("--depth-dir", os.path.join(depth_dir, d)) for d in depths]
-    outputs = [("--output-dir", os.path.join(out_dir, n)) for n in names + [_common.MANIFEST, _common.LOCK]]
-    if mask_dir:
-        outputs += [("--mask-dir", os.path.join(mask_dir, n)) for n in names]
-    _common.check_members(inputs, outputs)
+    in_dir, out_dir, mask_dir, depth_dir, depths = checked_members(a.input_dir, a.output_dir, a.mask_dir,
+                                                                   depth_dir_arg, plan)
     # The sequence's size (and the job's own entries) from its first readable frame, the options
     # checked on it.
-    first = None
-    for f in frames:
-        try:
-            first = _image.read(os.path.join(in_dir, f))[0]
-            break
-        except (ValueError, OSError):
-            continue
-    if first is None:
-        raise UsageError(f"--input-dir {in_dir}: no frame could be read")
+    first = first_readable_frame(in_dir, frames)
     size = (first.shape[1], first.shape[0])
     try:
         extra = fj.prepare(first, opts)

@@ -25,8 +25,8 @@ import sys
 import warnings
 from typing import Any, Dict, List, Optional
 
-from . import _common
-from ._common import UsageError, printable
+from . import _common, _folder
+from ._common import UsageError
 
 # What a task holds per pixel of its frame, measured on a worker (docs/batch.md, "Memory"): a 1080p frame
 # raised a worker's peak by 208 MB (the frame as float RGB in and out, its mask, the 8-bit copy, the
@@ -192,20 +192,7 @@ def plan_folder(input_dir: str, output_dir: str, mask_dir: Optional[str] = None,
     >>> plan["frames"], plan["outputs"], plan["depth_maps"]
     (['a.exr', 'b.jpg'], ['a.exr', 'b.png'], ['a.exr', 'b.png'])
     """
-    def path(p):  # as bytes: a name that is not UTF-8 reaches the library as it is
-        return None if p is None else os.fsencode(p)
-
-    try:
-        plan = _common.native("_core").plan_frame_folder(path(input_dir), path(output_dir), path(mask_dir),
-                                                         path(depth_dir))
-    except UnicodeDecodeError:  # a name the library returns is not UTF-8, so not a Python str
-        raise UsageError(f"--input-dir {input_dir}: holds a name that is not UTF-8") from None
-    except ValueError as e:
-        raise UsageError(str(e) or f"--input-dir {input_dir}: refused (a path that is not UTF-8)") from None
-    if plan["skipped_warning"]:
-        sys.stderr.write(printable(f"hydrolux.batch rain: warning: {plan['skipped_warning']}") + "\n")
-        sys.stderr.flush()
-    return plan
+    return _folder.plan_folder(input_dir, output_dir, mask_dir, depth_dir, "batch rain")
 
 
 # ---- on the workers -------------------------------------------------------------------------------
@@ -365,39 +352,20 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
     ['f0.png', 'f1.png']
     """
     import hydrolux
-    _image = _common.native("_image")
 
     opts = _options(a)
     plan = plan_folder(a.input_dir, a.output_dir, a.mask_dir or None, a.depth_dir or None)
     frames, names = plan["frames"], plan["outputs"]
-    in_dir, out_dir = os.path.abspath(a.input_dir), os.path.abspath(a.output_dir)
-    mask_dir = os.path.abspath(a.mask_dir) if a.mask_dir else None
     depth_dir = os.path.abspath(a.depth_dir) if a.depth_dir else None
-    depths = plan["depth_maps"] if depth_dir else [None] * len(frames)
-    exr_depth = next((d for d in depths if d and d.lower().endswith(".exr")), None)
+    exr_depth = next((d for d in plan["depth_maps"] if depth_dir and d.lower().endswith(".exr")), None)
     if a.depth_scale_m_given and exr_depth:
         raise UsageError(f"--depth-scale-m: scales the codes of a PNG depth map; --depth-dir {depth_dir}: {exr_depth} "
                          "holds metres already")
-    # Member by member: no output file (a frame, a mask, the manifest or its lock) that is, through a link, an
-    # input frame, a depth map or another output.
-    inputs = [("--input-dir", os.path.join(in_dir, f)) for f in frames]
-    if depth_dir:
-        inputs += [("--depth-dir", os.path.join(depth_dir, d)) for d in depths]
-    outputs = [("--output-dir", os.path.join(out_dir, n)) for n in names + [_common.MANIFEST, _common.LOCK]]
-    if mask_dir:
-        outputs += [("--mask-dir", os.path.join(mask_dir, n)) for n in names]
-    _common.check_members(inputs, outputs)
+    in_dir, out_dir, mask_dir, depth_dir, depths = _folder.checked_members(a.input_dir, a.output_dir,
+                                                                           a.mask_dir or None, a.depth_dir or None, plan)
     # The sequence's size from its first readable frame (an unreadable one is reported with the rest).
-    size = None
-    for f in frames:
-        try:
-            img = _image.read(os.path.join(in_dir, f))[0]
-            size = (img.shape[1], img.shape[0])
-            break
-        except (ValueError, OSError):
-            continue
-    if size is None:
-        raise UsageError(f"--input-dir {in_dir}: no frame could be read")
+    first = _folder.first_readable_frame(in_dir, frames)
+    size = (first.shape[1], first.shape[0])
     # Every option checked, and the field's size, before any task starts.
     try:
         field = hydrolux.RainRenderer(size[0], size[1], depth_dir is None, **opts).field_info()
