@@ -101,10 +101,12 @@ fuzz: deps
 	  else tail -n 40 $(SAN_DIR)/fuzz-runs/$$n.log; echo "$$n: FINDING (see $(SAN_DIR)/fuzz-runs/$$n)"; exit 1; fi; \
 	done
 
-# The Python package into a virtual environment (made with /usr/bin/python3 -m venv --system-site-packages).
+# The Python package into a virtual environment (made with /usr/bin/python3 -m venv --system-site-packages):
+# pip's route (pyproject.toml, setup.py), taking the modules and the CLI from this build folder.
 install-python: build
 	@test -n "$(VENV)" || { echo "make install-python VENV=path/to/venv" >&2; exit 2; }
-	BUILD_DIR=$(abspath $(BUILD_DIR)) scripts/install-python $(VENV)
+	@test -x "$(VENV)/bin/pip" || { echo "install-python: $(VENV) has no bin/pip (make it with /usr/bin/python3 -m venv --system-site-packages $(VENV))" >&2; exit 2; }
+	HYDROLUX_BUILD_DIR=$(abspath $(BUILD_DIR)) $(VENV)/bin/pip install --no-build-isolation --no-index .
 
 bench: deps
 	@$(MAKE) --no-print-directory build

@@ -78,8 +78,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def cli_path() -> str:
-    """The hydrolux executable beside this package: $HYDROLUX_CLI, the package's bin/ (an installed
-    copy), or the build tree's bin/.
+    """The hydrolux executable beside this package (``hydrolux._cli.cli_path``): $HYDROLUX_CLI, the
+    package's bin/ (an installed copy), or the build tree's bin/.
 
     Example:
 
@@ -88,14 +88,8 @@ def cli_path() -> str:
     >>> os.access(lee_atlas.cli_path(), os.X_OK)
     True
     """
-    env = os.environ.get("HYDROLUX_CLI")
-    if env:
-        return env
-    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    for c in (os.path.join(here, "bin", "hydrolux"), os.path.join(here, "..", "..", "bin", "hydrolux")):
-        if os.access(c, os.X_OK):
-            return os.path.normpath(c)
-    raise FileNotFoundError("the hydrolux executable was not found beside the package (set HYDROLUX_CLI)")
+    from .. import _cli
+    return _cli.cli_path()
 
 
 def _flag_args(options: Dict[str, Any], where: str) -> List[str]:
