@@ -14,7 +14,7 @@ SAN_DIR ?= build-sanitize
 SAN_CC ?= clang-16
 SAN_CXX ?= clang++-16
 FUZZ_SECONDS ?= 300
-FUZZ_SMOKE_SECONDS ?= 10
+FUZZ_SMOKE_SECONDS ?= 5
 # Any sanitizer report fails the run; leaks too (fuzz/lsan.supp: known leaks in system libraries).
 SAN_ENV = ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
           LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp \
