@@ -16,6 +16,8 @@
 #include <cerrno>
 #include <csignal>
 #include <functional>
+#include <mutex>
+#include <set>
 #include <vector>
 
 #include <algorithm>
@@ -81,6 +83,14 @@ void expect_usage_errors(const Cases& cases) {
 // A fresh directory under the system's temporary directory, unique to this process.
 inline fs::path temp_dir(const std::string& prefix) {
   const fs::path d = fs::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()));
+  // Emptied the first time this process asks for it: a folder left by an earlier process that had
+  // the same id (ids are reused on a long-lived machine) would otherwise hold its files.
+  static std::mutex m;
+  static std::set<std::string> emptied;
+  {
+    std::lock_guard lock(m);
+    if (emptied.insert(prefix).second) fs::remove_all(d);
+  }
   fs::create_directories(d);
   return d;
 }
