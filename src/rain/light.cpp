@@ -63,23 +63,23 @@ DropLight::DropLight(const RainCamera& camera, double mu, int grid_x, int grid_y
   sky_w_.assign(nodes, 0.f);
   ground_w_.assign(nodes, 0.f);
   node_.assign(nodes, Vec3(0));
-  // Per column, once: where row() interpolates between nodes and where update() sums the frame.
-  col_cell_.resize(std::size_t(c_.width));
+  // Per column, once: its grid cell and position in it (row() interpolates there) and its small-frame
+  // column (update() sums there).
+  std::vector<int> col_cell(std::size_t(c_.width)), col_small(std::size_t(c_.width));
   col_ax_.resize(std::size_t(c_.width));
-  col_small_.resize(std::size_t(c_.width));
   for (int x = 0; x < c_.width; ++x) {
     const double fx = std::clamp((x + 0.5) / c_.width * (gx_ - 1), 0.0, double(gx_ - 1));
     const int cell = std::min(int(fx), gx_ - 2);
-    col_cell_[std::size_t(x)] = cell;
+    col_cell[std::size_t(x)] = cell;
     col_ax_[std::size_t(x)] = fx - cell;
-    col_small_[std::size_t(x)] = std::min(small_w_ - 1, int(std::int64_t(x) * small_w_ / c_.width));
+    col_small[std::size_t(x)] = std::min(small_w_ - 1, int(std::int64_t(x) * small_w_ / c_.width));
   }
   // Both maps never decrease along a row: each cell's and each small column's first image column.
   cell_col_begin_.assign(std::size_t(gx_), c_.width);
   small_col_begin_.assign(std::size_t(small_w_) + 1, c_.width);
   for (int x = c_.width - 1; x >= 0; --x) {
-    cell_col_begin_[std::size_t(col_cell_[std::size_t(x)])] = x;
-    small_col_begin_[std::size_t(col_small_[std::size_t(x)])] = x;
+    cell_col_begin_[std::size_t(col_cell[std::size_t(x)])] = x;
+    small_col_begin_[std::size_t(col_small[std::size_t(x)])] = x;
   }
   for (int i = gx_ - 2; i >= 0; --i)  // a cell without columns (a grid finer than the image) is empty
     cell_col_begin_[std::size_t(i)] = std::min(cell_col_begin_[std::size_t(i)], cell_col_begin_[std::size_t(i) + 1]);
@@ -129,7 +129,7 @@ void DropLight::update(const Image& frame) {
   if (frame.width != c_.width || frame.height != c_.height || frame.channels < 3)
     throw Error("DropLight::update: the frame must have the camera's size and at least 3 channels");
   // Area average into the small frame, one small row per task (the frame's rows that fall in it).
-  // Each small column's pixels are contiguous in a row (col_small_ never decreases): their values are
+  // Each small column's pixels are contiguous in a row (small_col_begin_): their values are
   // summed in double into 12 running sums (4 pixels x RGB, a loop the compiler vectorises), folded
   // into the column's three sums a row at a time.
   small_.assign(std::size_t(small_w_) * small_h_ * 3, 0.f);

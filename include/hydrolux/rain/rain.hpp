@@ -238,9 +238,7 @@ class DropLight {
   std::vector<float> sky_w_, ground_w_;          // per node, for directions outside it
   std::vector<float> small_;                     // the frame reduced, RGB
   std::vector<Vec3> node_;                       // per node radiance
-  std::vector<int> col_cell_;                    // per image column: the grid cell it lies in
-  std::vector<double> col_ax_;                   // ... and its position in that cell, [0, 1]
-  std::vector<int> col_small_;                   // per image column: its column of the small frame
+  std::vector<double> col_ax_;                   // per image column: its position in its grid cell, [0, 1]
   std::vector<int> cell_col_begin_;              // per grid cell (gx_ entries): its first image column
   std::vector<int> small_col_begin_;             // per small column (small_w_ + 1): its first image column
   Vec3 sky_, ground_;
