@@ -21,7 +21,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_af
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           $(if $(wildcard /usr/bin/llvm-symbolizer),ASAN_SYMBOLIZER_PATH=/usr/bin/llvm-symbolizer)
 
-.PHONY: all build deps configure web demo test bench clean install-python sanitize-build fuzz-build fuzz-smoke test-sanitize fuzz reference
+.PHONY: all build deps configure web demo test bench clean install-python sanitize-build fuzz-build fuzz-smoke test-sanitize fuzz reference docs
 
 all: build
 
@@ -51,6 +51,23 @@ web: deps
 # fails while the file in the repository is not current).
 reference: build
 	HYDROLUX_WRITE_REFERENCE=1 $(BUILD_DIR)/bin/test_reference
+
+# The documentation site into $(DOCS_DIR)/html (open index.html there): Sphinx (docs/conf.py) with
+# warnings as errors, over the user guide (docs/*.md), the command reference, the parameter tables and
+# the Python API generated from the build, and the gallery, rendered into $(DOCS_DIR)/gallery again
+# whenever the CLI or its image plugin changed; every page is read afresh (-E: a warning is never hidden
+# by the cache). ctest's docs.sphinx builds the same site.
+DOCS_DIR ?= $(BUILD_DIR)/docs
+DOCS_PYTHON ?= /usr/bin/python3
+$(DOCS_DIR)/gallery/index.html: $(BUILD_DIR)/bin/hydrolux $(wildcard $(BUILD_DIR)/bin/libhydrolux_image_plugin.so)
+	$(BUILD_DIR)/bin/hydrolux gallery -q -o $(DOCS_DIR)/gallery > /dev/null
+
+docs: deps
+	@$(MAKE) --no-print-directory build
+	@$(MAKE) --no-print-directory $(DOCS_DIR)/gallery/index.html
+	PYTHONPATH=$(abspath $(BUILD_DIR))/python HYDROLUX_DOCS_GALLERY=$(abspath $(DOCS_DIR))/gallery \
+	  $(DOCS_PYTHON) -m sphinx -W --keep-going -E -q -b html -d $(DOCS_DIR)/doctrees docs $(DOCS_DIR)/html
+	@echo "docs: $(DOCS_DIR)/html/index.html"
 
 # The gallery, then the web demo's screenshot (headless chromium) into it as web_demo.png.
 demo: deps

@@ -1,6 +1,7 @@
 // The gallery and its SVG plots.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -69,7 +70,11 @@ TEST(SvgPlot, LogarithmicAxis) {
 }
 
 TEST(Gallery, WritesEveryFigureAndAnIndexThatShowsThem) {
-  const fs::path dir = fs::temp_directory_path() / "hydrolux_test_gallery";
+  // ctest sets HYDROLUX_TEST_GALLERY_DIR (in the build tree): the gallery is kept there for the
+  // documentation site's test (docs.sphinx), which shows it.
+  const char* keep_in = std::getenv("HYDROLUX_TEST_GALLERY_DIR");
+  const bool keep = keep_in && *keep_in;
+  const fs::path dir = keep ? fs::path(keep_in) : fs::temp_directory_path() / "hydrolux_test_gallery";
   fs::remove_all(dir);
   double last = -1;
   bool monotone = true;
@@ -104,7 +109,7 @@ TEST(Gallery, WritesEveryFigureAndAnIndexThatShowsThem) {
   std::size_t files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
   EXPECT_EQ(files, figures.size() + 1);
-  fs::remove_all(dir);
+  if (!keep) fs::remove_all(dir);
 }
 
 }  // namespace

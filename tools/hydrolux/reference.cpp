@@ -14,9 +14,17 @@ namespace hydrolux::cli {
 
 namespace {
 
-std::string cell(std::string text) {
-  for (std::size_t pos = 0; (pos = text.find('|', pos)) != std::string::npos; pos += 2) text.replace(pos, 1, "\\|");
-  return text.empty() ? "" : text;
+// Text as Markdown shows it literally: a '<' would open an HTML tag (const:<n> would vanish), on GitHub
+// and on the documentation site alike.
+std::string text(std::string t) {
+  for (std::size_t pos = 0; (pos = t.find('<', pos)) != std::string::npos; pos += 4) t.replace(pos, 1, "&lt;");
+  return t;
+}
+
+std::string cell(std::string t) {
+  t = text(std::move(t));
+  for (std::size_t pos = 0; (pos = t.find('|', pos)) != std::string::npos; pos += 2) t.replace(pos, 1, "\\|");
+  return t;
 }
 
 // What CLI11 states of an option's value: "FLOAT:[0, 500] mm/h" -> "[0, 500] mm/h".
@@ -38,9 +46,9 @@ std::string reference_markdown(const std::vector<Command>& commands) {
     std::string md =
       "# Command reference\n\n"
       "Generated from the code (`make reference`; a test fails when this file is not current). The rows with a\n"
-      "group are declared parameters, written once in the library (docs/parameters.md says where and how each\n"
-      "door reads them); where a command's parameters are Python keywords too, the Python column names them,\n"
-      "with the same ranges, defaults and messages.\n";
+      "group are declared parameters, written once in the library ([parameters.md](parameters.md) says where\n"
+      "and how each door reads them); where a command's parameters are Python keywords too, the Python column\n"
+      "names them, with the same ranges, defaults and messages.\n";
   for (const auto& cmd : commands) {
     const std::string path = command_path(*cmd.app);
     const JobSpec* job = nullptr;
@@ -50,7 +58,7 @@ std::string reference_markdown(const std::vector<Command>& commands) {
     bool params_python = true;
     if (job)
       for (const auto& info : job->params) params[std::string(info.param->flag)] = &info;
-    md += fmt::format("\n## hydrolux {}\n\n{}\n\n", path, cmd.app->get_description());
+    md += fmt::format("\n## hydrolux {}\n\n{}\n\n", path, text(cmd.app->get_description()));
     if (job && !job->python.empty())
       md += fmt::format("The declared parameters are keywords of the same names in {}.\n\n", job->python);
     if (job && job->python.empty()) params_python = false;
