@@ -1,7 +1,7 @@
 """setuptools driving the project's CMake build (pyproject.toml says why).
 
 The wheel holds the pure-Python package (python/hydrolux), the extension modules CMake builds
-(_core, _image, _video) and the hydrolux CLI with its two plugins in hydrolux/bin/, which the
+(_core, _image, _video) and the hydrolux CLI with its three plugins in hydrolux/bin/, which the
 `hydrolux` console script runs. The CMake build folder is $HYDROLUX_BUILD_DIR, else the one `make`
 uses (build/): configured if it is not yet (missing Debian packages installed first by
 scripts/install-deps, as `make` does), then brought up to date; with it current nothing is
@@ -40,7 +40,7 @@ class BuildWithCMake(build_py):
             subprocess.check_call(["cmake", "-S", ROOT, "-B", build, "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release",
                                    f"-DPython3_EXECUTABLE={sys.executable}"])
         subprocess.check_call(["cmake", "--build", build, "--target", "hydrolux_python", "hydrolux_cli",
-                               "hydrolux_image_plugin", "hydrolux_video_plugin"])
+                               "hydrolux_image_plugin", "hydrolux_video_plugin", "hydrolux_netcdf_plugin"])
         suffix = sysconfig.get_config_var("EXT_SUFFIX")
         built = os.path.join(build, "python", "hydrolux")
         modules = [n for n in os.listdir(built) if n.endswith(".so")]
@@ -52,7 +52,8 @@ class BuildWithCMake(build_py):
         for name in modules:
             shutil.copy2(os.path.join(built, name), os.path.join(dest, name))
         os.makedirs(os.path.join(dest, "bin"), exist_ok=True)
-        for name in ("hydrolux", "libhydrolux_image_plugin.so", "libhydrolux_video_plugin.so"):
+        for name in ("hydrolux", "libhydrolux_image_plugin.so", "libhydrolux_video_plugin.so",
+                     "libhydrolux_netcdf_plugin.so"):
             shutil.copy2(os.path.join(build, "bin", name), os.path.join(dest, "bin", name))
 
 

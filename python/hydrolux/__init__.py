@@ -26,7 +26,7 @@ from typing import Any, NamedTuple, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from . import _core
+from . import _core, _xarray
 
 __version__: str = _core.__version__
 __all__ = [
@@ -34,7 +34,7 @@ __all__ = [
     "lee", "LeeTable", "drop_render", "drop_undistort", "rain", "RainResult", "RainRenderer", "builtin_scene",
     "lens_drops", "LensDropsResult",
     "fog", "FogResult",
-    "read_image", "write_image", "simd_target", "set_threads", "MieResult", "phase", "PhaseResult",
+    "read_image", "write_image", "simd_target", "set_threads", "MieResult", "phase", "PhaseResult", "BulkOptics",
 ]
 
 ArrayLike = Union[float, Sequence[float], np.ndarray]
@@ -116,6 +116,14 @@ def _pair(value: Any, name: str, what: str) -> tuple:
     if isinstance(value, np.ndarray) and value.shape == (2,):
         return (value[0], value[1])
     raise TypeError(f"{name}: expected {what}, got {_describe(value)}")
+
+
+def _history(function: str, arguments: dict) -> str:
+    """A CF history line for a call of ``hydrolux.<function>`` with these arguments (those that
+    differ from the signature's defaults), as a labelled form's ``history`` attribute states it."""
+    defaults = {name: p.default for name, p in inspect.signature(globals()[function]).parameters.items()
+                if p.default is not inspect.Parameter.empty}
+    return _xarray.history(_xarray.call_text(function, arguments, defaults))
 
 
 def _path(value: Any, name: str) -> str:
@@ -234,7 +242,8 @@ class MieResult(NamedTuple):
     qext, qsca, qabs, qback, g: float64 arrays of x's shape; n_terms: int32, the partial waves summed;
     s1, s2: complex128 of shape x.shape + (angles,), or None when no angles were asked for;
     s11, s12, s33, s34: the Mueller matrix elements (Bohren & Huffman eq. 4.77), float64 of S1's
-    shape with ``mueller=True``, else None.
+    shape with ``mueller=True``, else None; info: the call's ``m``, ``x``, ``angles_deg`` and its
+    ``history`` line, for :meth:`to_xarray`.
 
     Example:
 
@@ -258,6 +267,30 @@ class MieResult(NamedTuple):
     s12: Optional[np.ndarray] = None
     s33: Optional[np.ndarray] = None
     s34: Optional[np.ndarray] = None
+    info: Optional[dict] = None
+
+    def to_xarray(self):
+        """The results as an :class:`xarray.Dataset` with CF attributes, as ``hydrolux mie -o phase.nc``
+        writes them: dimensions size_parameter (x, 0-D or 1-D) and scattering_angle; qext, qsca,
+        qabs, qback, g, n_terms; s1_real, s1_imag, s2_real, s2_imag (and s11, s12, s33, s34); the
+        phase function normalised to 1 over the sphere (sr^-1); ``m`` as attributes m_real and
+        m_imag; ``history`` naming the call. ValueError for an x of more than one dimension.
+
+        Example:
+
+        >>> import hydrolux
+        >>> ds = hydrolux.mie(1.333, [10.0, 20.0], angles_deg="0:180:7").to_xarray()
+        >>> sorted(ds.sizes.items()), ds.phase_function.attrs["units"], ds.attrs["Conventions"]
+        ([('scattering_angle', 7), ('size_parameter', 2)], 'sr-1', 'CF-1.8')
+        >>> print(ds.qext.sel(size_parameter=20.0).values.round(4))
+        2.0999
+        """
+        info = self.info or {}
+        if "m" not in info:
+            raise ValueError("to_xarray: this MieResult was not made by hydrolux.mie (it has no info)")
+        fields = {k: v for k, v in self._asdict().items() if k != "info"}
+        d = _core.mie_dataset(info["m"], info["x"], fields, info["angles_deg"], info["history"])
+        return _xarray.from_description(d)
 
 
 _DEFAULT_ANGLES = "0:180:181"
@@ -269,12 +302,12 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
         threads: int = _MIE["threads"], mueller: bool = False) -> MieResult:
     """Lorenz-Mie scattering by homogeneous spheres (``hydrolux mie``), vectorised over sizes.
 
-    ``m``: relative complex index n + ik (k >= 0 absorbs; n, k up to 1000, |m| >= 1e-3), e.g.
+    ``m``: relative complex index n + ik (k >= 0 absorbs; n, k up to 1000, ``|m| >= 1e-3``), e.g.
     ``1.333 + 1e-8j``. ``x``: size parameters 2 pi r / lambda in [1e-6, 1e6], any shape.
     ``angles_deg``: scattering angles in [0, 180] degrees (0 = forward) for S1 and S2: an array, or
     ``"A:B:N"`` for N angles from A to B; the default is the CLI's 0:180:181. ``None`` computes the
     efficiencies alone (the fast path for size sweeps, ``--no-angles``). ``threads``: 0 = all cores.
-    ``mueller``: also the Mueller matrix elements S11 = (|S2|^2 + |S1|^2)/2, S12 = (|S2|^2 - |S1|^2)/2,
+    ``mueller``: also the Mueller matrix elements ``S11 = (|S2|^2 + |S1|^2)/2``, ``S12 = (|S2|^2 - |S1|^2)/2``,
     S33 = Re(S2 S1*), S34 = Im(S2 S1*) (Bohren & Huffman eq. 4.77, ``--mueller``); POL = -S12/S11.
 
     Example:
@@ -293,6 +326,7 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
     >>> print((p.s12 / p.s11).round(6), (p.s33 / p.s11).round(6))   # -sin^2/(1+cos^2), 2cos/(1+cos^2)
     [ 0. -1.  0.] [ 1.  0. -1.]
     """
+    arguments = dict(m=m, x=x, angles_deg=angles_deg, threads=threads, mueller=mueller)
     m = _complex(m, "m")
     x_arr = _reals(x, "x")
     angles = None
@@ -304,8 +338,10 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
     if not isinstance(mueller, (bool, np.bool_)):
         raise TypeError(f"mueller: expected True or False, got {_describe(mueller)}")
     d = _core.mie(m, x_arr, angles, threads, bool(mueller))
+    info = {"m": m, "x": np.array(x_arr, dtype=np.float64), "angles_deg": angles,
+            "history": _history("mie", arguments)}
     return MieResult(d["qext"], d["qsca"], d["qabs"], d["qback"], d["g"], d["n_terms"], d.get("s1"), d.get("s2"),
-                     d.get("s11"), d.get("s12"), d.get("s33"), d.get("s34"))
+                     d.get("s11"), d.get("s12"), d.get("s33"), d.get("s34"), info)
 
 
 def _parse_angles(text: str) -> np.ndarray:
@@ -355,7 +391,7 @@ def sphere(radius_um: ArrayLike, wavelength_nm: float, medium: str = "water", su
 
 
 def bulk_optics(m: complex, wavelength_nm: float, distribution: "SizeDistribution", nodes: int = 64,
-                medium_index: float = 1.0, threads: int = 0) -> dict:
+                medium_index: float = 1.0, threads: int = 0) -> "BulkOptics":
     """Extinction, scattering, absorption and backscatter coefficients (m^-1) and the asymmetry
     parameter g of a population of spheres of index ``m`` (relative to the surrounding medium of
     real index ``medium_index``) at vacuum ``wavelength_nm``, by ``nodes``-point quadrature of the
@@ -382,7 +418,60 @@ def bulk_optics(m: complex, wavelength_nm: float, distribution: "SizeDistributio
         raise ValueError(f"medium_index = {medium_index} is outside [0.001, 1000]")
     r, w = distribution.quadrature(nodes)
     k = 2 * math.pi * medium_index / (wavelength_nm * 1e-9)
-    return _core.bulk_optics(m, k, r, w, threads)
+    result = BulkOptics(_core.bulk_optics(m, k, r, w, threads))
+    result.setup = {"m": m, "wavelength_nm": wavelength_nm, "distribution": distribution, "nodes": nodes,
+                    "medium_index": medium_index,
+                    "history": _history("bulk_optics", dict(m=m, wavelength_nm=wavelength_nm,
+                                                            distribution=distribution, nodes=nodes,
+                                                            medium_index=medium_index, threads=threads))}
+    return result
+
+
+class BulkOptics(dict):
+    """What :func:`bulk_optics` returns: a dict of ``extinction_per_m``, ``scattering_per_m``,
+    ``absorption_per_m``, ``backscatter_per_m`` (m^-1) and ``g``, with :meth:`to_xarray`.
+
+    Example:
+
+    >>> import hydrolux
+    >>> b = hydrolux.bulk_optics(1.333, 550, hydrolux.SizeDistribution.monodisperse(1e-3, 1000), nodes=1)
+    >>> isinstance(b, dict), sorted(b)
+    (True, ['absorption_per_m', 'backscatter_per_m', 'extinction_per_m', 'g', 'scattering_per_m'])
+    """
+
+    def to_xarray(self):
+        """The coefficients as an :class:`xarray.Dataset` of scalars with units and long names, the
+        drops and the light as attributes, ``history`` naming the call.
+
+        Example:
+
+        >>> import hydrolux
+        >>> fog = hydrolux.SizeDistribution.gamma(10e-6, 0.2, number_per_m3=1e8)
+        >>> ds = hydrolux.bulk_optics(1.333, 550, fog, nodes=32).to_xarray()
+        >>> ds.extinction_coefficient.attrs["units"], round(float(ds.extinction_coefficient), 4)
+        ('m-1', 0.068)
+        """
+        s = getattr(self, "setup", None)
+        if s is None:
+            raise ValueError("to_xarray: this BulkOptics was not made by hydrolux.bulk_optics (it has no setup)")
+        d = s["distribution"]
+        m = complex(s["m"])
+        values = {"extinction_coefficient": (self["extinction_per_m"], "m-1", "volume extinction coefficient"),
+                  "scattering_coefficient": (self["scattering_per_m"], "m-1", "volume scattering coefficient"),
+                  "absorption_coefficient": (self["absorption_per_m"], "m-1", "volume absorption coefficient"),
+                  "backscatter_coefficient": (self["backscatter_per_m"], "m-1",
+                                              "volume backscattering coefficient (Bohren & Huffman's Q_back)"),
+                  "asymmetry_parameter": (self["g"], "1", "asymmetry parameter <cos theta>, weighted by C_sca"),
+                  "single_scattering_albedo": (self["scattering_per_m"] / self["extinction_per_m"]
+                                               if self["extinction_per_m"] > 0 else float("nan"), "1",
+                                               "single-scattering albedo")}
+        attrs = {"Conventions": "CF-1.8", "title": "hydrolux bulk optics of a drop population",
+                 "source": f"hydrolux {__version__}", "history": s.get("history", ""),
+                 "wavelength_nm": s["wavelength_nm"], "m_real": m.real, "m_imag": m.imag,
+                 "medium_index": s["medium_index"], "quadrature_nodes": s["nodes"],
+                 "size_distribution": d.kind, "number_concentration_per_m3": d.number_concentration,
+                 "mean_radius_m": d.mean_radius, "effective_radius_m": d.effective_radius}
+        return _xarray.scalar_dataset(values, attrs)
 
 
 # ---- the phase function ---------------------------------------------------------------------------
@@ -391,13 +480,13 @@ class PhaseResult(NamedTuple):
     """A phase function against scattering angle (``hydrolux phase``), averaged over the drops.
 
     angles_deg: the scattering angles (0 = forward); phase: (i1 + i2) / 2, the CLI's column ``i``
-    (= S11); i1 = <|S1|^2> (perpendicular), i2 = <|S2|^2> (parallel): number-weighted means over the
+    (= S11); ``i1 = <|S1|^2>`` (perpendicular), ``i2 = <|S2|^2>`` (parallel): number-weighted means over the
     drops, float64 arrays of the angles' length, in Bohren & Huffman's normalisation (i / k^2 is the
     intensity per drop per unit incident irradiance at unit distance). info: a dict of what the CLI's
     header states: ``theory`` ("mie", "debye:2", ...), ``drops`` (the distribution in words),
     ``wavelength_nm``, ``m`` (relative index), ``x`` (the size parameter, for one radius; else None),
-    ``radii``, ``radius_um`` and ``weight`` (the quadrature averaged over) and ``notes`` (where the
-    theory is out of its depth). With ``mueller=True``: s11, s12, s33, s34, the size-averaged
+    ``radii``, ``radius_um`` and ``weight`` (the quadrature averaged over), ``notes`` (where the
+    theory is out of its depth) and ``history`` (the call, for :meth:`to_xarray`). With ``mueller=True``: s11, s12, s33, s34, the size-averaged
     Mueller elements (Bohren & Huffman eq. 4.77), and pol = -S12/S11, the degree of linear
     polarisation; else None.
 
@@ -421,6 +510,53 @@ class PhaseResult(NamedTuple):
     s33: Optional[np.ndarray] = None
     s34: Optional[np.ndarray] = None
     pol: Optional[np.ndarray] = None
+
+    def to_xarray(self):
+        """The phase function as an :class:`xarray.Dataset` with CF attributes: dimension
+        scattering_angle (degree); phase, i1, i2 (and s11, s12, s33, s34, pol); the radii and weights
+        averaged over on a dimension quadrature_node; the theory, the drops, the wavelength and the
+        index as attributes, ``history`` naming the call.
+
+        Example:
+
+        >>> import hydrolux
+        >>> ds = hydrolux.phase(10, 550, angles_deg="0:180:5").to_xarray()
+        >>> ds.phase.dims, ds.scattering_angle.attrs["units"], ds.attrs["theory"]
+        (('scattering_angle',), 'degree', 'mie')
+        """
+        xr = _xarray.xarray()
+        angle = ("scattering_angle",)
+        norm = ("Bohren & Huffman's normalisation: i / k^2 is the intensity scattered per drop per unit incident "
+                "irradiance at unit distance; number-weighted mean over the drops")
+        data = {"phase": (self.phase, "(i1 + i2) / 2 = <(|S1|^2 + |S2|^2) / 2>, the phase function (= S11); " + norm),
+                "i1": (self.i1, "<|S1|^2>, perpendicular to the scattering plane; " + norm),
+                "i2": (self.i2, "<|S2|^2>, parallel to the scattering plane; " + norm)}
+        if self.s11 is not None:
+            data.update(s11=(self.s11, "Mueller element S11, size-averaged (Bohren & Huffman eq. 4.77)"),
+                        s12=(self.s12, "Mueller element S12, size-averaged"),
+                        s33=(self.s33, "Mueller element S33, size-averaged"),
+                        s34=(self.s34, "Mueller element S34, size-averaged"),
+                        pol=(self.pol, "degree of linear polarisation -S12 / S11"))
+        data_vars = {k: xr.Variable(angle, v, attrs={"units": "1", "long_name": ln}) for k, (v, ln) in data.items()}
+        node = ("quadrature_node",)
+        data_vars["quadrature_weight"] = xr.Variable(node, np.asarray(self.info["weight"]), attrs={
+            "units": "1", "long_name": "weight of each radius in the number-weighted mean"})
+        coords = {"scattering_angle": xr.Variable(angle, self.angles_deg, attrs={
+                      "units": "degree", "long_name": "scattering angle (0 forward)"}),
+                  "quadrature_radius": xr.Variable(node, np.asarray(self.info["radius_um"]), attrs={
+                      "units": "um", "long_name": "drop radii averaged over"})}
+        info, m = self.info, complex(self.info["m"])
+        attrs = {"Conventions": "CF-1.8", "title": "hydrolux phase function", "source": f"hydrolux {__version__}",
+                 "history": info.get("history", ""),
+                 "references": "Bohren, C. F. and Huffman, D. R. (1983): Absorption and Scattering of Light by "
+                               "Small Particles, Wiley",
+                 "theory": info["theory"], "drops": info["drops"], "wavelength_nm": float(info["wavelength_nm"]),
+                 "m_real": m.real, "m_imag": m.imag}
+        if info.get("x") is not None:
+            attrs["size_parameter"] = float(info["x"])
+        if info.get("notes"):
+            attrs["comment"] = "; ".join(info["notes"])
+        return xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)
 
 
 # The phase function's declared parameters (scatter/params.hpp): phase()'s defaults, ranges and checks
@@ -461,6 +597,7 @@ def phase(radius_um: Optional[float], wavelength_nm: float, theory: str = "mie",
     >>> bool(fog.s11[0] ** 2 > fog.s12[0] ** 2 + fog.s33[0] ** 2 + fog.s34[0] ** 2)   # averaging depolarises
     True
     """
+    arguments = dict(locals())  # the call as given, for the labelled form's history
     theory = _text(theory, "theory", "mie, debye:P, airy[:P] or geometric[:P]")
     radius = None if radius_um is None else _real(radius_um, "radius_um")
     wavelength = _real(wavelength_nm, "wavelength_nm")
@@ -629,6 +766,37 @@ class SizeDistribution:
         return self._d.quadrature(nodes, _opt_real(r_min_m, "r_min_m"), _opt_real(r_max_m, "r_max_m"),
                                   _flag(log_spaced, "log_spaced"))
 
+    def to_xarray(self, radius_m: Optional[ArrayLike] = None, nodes: int = 64):
+        """n(r) as an :class:`xarray.Dataset`: the variable number_density (m^-4) over the dimension
+        radius (m), at ``radius_m`` (1-D) or else at the radii of a ``nodes``-point quadrature; the
+        kind, its parameters and its moments as attributes.
+
+        Example:
+
+        >>> import hydrolux
+        >>> ds = hydrolux.SizeDistribution.gamma(10e-6, 0.2, 1e8).to_xarray([5e-6, 10e-6, 20e-6])
+        >>> ds.number_density.attrs["units"], [f"{v:.3g}" for v in ds.number_density.values]
+        ('m-4', ['3.18e+11', '1.99e+13', '4.63e+09'])
+        """
+        xr = _xarray.xarray()
+        if radius_m is None:
+            r = np.sort(self.quadrature(nodes)[0])
+        else:
+            r = np.atleast_1d(_reals(radius_m, "radius_m")).astype(np.float64)
+            if r.ndim != 1:
+                raise ValueError(f"radius_m: expected one radius or a 1-D array of radii, got shape {r.shape}")
+        n = self.number_density(r)
+        attrs = {"Conventions": "CF-1.8", "title": f"hydrolux {self.kind} drop size distribution",
+                 "source": f"hydrolux {__version__}", "size_distribution": self.kind,
+                 "number_concentration_per_m3": self.number_concentration, "mean_radius_m": self.mean_radius,
+                 "radius_variance_m2": self.radius_variance, "effective_radius_m": self.effective_radius}
+        attrs.update({f"parameter_{k}": float(v) for k, v in self.parameters.items()})
+        return xr.Dataset(
+            data_vars={"number_density": xr.Variable(("radius",), n, attrs={
+                "units": "m-4", "long_name": "number of drops per unit volume per unit radius n(r)"})},
+            coords={"radius": xr.Variable(("radius",), r, attrs={"units": "m", "long_name": "drop radius"})},
+            attrs=attrs)
+
     def __repr__(self) -> str:
         return f"SizeDistribution.{self.kind}(mean_radius={self.mean_radius:.4g} m, N={self.number_concentration:.4g} m^-3)"
 
@@ -645,7 +813,9 @@ class LeeTable(NamedTuple):
     With ``stokes=True``: q_xyz, (rows, columns, 3) float64, the Stokes Q weighted as xyz, in the
     scattering-plane basis (Q > 0: polarised tangentially to the bow; U = 0 in this basis); dolp,
     (rows, columns) float64, Q_Y / I_Y, the luminance-weighted degree of linear polarisation (0 where
-    I_Y = 0). Both None otherwise.
+    I_Y = 0). Both None otherwise. info: the theory, colour space, display exposure and white, the
+    evaluations, the drops' shape, and for :meth:`to_xarray` the labelled description
+    (``dataset``, whose arrays are these) and the call's ``history`` line.
 
     Example:
 
@@ -666,6 +836,26 @@ class LeeTable(NamedTuple):
     info: dict
     q_xyz: Optional[np.ndarray] = None
     dolp: Optional[np.ndarray] = None
+
+    def to_xarray(self):
+        """The table as an :class:`xarray.Dataset` with CF attributes, the same variables, coordinates,
+        units and attributes as ``hydrolux lee -o table.nc`` writes: dimensions scattering_angle (rows),
+        radius (columns), wavelength, channel (R, G, B) and xyz_component (X, Y, Z); rgb, xyz and
+        display (and q_xyz, dolp with ``stokes=True``); the settings as global attributes, ``history``
+        naming the call. Save it with ``.to_netcdf(path)``.
+
+        Example:
+
+        >>> import hydrolux
+        >>> ds = hydrolux.lee(table="corona", size=(4, 8), wavelengths=4).to_xarray()
+        >>> sorted(ds.sizes.items())
+        [('channel', 3), ('radius', 4), ('scattering_angle', 8), ('wavelength', 4), ('xyz_component', 3)]
+        >>> ds.rgb.dims, ds.rgb.attrs["units"], ds.radius.attrs["units"], ds.attrs["table"]
+        (('scattering_angle', 'radius', 'channel'), 'sr-1', 'um', 'corona')
+        >>> print(ds.attrs["history"].split(": ", 1)[1])   # after "<UTC time> hydrolux <version>: "
+        hydrolux.lee(table='corona', size=(4, 8), wavelengths=4)
+        """
+        return _xarray.from_description(self.info["dataset"], self.info["history"])
 
 
 def _span(value, name):
@@ -734,6 +924,7 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     >>> flat.info["drop_shape"]["name"], flat.info["drop_shape"]["axis_ratio"].round(3)
     ('beard-chuang', array([0.926]))
     """
+    arguments = dict(locals())  # the call as given, for the labelled form's history
     # Each argument's type is checked in the signature's order; the declared ones go to _core by name.
     table = _text(table, "table", "rainbow, corona or glory")
     theory = _text(theory, "theory", "mie, debye:P, airy, airy:3 or geometric[:P]")
@@ -755,7 +946,8 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     options["stokes"] = _flag(stokes, "stokes")
     d = _core.lee(table, theory, radius_um, angle_deg, size, radius_scale, axis, wavelengths_nm, wavelengths, shape,
                   medium, sun, color_space, options)
-    info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape")}
+    info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape", "dataset")}
+    info["history"] = _history("lee", arguments)
     return LeeTable(d["rgb"], d["xyz"], d["display"], d["radius_um"], d["angle_deg"], d["cos_angle"],
                     d["wavelengths_nm"], info, d.get("q_xyz"), d.get("dolp"))
 

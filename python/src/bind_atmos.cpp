@@ -3,13 +3,13 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <optional>
 #include <string>
 #include <utility>
 
 #include "bindings.hpp"
 #include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/color/cie.hpp"
 #include "hydrolux/optics/media.hpp"
@@ -87,22 +87,19 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
   }
   const atmos::LeeTable t = run_cancellable([&](const ProgressFn& p) { return atmos::compute_lee_table(s, p); });
   const atmos::LeeImages im = atmos::lee_images(t);
-  const py::ssize_t rows = t.rows(), cols = t.columns();
-  py::array_t<double> xyz({rows, cols, py::ssize_t(3)}), rgb({rows, cols, py::ssize_t(3)});
-  std::memcpy(xyz.mutable_data(), t.xyz.data(), t.xyz.size() * sizeof(double));
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) {
-      const auto v = t.rgb(r, c);
-      for (int k = 0; k < 3; ++k) rgb.mutable_data()[(std::size_t(r) * cols + c) * 3 + k] = v[std::size_t(k)];
-    }
-  py::array_t<float> display({rows, cols, py::ssize_t(3)});
-  std::memcpy(display.mutable_data(), im.display.data(), im.display.size() * sizeof(float));
+  // The labelled form (atmos::lee_dataset, as hydrolux lee -o table.nc writes it; its history is set by
+  // the Python layer): the table's arrays are its variables' arrays, one copy of each.
+  const py::dict dataset = dataset_dict(atmos::lee_dataset(t, im, ""));
+  py::dict arrays;
+  for (const auto& item : dataset["variables"]) {
+    const auto v = item.cast<py::tuple>();  // (name, dims, array, attrs)
+    arrays[v[0]] = v[2];
+  }
   py::dict d;
-  d["rgb"] = rgb, d["xyz"] = xyz, d["display"] = display;
-  d["radius_um"] = py::array_t<double>(py::ssize_t(t.radius_um.size()), t.radius_um.data());
-  d["angle_deg"] = py::array_t<double>(py::ssize_t(t.angle_deg.size()), t.angle_deg.data());
-  d["cos_angle"] = py::array_t<double>(py::ssize_t(t.cos_angle.size()), t.cos_angle.data());
-  d["wavelengths_nm"] = py::array_t<double>(py::ssize_t(t.wavelengths_nm.size()), t.wavelengths_nm.data());
+  d["dataset"] = dataset;
+  d["rgb"] = arrays["rgb"], d["xyz"] = arrays["xyz"], d["display"] = arrays["display"];
+  d["radius_um"] = arrays["radius"], d["angle_deg"] = arrays["scattering_angle"];
+  d["cos_angle"] = arrays["cos_scattering_angle"], d["wavelengths_nm"] = arrays["wavelength"];
   d["theory"] = scatter::theory_name(s.theory);
   d["color_space"] = std::string(color::rgb_space_name(s.rgb_space));
   d["exposure"] = im.exposure, d["white"] = im.white;
@@ -121,13 +118,7 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
     shape_info["axis_ratio"] = q;
   }
   d["drop_shape"] = shape_info;
-  if (s.stokes) {  // Q's X, Y, Z (LeeTable::q_xyz) and the luminance-weighted dolp = Q_Y / I_Y
-    py::array_t<double> q({rows, cols, py::ssize_t(3)}), dolp({rows, cols});
-    std::memcpy(q.mutable_data(), t.q_xyz.data(), t.q_xyz.size() * sizeof(double));
-    for (int r = 0; r < rows; ++r)
-      for (int c = 0; c < cols; ++c) dolp.mutable_data()[std::size_t(r) * cols + c] = t.dolp(r, c);
-    d["q_xyz"] = q, d["dolp"] = dolp;
-  }
+  if (s.stokes) d["q_xyz"] = arrays["q_xyz"], d["dolp"] = arrays["dolp"];  // LeeTable::q_xyz, Q_Y / I_Y
   return d;
 }
 

@@ -8,7 +8,9 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "bindings.hpp"
@@ -40,9 +42,59 @@ void write_file(const std::string& path, const py::bytes& data, const std::strin
   io::write_file(path, bytes, label);
 }
 
+py::object attribute_value(const AttributeValue& v) {
+  if (const auto* s = std::get_if<std::string>(&v)) return py::str(*s);
+  if (const auto* d = std::get_if<std::vector<double>>(&v)) {
+    if (d->size() == 1) return py::float_((*d)[0]);
+    return py::array_t<double>(py::ssize_t(d->size()), d->data());
+  }
+  const auto& i = std::get<std::vector<std::int64_t>>(v);
+  if (i.size() == 1) return py::int_(i[0]);
+  return py::array_t<std::int64_t>(py::ssize_t(i.size()), i.data());
+}
+
+py::dict attribute_dict(const Attributes& attrs) {
+  py::dict d;
+  for (const auto& a : attrs.items()) d[py::str(a.name)] = attribute_value(a.value);
+  return d;
+}
+
 }  // namespace
 
+py::dict dataset_dict(const Dataset& ds) {
+  py::list dims, variables;
+  for (const auto& [name, size] : ds.dims) dims.append(py::make_tuple(name, size));
+  for (const auto& v : ds.variables) {
+    std::vector<py::ssize_t> shape;
+    for (const auto& d : v.dims) shape.push_back(py::ssize_t(ds.dim_size(d)));
+    py::object array = std::visit(
+        [&](const auto& data) -> py::object {
+          using T = typename std::decay_t<decltype(data)>::value_type;
+          if constexpr (std::is_same_v<T, std::string>) {
+            py::list items;
+            for (const auto& e : data) items.append(py::str(e));
+            return py::module_::import("numpy").attr("array")(items, py::arg("dtype") = "object").attr("reshape")(
+                py::cast(shape));
+          } else {
+            py::array_t<T> a(shape);
+            std::copy(data.begin(), data.end(), a.mutable_data());
+            return a;
+          }
+        },
+        v.data);
+    py::tuple var_dims(v.dims.size());
+    for (std::size_t i = 0; i < v.dims.size(); ++i) var_dims[i] = py::str(v.dims[i]);
+    variables.append(py::make_tuple(v.name, var_dims, array, attribute_dict(v.attrs)));
+  }
+  py::dict out;
+  out["dims"] = dims, out["attrs"] = attribute_dict(ds.attrs), out["variables"] = variables;
+  return out;
+}
+
 void bind_core(py::module_& m) {
+  // A CF history line, "<UTC time> hydrolux <version>: <call>" (core/dataset.hpp): the CLI's NetCDF
+  // files and the package's to_xarray() state their origin alike.
+  m.def("history_line", [](const std::string& call) { return hydrolux::history_line(call); }, py::arg("call"));
   m.def("set_threads", &set_threads, py::arg("threads"));
   m.def("write_file", &write_file, py::arg("path"), py::arg("data"), py::arg("label"));
   // ---- batch: the CLI's own number parsers (python/hydrolux/batch parses every numeric flag with them) ----
@@ -120,6 +172,17 @@ void bind_core(py::module_& m) {
     for (const auto& j : hydrolux::job_specs()) out.append(std::string(j.name));
     return out;
   });
+  // A job's command, one-line summary and the Python calls that take its parameters (the docs' tables).
+  m.def(
+      "job_info",
+      [](const std::string& job) {
+        const auto& j = hydrolux::job_spec(job);
+        py::dict d;
+        d["name"] = std::string(j.name), d["command"] = std::string(j.command);
+        d["summary"] = std::string(j.summary), d["python"] = std::string(j.python);
+        return d;
+      },
+      py::arg("job"));
 }
 
 }  // namespace hydrolux::py_bind

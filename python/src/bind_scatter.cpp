@@ -21,6 +21,7 @@
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/mie_dataset.hpp"
 #include "hydrolux/scatter/mueller.hpp"
 #include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/phase_job.hpp"
@@ -301,9 +302,51 @@ py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wave
   return d;
 }
 
+// MieResult.to_xarray(): a result of mie() (its arrays by field name, x 0-D or 1-D) as
+// scatter::mie_dataset describes it, the description hydrolux mie -o phase.nc writes.
+py::dict mie_dataset(std::complex<double> m, py::handle x_arg, const py::dict& fields, py::handle angles_arg,
+                     const std::string& history) {
+  const DoubleArray x = c_array<double>(x_arg, "x");
+  if (x.ndim() > 1)
+    throw Error(fmt::format("to_xarray: x has shape {}; a labelled form takes one size parameter or a 1-D array of "
+                            "them (compute over x.ravel())",
+                            describe(x_arg)));
+  const std::size_t n = std::size_t(x.size());
+  std::vector<DoubleArray> keep;
+  const auto reals = [&](const char* name) -> std::span<const double> {
+    if (!fields.contains(name) || fields[name].is_none()) return {};
+    keep.push_back(c_array<double>(fields[name], name));
+    return {keep.back().data(), std::size_t(keep.back().size())};
+  };
+  scatter::MieDatasetInput in;
+  in.m = m;
+  in.x = {x.data(), n};
+  in.qext = reals("qext"), in.qsca = reals("qsca"), in.qabs = reals("qabs"), in.qback = reals("qback");
+  in.g = reals("g");
+  const CArray<std::int32_t> terms = c_array<std::int32_t>(fields["n_terms"], "n_terms");
+  std::vector<int> nt(terms.data(), terms.data() + terms.size());
+  in.n_terms = nt;
+  std::vector<double> angles;
+  std::vector<std::complex<double>> s1, s2;
+  if (!angles_arg.is_none()) {
+    const DoubleArray a = c_array<double>(angles_arg, "angles_deg");
+    angles.assign(a.data(), a.data() + a.size());
+    const auto amplitudes = [&](const char* name, std::vector<std::complex<double>>& out) {
+      const CArray<std::complex<double>> c = c_array<std::complex<double>>(fields[name], name);
+      out.assign(c.data(), c.data() + c.size());
+    };
+    amplitudes("s1", s1), amplitudes("s2", s2);
+    in.s11 = reals("s11"), in.s12 = reals("s12"), in.s33 = reals("s33"), in.s34 = reals("s34");
+  }
+  in.angles_deg = angles, in.s1 = s1, in.s2 = s2;
+  return dataset_dict(scatter::mie_dataset(in, history));
+}
+
 }  // namespace
 
 void bind_scatter(py::module_& m) {
+  m.def("mie_dataset", &mie_dataset, py::arg("m"), py::arg("x"), py::arg("fields"), py::arg("angles_deg"),
+        py::arg("history"));
   namespace sc = hydrolux::scatter;
   m.def("simd_target", &sc::simd_target);
   m.def("sphere_problem", &sphere_problem, py::arg("radius_um"), py::arg("wavelength_nm"), py::arg("medium"),

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common.hpp"
+#include "hydrolux/core/dataset.hpp"
 
 namespace hydrolux::optics {
 class Medium;
@@ -26,5 +27,11 @@ void bind_fog(py::module_& m);      // bind_fog.cpp: fog
 
 // A medium by name (optics::find_medium), its errors naming the argument `arg` (bind_optics.cpp).
 std::shared_ptr<const optics::Medium> medium_arg(const char* arg, const std::string& name);
+
+// A labelled dataset (core/dataset.hpp) as the package's _xarray module takes it (bind_core.cpp):
+// {"dims": [(name, size)], "attrs": {name: value}, "variables": [(name, dims, array, attrs)]}, each
+// array numpy of the variable's dims' shape (strings as an object array), each attribute a str, a
+// number or a 1-D array of numbers.
+py::dict dataset_dict(const Dataset& ds);
 
 }  // namespace hydrolux::py_bind

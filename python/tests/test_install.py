@@ -55,6 +55,11 @@ def _check(venv, env, cwd):
     bad = subprocess.run([str(venv / "bin" / "hydrolux"), "mie", "--m", "1.33", "--x", "-1"], capture_output=True,
                          text=True, env=env, cwd=str(cwd))
     assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr
+    # The CLI finds its NetCDF plugin beside itself in the installed copy.
+    nc = subprocess.run([str(venv / "bin" / "hydrolux"), "mie", "--m", "1.33", "--x", "10", "--angles-deg", "0:180:3",
+                         "-o", "p.nc"], capture_output=True, text=True, env=env, cwd=str(cwd))
+    assert nc.returncode == 0 and (cwd / "p.nc").stat().st_size > 0, nc.stderr
+    (cwd / "p.nc").unlink()
 
 
 def test_pip_install_and_wheel(tmp_path, cli):
@@ -78,8 +83,9 @@ def test_pip_install_and_wheel(tmp_path, cli):
     assert wheels[0].name.startswith(f"hydrolux-{_cmake_version()}-{tag}-{tag}-linux_"), wheels[0].name
     with zipfile.ZipFile(wheels[0]) as z:
         names = set(z.namelist())
-        assert {"hydrolux/bin/hydrolux", "hydrolux/bin/libhydrolux_image_plugin.so", "hydrolux/_cli.py",
-                "hydrolux/batch/rain.py"} <= names
+        assert {"hydrolux/bin/hydrolux", "hydrolux/bin/libhydrolux_image_plugin.so",
+                "hydrolux/bin/libhydrolux_video_plugin.so", "hydrolux/bin/libhydrolux_netcdf_plugin.so",
+                "hydrolux/_cli.py", "hydrolux/_xarray.py", "hydrolux/batch/rain.py"} <= names
         assert any(n.startswith("hydrolux/_core.") and n.endswith(".so") for n in names)
         assert (z.getinfo("hydrolux/bin/hydrolux").external_attr >> 16) & 0o111  # executable
     venv2 = _venv(tmp_path / "wheel")

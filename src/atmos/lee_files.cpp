@@ -169,6 +169,128 @@ nlohmann::json lee_sidecar(const LeeTable& t, const LeeImages& im, const std::st
   return j;
 }
 
+Dataset lee_dataset(const LeeTable& t, const LeeImages& im, std::string_view history) {
+  const auto& s = t.spec;
+  const std::size_t rows = std::size_t(t.rows()), cols = std::size_t(t.columns()), n = rows * cols;
+  Dataset ds;
+  const std::string angle = ds.dim("scattering_angle", rows), radius = ds.dim("radius", cols),
+                    wavelength = ds.dim("wavelength", t.wavelengths_nm.size()), channel = ds.dim("channel", 3),
+                    component = ds.dim("xyz_component", 3);
+  ds.add(angle, {angle}, t.angle_deg)
+      .attrs.text("units", "degree")
+      .text("long_name", "scattering angle (0 forward, looking toward the sun through the drops; 180 the antisolar "
+                         "point)");
+  ds.add(radius, {radius}, t.radius_um)
+      .attrs.text("units", "um")
+      .text("long_name", s.size_spread > 0 ? "number-weighted mean drop radius (gamma size distribution)"
+                                           : "drop radius");
+  ds.add(wavelength, {wavelength}, t.wavelengths_nm)
+      .attrs.text("units", "nm")
+      .text("standard_name", "radiation_wavelength")
+      .text("long_name", "vacuum wavelengths sampled");
+  ds.add(channel, {channel}, std::vector<std::string>{"R", "G", "B"})
+      .attrs.text("long_name",
+                  fmt::format("linear RGB channel ({} primaries, D65 white)", color::rgb_space_name(s.rgb_space)));
+  ds.add(component, {component}, std::vector<std::string>{"X", "Y", "Z"})
+      .attrs.text("long_name", "CIE 1931 tristimulus component (2-degree observer)");
+  std::string coordinates = "cos_scattering_angle";
+  ds.add("cos_scattering_angle", {angle}, t.cos_angle)
+      .attrs.text("units", "1")
+      .text("long_name", "cosine of the scattering angle");
+  if (!s.shape.spherical()) {
+    std::vector<double> q;
+    for (double r : t.radius_um) q.push_back(drop_axis_ratio(s.shape, r));
+    ds.add("axis_ratio", {radius}, std::move(q))
+        .attrs.text("units", "1")
+        .text("long_name", "drop axis ratio (polar over equatorial) of each radius");
+    coordinates += " axis_ratio";
+  }
+  std::vector<double> rgb(n * 3);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c) {
+      const auto v = t.rgb(int(r), int(c));
+      for (std::size_t k = 0; k < 3; ++k) rgb[(r * cols + c) * 3 + k] = v[k];
+    }
+  const std::string quantity = "per unit incident irradiance and unit projected-area optical depth of the drops";
+  ds.add("rgb", {angle, radius, channel}, std::move(rgb))
+      .attrs.text("units", "sr-1")
+      .text("long_name", "linear RGB radiance scattered once " + quantity +
+                             ", relative to the sun (sunlight is (1, 1, 1)), desaturated into the gamut at constant "
+                             "luminance")
+      .text("coordinates", coordinates);
+  ds.add("xyz", {angle, radius, component}, t.xyz)
+      .attrs.text("units", "sr-1")
+      .text("long_name", "CIE 1931 XYZ of the radiance scattered once " + quantity +
+                             ", relative to the sun's luminance (Y is the luminance), unmapped")
+      .text("coordinates", coordinates);
+  ds.add("display", {angle, radius, channel}, im.display)
+      .attrs.text("units", "1")
+      .text("long_name", "tone-mapped display value in [0, 1], linear (apply the sRGB curve to show it): Reinhard et "
+                         "al. 2002's photographic operator on luminance, hue kept")
+      .text("coordinates", coordinates);
+  if (s.stokes) {
+    ds.add("q_xyz", {angle, radius, component}, t.q_xyz)
+        .attrs.text("units", "sr-1")
+        .text("long_name", "Stokes Q weighted as xyz, in the scattering-plane basis (> 0: polarised tangentially to "
+                           "the bow; U = V = 0 in this basis)")
+        .text("coordinates", coordinates);
+    std::vector<double> dolp(n);
+    for (std::size_t r = 0; r < rows; ++r)
+      for (std::size_t c = 0; c < cols; ++c) dolp[r * cols + c] = t.dolp(int(r), int(c));
+    ds.add("dolp", {angle, radius}, std::move(dolp))
+        .attrs.text("units", "1")
+        .text("long_name", "luminance-weighted degree of linear polarisation Q_Y / I_Y (signed as Q; 0 where I_Y = 0)")
+        .text("coordinates", coordinates);
+  }
+  std::vector<double> m;
+  for (const auto& row : t.xyz_to_rgb)
+    for (double v : row) m.push_back(v);
+  ds.add("xyz_to_rgb", {channel, component}, std::move(m))
+      .attrs.text("units", "1")
+      .text("long_name", "matrix from xyz to linear RGB (Bradford adaptation from the sun's white to D65, then the "
+                         "primaries), before gamut mapping");
+  ds.add("sun_white_xyz", {component}, std::vector<double>{t.sun_white.X, t.sun_white.Y, t.sun_white.Z})
+      .attrs.text("units", "1")
+      .text("long_name", "the sun's XYZ over the sampled wavelengths, Y = 1");
+
+  auto& a = ds.attrs;
+  a.text("Conventions", "CF-1.8")
+      .text("title", fmt::format("hydrolux {} table ({} theory)", table_kind_name(s.table), scatter::theory_name(s.theory)))
+      .text("source", fmt::format("hydrolux {}", kVersion))
+      .text("history", std::string(history))
+      .text("references", "Lee, R. L., Jr. (1998): Mie theory, Airy theory, and the natural rainbow. Applied Optics "
+                          "37(9), 1506-1519 (the Lee diagram)")
+      .text("comment", "T = <dsigma_sca/dOmega> / <pi a^2>: radiance scattered once per unit incident irradiance per "
+                       "unit projected-area optical depth of the drops (L = E_sun tau_geo T; tau_geo = path x sum pi "
+                       "a^2 n(a), = tau_ext / 2 for drops much larger than the wavelength), averaged over the size "
+                       "distribution, the sun's disk and the spectrum; each sample averaged over its row's cell")
+      .text("table", table_kind_name(s.table))
+      .text("theory", scatter::theory_name(s.theory))
+      .text("angle_axis", angle_axis_name(s.axis))
+      .text("radius_scale", radius_scale_name(s.radius_scale))
+      .text("color_space", color::rgb_space_name(s.rgb_space))
+      .text("sun", s.sun.name())
+      .number("sun_disk_diameter_deg", s.sun_disk_deg)
+      .integer("limb_darkening", s.limb_darkening ? 1 : 0)
+      .text("size_distribution", s.size_spread > 0 ? "gamma" : "monodisperse")
+      .number("size_spread", s.size_spread)
+      .text("drop_medium", s.drop_medium)
+      .text("surrounding_medium", s.surrounding_medium);
+  if (s.temperature_c) a.number("temperature_c", *s.temperature_c);
+  a.text("drop_shape", drop_shape_name(s.shape));
+  if (!s.shape.spherical())
+    a.number("sun_elevation_deg", s.sun_elevation_deg)
+        .number("position_deg", s.position_deg)
+        .number("canting_deg", s.canting_deg);
+  a.number("sampling", s.sampling)
+      .integer("seed", std::int64_t(s.seed))
+      .number("display_exposure", im.exposure)
+      .number("display_white", im.white)
+      .integer("evaluations", std::int64_t(t.work.evaluations));
+  ds.check();
+  return ds;
+}
+
 LeeFileBytes encode_lee_files(const LeeTable& t, const LeeImages& im, const LeeImageEncoder& encode) {
   static_assert(std::endian::native == std::endian::little, "the .f32 tables are little-endian");
   LeeFileBytes out;

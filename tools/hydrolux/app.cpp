@@ -284,6 +284,7 @@ int run_parsed(int argc, char** argv) {
   std::string provisional = "hydrolux";
   for (int i = 1; i < argc && i <= 2 && argv[i][0] != '-' && argv[i][0] != '\0'; ++i) provisional += std::string(" ") + argv[i];
   set_program_name(provisional);
+  set_command_line(argc, argv);
   install_signal_handling();
 
   // "--flag=" (an empty value after '=') becomes "--flag" "": CLI11 would otherwise take the next

@@ -114,7 +114,8 @@ int run_lee(const LeeArgs& a) {
   }
   atmos::validate(s);
   check_table_memory({&s}, a.size ? *a.size : fmt::format("{}x{} (the default)", s.columns, s.rows));
-  if (!a.json && a.output.empty()) throw Error("-o is required (a .exr path), unless --json prints a profile");
+  if (!a.json && a.output.empty())
+    throw Error("-o is required (a .exr path, or .nc for NetCDF), unless --json prints a profile");
   if (a.json && !single) throw Error("--json prints one radius's profile: give a single --radius-um R");
 
   // Every output is reserved before the work: the EXR, and the PNG and JSON beside it.
@@ -138,10 +139,9 @@ int run_lee(const LeeArgs& a) {
     out->write(t, im);
     files.commit();
     if (!a.quiet)
-      fmt::print(stderr, "lee: wrote {} ({}x{}, {}), {} and {} in {:.1f} s ({} evaluations, {:.3g} terms x angles)\n",
-                 printable(out->exr_path), t.columns(), t.rows(), scatter::theory_name(s.theory),
-                 printable(out->png_path), printable(out->json_path), seconds, t.work.evaluations,
-                 double(t.work.term_angles));
+      fmt::print(stderr, "lee: wrote {} ({}x{}, {}) in {:.1f} s ({} evaluations, {:.3g} terms x angles)\n",
+                 out->describe(), t.columns(), t.rows(), scatter::theory_name(s.theory), seconds,
+                 t.work.evaluations, double(t.work.term_angles));
   }
   return 0;
 }
@@ -203,7 +203,9 @@ Command add_lee(CLI::App& app) {
                 "Print one radius's profile (angle, RGB, luminance, XYZ; with --stokes Q's XYZ and dolp) as JSON on "
                 "stdout");
   declared("stokes", "stokes");
-  sub->add_option("-o,--output", args->output, "Output .exr (the .png and .json are written beside it)");
+  sub->add_option("-o,--output", args->output,
+                  "Output .exr (the .png and .json are written beside it), or .nc: one NetCDF-4 file with CF "
+                  "attributes (xarray.open_dataset, ncdump)");
   sub->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
   cmd.flags_for_quantity.insert({{"radius_um", "--radius-um"},
                                  {"angle_deg", "--angle-deg"},

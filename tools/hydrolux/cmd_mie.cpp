@@ -14,10 +14,12 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/io/files.hpp"
+#include "hydrolux/io/netcdf.hpp"
 #include "hydrolux/io/npy.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/debye.hpp"
 #include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/mie_dataset.hpp"
 #include "hydrolux/scatter/mueller.hpp"
 #include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/sphere.hpp"
@@ -105,15 +107,17 @@ std::string json_head(double x, scatter::Complex m, int terms, const scatter::Mi
   return s;
 }
 
-enum class FileFormat { csv, npy, json };
+enum class FileFormat { csv, npy, json, netcdf };
 
 FileFormat output_format(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".csv") return FileFormat::csv;
   if (ext == ".npy") return FileFormat::npy;
   if (ext == ".json") return FileFormat::json;
-  throw Error(fmt::format("-o {}: the amplitudes are written as .csv, .npy or .json; give one of those extensions",
-                          path));
+  if (ext == ".nc") return FileFormat::netcdf;
+  throw Error(fmt::format("-o {}: the amplitudes are written as .csv, .npy, .json or .nc (NetCDF-4); give one of "
+                          "those extensions",
+                          printable(path)));
 }
 
 int run_mie(const MieArgs& a) {
@@ -122,7 +126,7 @@ int run_mie(const MieArgs& a) {
   const bool physical = a.radius_um || a.wavelength_nm;
   if (dimensionless && physical)
     throw Error("give either --m and --x, or --radius-um and --wavelength-nm (with --medium), not both");
-  if (a.output && a.output->empty()) throw Error("-o: give a file name (.csv, .npy or .json)");
+  if (a.output && a.output->empty()) throw Error("-o: give a file name (.csv, .npy, .json or .nc)");
   if (r.no_angles && a.output) throw Error("-o writes the amplitudes; --no-angles computes none");
   if (r.no_angles && r.debye) throw Error("--debye restricts the amplitudes; --no-angles computes none");
   if (r.no_angles && r.mueller) throw Error("--mueller derives from the amplitudes; --no-angles computes none");
@@ -154,6 +158,7 @@ int run_mie(const MieArgs& a) {
   if (a.output) {
     format = output_format(*a.output);
     out_file = &files.output("-o", *a.output);
+    if (format == FileFormat::netcdf) (void)io::netcdf_api();  // NetCDF support loads now, not after the work
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -189,7 +194,24 @@ int run_mie(const MieArgs& a) {
   if (out_file) {
     Sink sink(out_file);
     auto& b = sink.buffer();
-    if (format == FileFormat::npy) {
+    if (format == FileFormat::netcdf) {
+      scatter::MieDatasetInput in;
+      in.m = m;
+      in.x = std::span<const double>(&x, 1);
+      in.qext = std::span<const double>(&q.qext, 1), in.qsca = std::span<const double>(&q.qsca, 1);
+      in.qabs = std::span<const double>(&q.qabs, 1), in.qback = std::span<const double>(&q.qback, 1);
+      in.g = std::span<const double>(&q.g, 1);
+      in.n_terms = std::span<const int>(&terms, 1);
+      in.angles_deg = angles, in.s1 = s1, in.s2 = s2;
+      if (mm) in.s11 = mm->s11, in.s12 = mm->s12, in.s33 = mm->s33, in.s34 = mm->s34;
+      in.debye_p = r.debye;
+      if (physical) {
+        in.wavelength_nm = a.wavelength_nm;
+        in.radius_um = std::span<const double>(&*a.radius_um, 1);
+        in.medium = a.medium, in.surrounding = a.surrounding, in.temperature_c = r.temperature_c;
+      }
+      b = io::netcdf_api().encode(scatter::mie_dataset(in, history_line(command_line())));
+    } else if (format == FileFormat::npy) {
       const std::size_t columns = mm ? 9 : 5;
       const std::size_t shape[2] = {angles.size(), columns};
       b = io::npy_header_f8(shape);
@@ -306,7 +328,9 @@ Command add_mie(CLI::App& app) {
   sub->add_option("-o,--output", args->output,
                   "Write S1, S2 to this file instead of printing them, by extension: .csv (theta_deg,s1_re,s1_im,"
                   "s2_re,s2_im[,s11,s12,s33,s34 with --mueller]), .npy (float64 array, one row per angle, the same "
-                  "five or nine columns) or .json (the --json object); written whole or not at all");
+                  "five or nine columns), .json (the --json object) or .nc (NetCDF-4 with CF attributes: the "
+                  "efficiencies, S1, S2 as real and imaginary parts, the Mueller elements, the phase function "
+                  "normalised to 1 over the sphere); written whole or not at all");
   sub->add_flag("--json", args->json,
                 "Print one JSON object: x, m, n_terms, qext, qsca, qabs, qback, g, [debye_p,] angles_deg, "
                 "s1, s2 ([re, im] pairs), [s11, s12, s33, s34 with --mueller] (with -o: \"output\", the file, "

@@ -135,6 +135,32 @@ std::string program_name() {
   return p.name;
 }
 
+namespace {
+std::string& command_line_storage() {
+  static std::string line = "hydrolux";
+  return line;
+}
+}  // namespace
+
+void set_command_line(int argc, const char* const* argv) {
+  std::string line = "hydrolux";
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = printable(argv[i]);
+    const bool plain = !word.empty() && word.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                                               "0123456789_-+=.,:/@%") == std::string::npos;
+    line += ' ';
+    if (plain) {
+      line += word;
+    } else {
+      line += '\'';
+      for (char c : word) line += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      line += '\'';
+    }
+  }
+  command_line_storage() = std::move(line);
+}
+std::string command_line() { return command_line_storage(); }
+
 void warn(const std::string& text) { fmt::print(stderr, "{}: warning: {}\n", program_name(), printable(text)); }
 
 int report_left_out(const std::vector<std::string>& left_out, std::size_t frames_total) {

@@ -98,6 +98,10 @@ void check_temperature_flag(const std::optional<double>& temperature_c,
 // The name of the running command ("hydrolux drop render"), for warnings.
 void set_program_name(std::string name);
 std::string program_name();  // thread-safe: the signal thread reads it
+// The command line as run ("hydrolux lee --table corona -o t.nc", words quoted for a POSIX shell where
+// they need it), for the `history` attribute of the files that carry one (NetCDF).
+void set_command_line(int argc, const char* const* argv);
+std::string command_line();
 // One line on stderr: "<program>: warning: <text>".
 void warn(const std::string& text);
 // A folder run's frames left out (rain, fog, lens-drops): none, 0; else one line naming them on

@@ -14,6 +14,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/memory.hpp"
 #include "hydrolux/core/parse.hpp"
+#include "hydrolux/io/netcdf.hpp"
 #include "image_plugin.hpp"
 
 namespace hydrolux::cli {
@@ -46,11 +47,16 @@ void set_wavelengths_flag(atmos::LeeSpec& s, const std::string& w) {
 
 LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& exr_path) {
   const std::filesystem::path p(exr_path);
-  if (p.extension() != ".exr")
-    throw Error(fmt::format("-o {}: the table is written as OpenEXR; give a .exr path (the .png and .json go beside "
-                            "it)",
-                            exr_path));
   LeeOutputs o;
+  if (p.extension() == ".nc") {
+    o.netcdf = &files.output("-o", exr_path);
+    (void)io::netcdf_api();  // NetCDF support loads now, not after the work
+    return o;
+  }
+  if (p.extension() != ".exr")
+    throw Error(fmt::format("-o {}: give a .exr path (the table as OpenEXR, with a .png and a .json beside it) or a "
+                            ".nc path (one NetCDF-4 file with CF attributes)",
+                            printable(exr_path)));
   o.exr_path = exr_path;
   o.png_path = std::filesystem::path(p).replace_extension(".png").string();
   o.json_path = std::filesystem::path(p).replace_extension(".json").string();
@@ -62,6 +68,10 @@ LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& exr_path) 
 }
 
 void LeeOutputs::write(const atmos::LeeTable& t, const atmos::LeeImages& im) const {
+  if (netcdf) {
+    netcdf->write(io::netcdf_api().encode(atmos::lee_dataset(t, im, history_line(command_line()))));
+    return;
+  }
   const atmos::LeeFileBytes bytes = encode_lee_files(t, im);
   exr.file->write(bytes.exr);
   png.file->write(bytes.png);
@@ -69,6 +79,11 @@ void LeeOutputs::write(const atmos::LeeTable& t, const atmos::LeeImages& im) con
                                     std::filesystem::path(png_path).filename().string())
                      .dump(1) +
                  "\n");
+}
+
+std::string LeeOutputs::describe() const {
+  if (netcdf) return printable(netcdf->target().string());
+  return fmt::format("{}, {} and {}", printable(exr_path), printable(png_path), printable(json_path));
 }
 
 nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& name, const atmos::LeeTable& t) {

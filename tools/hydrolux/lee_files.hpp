@@ -22,13 +22,17 @@ void set_wavelengths_flag(atmos::LeeSpec& spec, const std::string& text);
 
 // hydrolux lee's files: -o's .exr and the .png and .json beside it, reserved in `files` before the
 // work (the image plugin is loaded then too) and written after it.
+// With a .nc path instead: the one NetCDF-4 file of atmos::lee_dataset (its history the command
+// line), through the NetCDF plugin (loaded then too).
 struct LeeOutputs {
   std::string exr_path, png_path, json_path;
   ImageOutput exr{}, png{};
   io::OutputFile* sidecar = nullptr;
+  io::OutputFile* netcdf = nullptr;  // -o *.nc: the only output
   void write(const atmos::LeeTable& t, const atmos::LeeImages& im) const;
+  std::string describe() const;  // what was written, for the closing line
 };
-LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& exr_path);
+LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& path);
 
 // A computed table's files for an engine, written into `dir` as <name>.exr, .png, .f32 and .json (the
 // sidecar naming the raw copy and its layout), and for a Stokes table (LeeSpec::stokes) <name>_q.f32,

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/core/dataset.hpp"
 #include "hydrolux/core/image.hpp"
 #include "hydrolux/io/image_io.hpp"
 #include "hydrolux/scene/compositor.hpp"
@@ -26,6 +27,15 @@ nlohmann::json to_json(const std::vector<double>& v);
 // The sidecar describing a table, its files named `exr_name` and `png_name`.
 nlohmann::json lee_sidecar(const LeeTable& t, const LeeImages& im, const std::string& exr_name,
                            const std::string& png_name);
+
+// The table as a labelled dataset with CF-1.8 attributes (hydrolux lee -o table.nc through
+// io/netcdf.hpp, and Python's LeeTable.to_xarray()): dimensions scattering_angle (rows), radius
+// (columns), wavelength, channel (R, G, B) and xyz_component (X, Y, Z); coordinates with units and
+// long names (cos_scattering_angle, and axis_ratio for non-spherical drops, as auxiliary
+// coordinates); rgb, xyz and display as the EXR and PNG hold them (rgb gamut-mapped, float64; display
+// float32), q_xyz and dolp with stokes; xyz_to_rgb and sun_white_xyz; the sidecar's settings as
+// global attributes, with `history` as given (io: core/dataset.hpp's history_line).
+Dataset lee_dataset(const LeeTable& t, const LeeImages& im, std::string_view history);
 
 // One column's profile (hydrolux lee --json): its radius, the theory, the units, the colour space,
 // and per row the angle, the RGB, the luminance and the XYZ.
