@@ -34,6 +34,7 @@ __all__ = [
     "lee", "LeeTable", "drop_render", "drop_undistort", "rain", "RainResult", "RainRenderer", "builtin_scene",
     "lens_drops", "LensDropsResult",
     "fog", "FogResult",
+    "renderer_medium", "RendererMedium",
     "read_image", "write_image", "simd_target", "set_threads", "MieResult", "phase", "PhaseResult", "BulkOptics",
 ]
 
@@ -612,8 +613,93 @@ def phase(radius_um: Optional[float], wavelength_nm: float, theory: str = "mie",
     if "s11" in d:
         with np.errstate(divide="ignore", invalid="ignore"):
             pol = -d["s12"] / d["s11"]
+    d["info"]["history"] = _history("phase", arguments)
     return PhaseResult(d["angles_deg"], d["phase"], d["i1"], d["i2"], d["info"], d.get("s11"), d.get("s12"),
                        d.get("s33"), d.get("s34"), pol)
+
+
+# hydrolux medium's declared parameters (scatter/renderer_export.hpp): renderer_medium()'s defaults.
+_RENDERER_MEDIUM = {p["name"]: p["default"] for p in _core.params("medium")}
+
+
+class RendererMedium(NamedTuple):
+    """Drops as a renderer's participating medium (``hydrolux medium``; docs/renderer-export.md).
+
+    text: the file, a Mitsuba 3 XML medium (``tabphase``) or a pbrt-v4 ``MakeNamedMedium`` statement,
+    with its comment header; write it with ``open(path, "w").write(result.text)``. wavelength_nm: 360
+    to 830 nm every 10 nm; sigma_t_per_m, sigma_s_per_m, sigma_a_per_m, albedo: as exported (after
+    any forward cut), m^-1; phase: the table per steradian at cos(theta) uniform from -1 (backward) to
+    +1 (forward), normalised (2 pi times its trapezoid integral is 1). info: ``format``, ``drops``,
+    ``number_per_m3``, ``lwc_g_m3``, ``scene_unit_m``, the physical ``extinction_per_m`` and
+    ``scattering_per_m``, ``phase_wavelength_nm``, ``l1_error`` (of the table, estimated),
+    ``target_met``, ``cut_deg``, ``cut_fraction``, ``g``, ``hg_g`` and ``hg_l1_error`` (pbrt-v4's
+    Henyey-Greenstein), ``normalisation``.
+
+    Example:
+
+    >>> import hydrolux
+    >>> fog = hydrolux.renderer_medium(5, number_per_cm3=100, values=257, forward_cut_deg=0)
+    >>> len(fog.phase), fog.info["format"], bool(fog.phase[-1] > fog.phase[0])   # forward is last
+    (257, 'mitsuba3', True)
+    """
+    text: str
+    wavelength_nm: np.ndarray
+    sigma_t_per_m: np.ndarray
+    sigma_s_per_m: np.ndarray
+    sigma_a_per_m: np.ndarray
+    albedo: np.ndarray
+    phase: np.ndarray
+    info: dict
+
+
+def renderer_medium(radius_um: Optional[float], size_distribution: str = "mono",
+                    number_per_cm3: Optional[float] = _RENDERER_MEDIUM["number_per_cm3"],
+                    lwc_g_m3: Optional[float] = _RENDERER_MEDIUM["lwc_g_m3"],
+                    format: str = "mitsuba3", name: str = "hydrolux_medium", medium: str = "water",
+                    surrounding: str = "air", nodes: int = _RENDERER_MEDIUM["nodes"],
+                    temperature_c: Optional[float] = _RENDERER_MEDIUM["temperature_c"],
+                    phase_wavelength_nm: float = _RENDERER_MEDIUM["phase_wavelength_nm"],
+                    values: Optional[int] = None, max_error: float = _RENDERER_MEDIUM["max_error"],
+                    forward_cut_deg: Optional[float] = None,
+                    scene_unit_m: float = _RENDERER_MEDIUM["scene_unit_m"],
+                    threads: int = _RENDERER_MEDIUM["threads"]) -> RendererMedium:
+    """A population of drops as a renderer's participating medium (``hydrolux medium``): the same job,
+    checks and file text as the CLI, as a :class:`RendererMedium`.
+
+    ``radius_um``: the drop's radius, or the mean radius of gamma and lognormal (None for
+    Marshall-Palmer rain). ``size_distribution``: "mono", "gamma:W", "lognormal:W" or
+    "marshall-palmer:H". ``number_per_cm3`` or ``lwc_g_m3``: the count (one of them; neither for rain,
+    whose count follows from its rate). ``format``: "mitsuba3" (homogeneous medium with a tabphase)
+    or "pbrt-v4" (homogeneous medium with Henyey-Greenstein, its error stated). ``name``: the medium's
+    id. The declared parameters (``nodes``, ``temperature_c``, ``phase_wavelength_nm``, ``values``,
+    ``max_error``, ``forward_cut_deg``, ``scene_unit_m``, ``threads``) take the ranges of the CLI's
+    flags of the same names. A bad argument is a ValueError (a TypeError for a wrong type) naming it.
+
+    Example:
+
+    >>> import hydrolux
+    >>> fog = hydrolux.renderer_medium(10, number_per_cm3=100, values=257, forward_cut_deg=0)
+    >>> print(f"{fog.wavelength_nm[19]:g} nm: sigma_t {fog.sigma_t_per_m[19]:.4f} m^-1, "
+    ...       f"visibility {3.912 / fog.sigma_t_per_m[19]:.0f} m")
+    550 nm: sigma_t 0.0642 m^-1, visibility 61 m
+    >>> rain = hydrolux.renderer_medium(None, "marshall-palmer:5", format="pbrt-v4", nodes=16, values=4097)
+    >>> print(rain.text.splitlines()[-1], f"cut {rain.info['cut_deg']:.2f} deg")
+        "float g" 0.76... cut 1.79 deg
+    """
+    radius = None if radius_um is None else _real(radius_um, "radius_um")
+    size_distribution = _text(size_distribution, "size_distribution", "mono, gamma:W, lognormal:W or marshall-palmer:H")
+    medium, surrounding = _text(medium, "medium", _MEDIUM), _text(surrounding, "surrounding", _MEDIUM)
+    format = _text(format, "format", "mitsuba3 or pbrt-v4")
+    name = _text(name, "name", "1 to 64 of A-Z a-z 0-9 _ . -")
+    options = {"number_per_cm3": _opt_real(number_per_cm3, "number_per_cm3"),
+               "lwc_g_m3": _opt_real(lwc_g_m3, "lwc_g_m3"), "nodes": nodes,
+               "temperature_c": _opt_real(temperature_c, "temperature_c"),
+               "phase_wavelength_nm": phase_wavelength_nm, "values": values, "max_error": max_error,
+               "forward_cut_deg": _opt_real(forward_cut_deg, "forward_cut_deg"), "scene_unit_m": scene_unit_m,
+               "threads": threads}
+    d = _core.renderer_medium(radius, size_distribution, medium, surrounding, format, name, options)
+    return RendererMedium(d["text"], d["wavelength_nm"], d["sigma_t_per_m"], d["sigma_s_per_m"],
+                          d["sigma_a_per_m"], d["albedo"], d["phase"], d["info"])
 
 
 class SizeDistribution:

@@ -25,6 +25,7 @@
 #include "hydrolux/scatter/mueller.hpp"
 #include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/phase_job.hpp"
+#include "hydrolux/scatter/renderer_export.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "hydrolux/scatter/sphere.hpp"
 #include "params.hpp"
@@ -342,6 +343,71 @@ py::dict mie_dataset(std::complex<double> m, py::handle x_arg, const py::dict& f
   return dataset_dict(scatter::mie_dataset(in, history));
 }
 
+// ---- a renderer's medium ---------------------------------------------------------------------
+
+// hydrolux medium's job (scatter/renderer_export.hpp): the file's text for a renderer and the numbers
+// it holds; the declared numbers come in `options` (None: the default).
+py::dict renderer_medium(py::handle radius_arg, const std::string& size_distribution, const std::string& medium,
+                         const std::string& surrounding, const std::string& format, const std::string& name,
+                         const py::dict& options) {
+  scatter::MediumJob job;
+  apply_kwargs(job.numbers, options, scatter::medium_params());
+  if (!radius_arg.is_none()) {
+    const double r = real_arg(radius_arg, "radius_um");
+    require_arg("radius_um", r, 1e-6, 1e6, "um");
+    job.radius_um = r;
+  }
+  job.size_distribution = size_distribution;
+  job.medium = medium_arg("medium", medium);
+  job.surrounding = medium_arg("surrounding", surrounding);
+  if (const auto& t = job.numbers.temperature_c;
+      t && !job.medium->info().temperature_dependent && !job.surrounding->info().temperature_dependent)
+    throw Error(fmt::format("temperature_c {:g}: neither {} nor {} has a temperature model; leave it None", *t,
+                            job.medium->info().name, job.surrounding->info().name));
+  scatter::RendererFormat renderer;
+  try {
+    renderer = scatter::parse_renderer_format(format);
+  } catch (const UnknownNameError& e) {
+    throw UnknownNameError(fmt::format("format: {}", e.what()));
+  }
+  if (!scatter::valid_medium_name(name))
+    throw Error(fmt::format("name '{}': expected 1 to 64 of A-Z a-z 0-9 _ . -", name));
+  const std::map<std::string, ArgName> names = {
+      {"x", {"radius_um (size parameter x)"}},
+      {"m_real", {"medium, surrounding (relative index, real part)"}},
+      {"m_imag", {"medium, surrounding (relative index, imaginary part)"}},
+      {"radius_m", {"radius_um", 1e6}},
+      {"mean_radius_m", {"radius_um", 1e6}},
+      {"r_min_m", {"radius_um (smallest radius of the distribution, m)"}},
+      {"r_max_m", {"radius_um (largest radius of the distribution, m)"}},
+      {"wavelength_nm", {"medium, surrounding (their data's wavelengths)"}}};
+  scatter::MediumPlan plan;
+  scatter::MediumOptics o;
+  try {
+    plan = scatter::plan_medium(std::move(job));
+    o = run_cancellable([&](const ProgressFn& progress) { return scatter::compute_medium(plan, progress); });
+  } catch (const DomainError& e) {
+    rethrow_named(e, names);
+  }
+  const auto array = [](const std::vector<double>& v) { return DoubleArray(py::ssize_t(v.size()), v.data()); };
+  py::dict d;
+  d["text"] = scatter::renderer_medium_text(o, renderer, name);
+  d["wavelength_nm"] = array(o.wavelength_nm);
+  d["sigma_t_per_m"] = array(o.sigma_t_per_m), d["sigma_s_per_m"] = array(o.sigma_s_per_m);
+  d["sigma_a_per_m"] = array(o.sigma_a_per_m), d["albedo"] = array(o.albedo);
+  d["phase"] = array(o.phase.values);
+  py::dict info;
+  info["format"] = std::string(scatter::renderer_format_name(renderer)), info["drops"] = o.drops;
+  info["number_per_m3"] = o.number_per_m3, info["lwc_g_m3"] = o.lwc_g_m3, info["scene_unit_m"] = o.scene_unit_m;
+  info["extinction_per_m"] = array(o.extinction_per_m), info["scattering_per_m"] = array(o.scattering_per_m);
+  info["phase_wavelength_nm"] = o.phase_wavelength_nm, info["l1_error"] = o.phase.l1_error;
+  info["target_met"] = o.phase.target_met, info["cut_deg"] = o.phase.cut_deg;
+  info["cut_fraction"] = o.phase.cut_fraction, info["g"] = o.phase.g, info["hg_g"] = o.phase.hg_g;
+  info["hg_l1_error"] = o.phase.hg_l1, info["normalisation"] = o.phase.normalisation;
+  d["info"] = info;
+  return d;
+}
+
 }  // namespace
 
 void bind_scatter(py::module_& m) {
@@ -356,6 +422,8 @@ void bind_scatter(py::module_& m) {
   m.def("phase", &phase, py::arg("theory"), py::arg("radius_um"), py::arg("wavelength_nm"),
         py::arg("size_distribution"), py::arg("medium"), py::arg("surrounding"), py::arg("angles_deg"),
         py::arg("options"));
+  m.def("renderer_medium", &renderer_medium, py::arg("radius_um"), py::arg("size_distribution"), py::arg("medium"),
+        py::arg("surrounding"), py::arg("format"), py::arg("name"), py::arg("options"));
   m.def("mie_terms", [](double x) {
     sc::mie_param("x").check(x);
     return sc::mie_terms(x);

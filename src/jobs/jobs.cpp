@@ -9,6 +9,7 @@
 #include "hydrolux/rain/lens_drops.hpp"
 #include "hydrolux/rain/params.hpp"
 #include "hydrolux/scatter/params.hpp"
+#include "hydrolux/scatter/renderer_export.hpp"
 #include "hydrolux/scene/sky_params.hpp"
 
 namespace hydrolux {
@@ -42,6 +43,9 @@ const std::vector<JobSpec>& job_specs() {
     v.push_back({"mie", "hydrolux mie", "Lorenz-Mie scattering by one sphere", describe_fields(scatter::mie_params())});
     v.push_back({"phase", "hydrolux phase", "Scattered intensity against angle for one drop or a size distribution",
                  describe_fields(scatter::phase_params()), "hydrolux.phase"});
+    v.push_back({"medium", "hydrolux medium",
+                 "Drops as a renderer's participating medium: Mitsuba 3 tabphase or pbrt-v4 Henyey-Greenstein",
+                 describe_fields(scatter::medium_params()), "hydrolux.renderer_medium"});
     v.push_back({"lee", "hydrolux lee", "A Lee diagram, corona or glory table, computed spectrally",
                  describe_fields(atmos::lee_params()), "hydrolux.lee"});
     v.push_back({"sky", "hydrolux sky", "A rainbow in a daylight scene, per pixel on the CPU",

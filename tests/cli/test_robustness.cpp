@@ -284,17 +284,20 @@ std::vector<Case> generate(const std::map<std::string, CommandCases>& cases,
           });
         (void)good;
       }
-      if (f.kind == "output-image" || f.kind == "output-table" || f.kind == "output-data") {
+      if (f.kind == "output-image" || f.kind == "output-table" || f.kind == "output-data" || f.kind == "output-scene") {
         // output-table: the output must be .exr (hydrolux lee writes its .png and .json beside it);
-        // output-data: .npy (or .csv, .json).
-        const std::string ext = f.kind == "output-table" ? ".exr" : f.kind == "output-data" ? ".npy" : ".png";
+        // output-data: .npy (or .csv, .json); output-scene: a renderer's scene file, .xml (or .pbrt).
+        const std::string ext = f.kind == "output-table" ? ".exr"
+                                : f.kind == "output-data" ? ".npy"
+                                : f.kind == "output-scene" ? ".xml"
+                                                           : ".png";
         add("missing folder", "{dir}/missing/out" + ext);
         add("control characters", "{dir}/no\nfolder\r/out" + ext);
         add("a folder", "{dir}/folder" + ext, [ext](const fs::path& d) { fs::create_directories(d / ("folder" + ext)); });
         add("file as folder", "{dir}/file/out" + ext, [](const fs::path& d) { spit(d / "file", "x"); });
         add("wrong extension", f.kind == "output-table" ? "{dir}/out.png"
-                               : f.kind == "output-data" ? "{dir}/out.txt"
-                                                         : "{dir}/out.jpg");
+                               : f.kind == "output-data" || f.kind == "output-scene" ? "{dir}/out.txt"
+                                                                                     : "{dir}/out.jpg");
         add("/dev/null", "/dev/null");
         add("no name", "");
         if (input) add("same as input", input->valid, {}, 2, {input->flag, input->valid});
@@ -438,7 +441,7 @@ TEST_F(Robustness, BadInputsKeepTheContract) {
       std::error_code ec;
       fs::permissions(dir, fs::perms::owner_all, fs::perm_options::add, ec);
       if (listing(dir) != before) why += "files left behind or removed; ";
-      for (const char* old_name : {"old.png", "old.exr", "old.npy"})
+      for (const char* old_name : {"old.png", "old.exr", "old.npy", "old.xml"})
         if (c.fsize_limit && fs::exists(dir / old_name) && slurp(dir / old_name) != "old") why += "old output replaced; ";
       if (!why.empty()) {
         std::string cmd;

@@ -148,6 +148,7 @@ constexpr TopCommand kTopCommands[] = {
     {"rain", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_rain(app)); }},
     {"fog", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_fog(app)); }},
     {"lens-drops", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_lens_drops(app)); }},
+    {"medium", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_medium(app)); }},
     {"gallery", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_gallery(app)); }},
 };
 

@@ -1,0 +1,594 @@
+#include "hydrolux/scatter/renderer_export.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/math.hpp"
+#include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/size_distribution.hpp"
+#include "hydrolux/scatter/sphere.hpp"
+#include "hydrolux/scatter/theories.hpp"
+#include "hydrolux/version.hpp"
+
+namespace hydrolux::scatter {
+
+namespace {
+
+using K = ParamKind;
+
+const Field<MediumRequest> kMedium[] = {
+    {{"number_per_cm3", "--number-per-cm3", "drops", K::real, "cm^-3", 1e-6, 1e24,
+      "Drops per cubic centimetre (fog 10-500, cloud 100-1000); or --lwc-g-m3; neither for marshall-palmer rain"},
+     HYDROLUX_PARAM_OPTIONAL(number_per_cm3)},
+    {{"lwc_g_m3", "--lwc-g-m3", "drops", K::real, "g/m^3", 1e-9, 1e4,
+      "Liquid water content instead of the count (fog 0.01-0.5, cloud 0.1-1)", "number_per_cm3"},
+     HYDROLUX_PARAM_OPTIONAL(lwc_g_m3)},
+    {{"nodes", "--nodes", "drops", K::integer, "", 1, kMaxQuadratureNodes,
+      "Radii in the size average (Gauss-Legendre); Mie ripple needs them about lambda/10 apart"},
+     HYDROLUX_PARAM_MEMBER(nodes)},
+    {{"temperature_c", "--temperature-c", "media", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
+      "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither medium does"},
+     HYDROLUX_PARAM_OPTIONAL(temperature_c)},
+    {{"phase_wavelength_nm", "--phase-wavelength-nm", "phase", K::real, "nm", kExportMinNm, kExportMaxNm,
+      "Vacuum wavelength of the one phase table (and of pbrt's g); the coefficients are spectral, 360-830 nm"},
+     HYDROLUX_PARAM_MEMBER(phase_wavelength_nm)},
+    {{"values", "--values", "phase", K::integer, "", 3, kMaxTableValues,
+      "Values in the phase table (uniform in cos theta); default: the smallest 2^k + 1 in [257, 65537] that "
+      "meets --max-error"},
+     HYDROLUX_PARAM_OPTIONAL(values)},
+    {{"max_error", "--max-error", "phase", K::real, "", 1e-6, 2,
+      "The L1 error over the sphere (table as the renderer interpolates it vs the Mie phase) the automatic table "
+      "size and forward cut aim at"},
+     HYDROLUX_PARAM_MEMBER(max_error)},
+    {{"forward_cut_deg", "--forward-cut-deg", "phase", K::real, "deg", 0, 90,
+      "Light scattered within this angle of forward is treated as unscattered (0: none); default: none, or the "
+      "smallest cut up to 2 deg that meets --max-error where the forward peak is beyond 65537 values (rain)"},
+     HYDROLUX_PARAM_OPTIONAL(forward_cut_deg)},
+    {{"scene_unit_m", "--scene-unit-m", "renderer", K::real, "m", 1e-9, 1e9,
+      "Length of one scene unit in metres: the renderers' scale turns the m^-1 coefficients into per scene unit"},
+     HYDROLUX_PARAM_MEMBER(scene_unit_m)},
+    {{"threads", "--threads", "run", K::integer, "", 0, kMaxThreads, "Worker threads (0 = all cores)"},
+     HYDROLUX_PARAM_MEMBER(threads)},
+};
+
+std::vector<double> spectral_grid() {
+  std::vector<double> nm;
+  for (double l = kExportMinNm; l <= kExportMaxNm + 1e-9; l += kExportStepNm) nm.push_back(l);
+  return nm;
+}
+
+// "water in air", with the temperature where a medium models it.
+std::string media_text(const MediumJob& job) {
+  std::string t = job.medium->info().name + " in " + job.surrounding->info().name;
+  if (job.numbers.temperature_c) t += fmt::format(" at {:g} C", *job.numbers.temperature_c);
+  return t;
+}
+
+// Never "--" inside an XML comment.
+std::string xml_comment_text(std::string s) {
+  for (std::size_t pos; (pos = s.find("--")) != std::string::npos;) s.replace(pos, 2, "- -");
+  return s;
+}
+
+// The phase per steradian at the points mu (any order), through the job's quadrature.
+struct PhaseEvaluator {
+  const MediumPlan& plan;
+  double k_per_m = 0;   // in the surrounding medium, at the phase wavelength
+  double mean_csca = 0;  // number-weighted mean scattering cross section, m^2
+  std::vector<double> operator()(std::span<const double> one_minus_mu, const ProgressFn& progress) const {
+    std::vector<double> theta(one_minus_mu.size());
+    for (std::size_t i = 0; i < theta.size(); ++i)
+      theta[i] = 2 * std::asin(std::sqrt(std::clamp(one_minus_mu[i] / 2, 0.0, 1.0)));
+    const auto& job = plan.job;
+    const auto avg = average_intensities(Theory{}, plan.phase.quadrature, job.numbers.phase_wavelength_nm,
+                                         *job.medium, *job.surrounding, job.numbers.temperature_c, theta,
+                                         job.numbers.threads, progress);
+    std::vector<double> p(theta.size());
+    const double norm = 1 / (k_per_m * k_per_m * mean_csca);
+    for (std::size_t i = 0; i < p.size(); ++i) p[i] = (avg.i1[i] + avg.i2[i]) / 2 * norm;
+    return p;
+  }
+};
+
+// One table size's analysis: from p at the quarter points (4 (N - 1) + 1 of them, mu ascending).
+struct Level {
+  int n = 0;
+  double h = 0;
+  std::vector<double> e, s, t;  // per interval: L1 of linear interpolation, 2 pi int p, 2 pi int mu p
+};
+
+Level analyse(int n, const std::vector<double>& q) {
+  Level L;
+  L.n = n;
+  L.h = 2.0 / (n - 1);
+  const double two_pi = 2 * kPi<>;
+  L.e.resize(std::size_t(n - 1));
+  L.s.resize(L.e.size());
+  L.t.resize(L.e.size());
+  for (std::size_t i = 0; i + 1 < std::size_t(n); ++i) {
+    const double* v = &q[4 * i];
+    const double mu0 = -1 + double(i) * L.h, dq = L.h / 4;
+    double dev[3];
+    for (int j = 1; j <= 3; ++j) dev[j - 1] = std::fabs(v[j] - (v[0] + (v[4] - v[0]) * j / 4.0));
+    L.e[i] = two_pi * L.h / 12 * (4 * dev[0] + 2 * dev[1] + 4 * dev[2]);
+    L.s[i] = two_pi * dq / 3 * (v[0] + 4 * v[1] + 2 * v[2] + 4 * v[3] + v[4]);
+    double mv[5];
+    for (int j = 0; j < 5; ++j) mv[j] = (mu0 + j * dq) * v[j];
+    L.t[i] = two_pi * dq / 3 * (mv[0] + 4 * mv[1] + 2 * mv[2] + 4 * mv[3] + mv[4]);
+  }
+  return L;
+}
+
+// The table of a level with `m` intervals cut at the forward end, and its estimated error. In the
+// cone the table runs linearly from p(mu_c) to a flat cap: p(mu_c) itself where the cone holds more
+// light than that (a forward peak), else lower, so that the table never holds more of it.
+struct Choice {
+  int m = 0;
+  double cap = 0, cut_fraction = 0, trapezoid = 1, error = 0, g = 0;
+};
+
+// The table's value (before normalisation) at grid point j.
+double table_value(const Level& L, const std::vector<double>& q, const Choice& c, int j) {
+  return j <= L.n - 1 - c.m ? q[4 * std::size_t(j)] : c.cap;
+}
+
+Choice choose(const Level& L, const std::vector<double>& q, int m, double g_uncut) {
+  const int intervals = L.n - 1, resolved = intervals - m;
+  const double two_pi = 2 * kPi<>;
+  Choice c;
+  c.m = m;
+  double sum_e = 0, sum_s = 0, sum_t = 0;
+  for (int i = 0; i < resolved; ++i) {
+    sum_e += L.e[std::size_t(i)];
+    sum_s += L.s[std::size_t(i)];
+    sum_t += L.t[std::size_t(i)];
+  }
+  double kept = 1;  // 1 - f: the fraction of the scattered light still scattered
+  if (m > 0) {
+    const double p_c = q[4 * std::size_t(resolved)];
+    const double cone_mass = std::max(0.0, 1 - sum_s);  // the phase integrates to 1 exactly
+    // Table mass in the cone: 2 pi h (p_c / 2 + (m - 1/2) cap).
+    const double fit = (cone_mass / (two_pi * L.h) - p_c / 2) / (m - 0.5);
+    c.cap = std::max(0.0, std::min(p_c, fit));
+    double table_mass = 0, table_moment = 0;
+    for (int j = resolved; j < intervals; ++j) {
+      const double a = -1 + j * L.h, b = a + L.h;
+      const double va = table_value(L, q, c, j), vb = table_value(L, q, c, j + 1);
+      table_mass += two_pi * L.h * (va + vb) / 2;
+      table_moment += two_pi * L.h / 6 * ((2 * a + b) * va + (a + 2 * b) * vb);  // int mu (linear) dmu, exact
+    }
+    c.cut_fraction = cone_mass - table_mass;
+    kept = 1 - c.cut_fraction;
+    c.g = (sum_t + table_moment) / kept;
+  } else {
+    c.g = g_uncut;
+  }
+  double trap = 0;
+  for (int j = 0; j < intervals; ++j) trap += (table_value(L, q, c, j) + table_value(L, q, c, j + 1)) / 2 * L.h;
+  c.trapezoid = two_pi * trap;
+  c.error = sum_e / c.trapezoid + std::fabs(kept / c.trapezoid - 1) + (m == 0 ? std::fabs(1 - sum_s) : 0.0);
+  return c;
+}
+
+double cut_angle_deg(const Level& L, int m) { return rad_to_deg(2 * std::asin(std::sqrt(m * L.h / 2))); }
+
+// Simpson's rule of f over [a, b] with n (even) intervals.
+template <class F>
+double simpson(F&& f, double a, double b, int n) {
+  const double h = (b - a) / n;
+  double sum = f(a) + f(b);
+  for (int i = 1; i < n; ++i) sum += (i % 2 ? 4 : 2) * f(a + i * h);
+  return sum * h / 3;
+}
+
+}  // namespace
+
+std::span<const Field<MediumRequest>> medium_params() { return kMedium; }
+
+const Param& medium_param(std::string_view name) {
+  if (const auto* f = find_field(medium_params(), name)) return f->param;
+  throw std::logic_error("medium_param: no parameter " + std::string(name));
+}
+
+RendererFormat parse_renderer_format(std::string_view text) {
+  if (text == "mitsuba3") return RendererFormat::mitsuba3;
+  if (text == "pbrt-v4") return RendererFormat::pbrt_v4;
+  throw UnknownNameError(fmt::format("unknown renderer format '{}' (valid: mitsuba3, pbrt-v4)", text));
+}
+
+std::string_view renderer_format_name(RendererFormat format) {
+  return format == RendererFormat::mitsuba3 ? "mitsuba3" : "pbrt-v4";
+}
+
+std::optional<RendererFormat> renderer_format_for_extension(std::string_view ext) {
+  if (ext == ".xml") return RendererFormat::mitsuba3;
+  if (ext == ".pbrt") return RendererFormat::pbrt_v4;
+  return std::nullopt;
+}
+
+bool valid_medium_name(std::string_view name) {
+  if (name.empty() || name.size() > 64) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' ||
+           c == '-';
+  });
+}
+
+MediumPlan plan_medium(MediumJob job) {
+  for (const auto& f : medium_params())
+    if (const double v = f.get(job.numbers); !std::isnan(v)) f.param.check(v);
+  if (job.numbers.number_per_cm3 && job.numbers.lwc_g_m3)
+    throw Error("number_per_cm3 and lwc_g_m3 replace one another: give one");
+  PhaseJob phase;
+  phase.radius_um = job.radius_um;
+  phase.wavelength_nm = job.numbers.phase_wavelength_nm;
+  phase.size_distribution = job.size_distribution;
+  phase.medium = job.medium;
+  phase.surrounding = job.surrounding;
+  phase.numbers.nodes = job.numbers.nodes;
+  phase.numbers.temperature_c = job.numbers.temperature_c;
+  phase.numbers.threads = job.numbers.threads;
+  MediumPlan plan;
+  plan.phase = plan_phase(std::move(phase));
+  // The count: the quadrature's weights are drops per m^3 of a distribution of one drop per m^3
+  // (mono, gamma, lognormal; intensity_quadrature truncates the tails, which hold < 1e-6 of the
+  // area), or of Marshall-Palmer rain with Garg & Nayar's N0 = 8e6 m^-4 per radius, which hydrolux
+  // rain and sky double to Marshall and Palmer's own count (size_distribution.hpp).
+  const SizeDistributionSpec spec = parse_size_distribution(job.size_distribution);  // checked by plan_phase
+  if (spec.kind == SizeDistributionKind::marshall_palmer) {
+    if (job.numbers.number_per_cm3 || job.numbers.lwc_g_m3)
+      throw Error(fmt::format("{} {:g}: the count of size_distribution marshall-palmer rain follows from its rain "
+                              "rate; give neither number_per_cm3 nor lwc_g_m3",
+                              job.numbers.number_per_cm3 ? "number_per_cm3" : "lwc_g_m3",
+                              job.numbers.number_per_cm3 ? *job.numbers.number_per_cm3 : *job.numbers.lwc_g_m3));
+    plan.weight_scale = kMarshallPalmerN0PerRadius / 8e6;
+    double n = 0;
+    for (const double w : plan.phase.quadrature.weight) n += w;
+    plan.number_per_m3 = n * plan.weight_scale;
+    plan.spectral = SizeDistribution::marshall_palmer(spec.parameter, kMarshallPalmerN0PerRadius)
+                        .quadrature(std::max(kSpectralRainNodes, job.numbers.nodes), kPhaseRainMinRadiusUm * 1e-6,
+                                    kPhaseRainMaxRadiusUm * 1e-6);
+  } else {
+    if (!job.numbers.number_per_cm3 && !job.numbers.lwc_g_m3)
+      throw Error("number_per_cm3 (drops per cm^3, in [1e-06, 1e+24]) or lwc_g_m3 (g/m^3) is required for " +
+                  job.size_distribution + " drops");
+    double number = 0;
+    const double r = *job.radius_um * 1e-6;
+    const SizeDistribution d = spec.kind == SizeDistributionKind::gamma ? SizeDistribution::gamma(r, spec.parameter)
+                               : spec.kind == SizeDistributionKind::log_normal
+                                   ? SizeDistribution::log_normal(r, spec.parameter)
+                                   : SizeDistribution::monodisperse(r);
+    if (job.numbers.number_per_cm3) {
+      number = *job.numbers.number_per_cm3 * 1e6;
+    } else {
+      const double mean_volume = 4.0 / 3 * kPi<> * d.moment(3) / d.moment(0);
+      number = *job.numbers.lwc_g_m3 / (kWaterDensityGM3 * mean_volume);
+      if (!(number > 0 && number <= 1e30))
+        throw Error(fmt::format("lwc_g_m3 {:g} makes {:g} drops per m^3 of this radius, outside (0, 1e30]",
+                                *job.numbers.lwc_g_m3, number));
+    }
+    plan.weight_scale = number;
+    plan.number_per_m3 = number;
+    plan.spectral = spec.kind == SizeDistributionKind::monodisperse
+                        ? plan.phase.quadrature
+                        : intensity_quadrature(d, std::max(kSpectralNodes, job.numbers.nodes));
+    for (double& w : plan.spectral.weight) w *= number;
+  }
+  // The media over the whole grid, so that a medium without data there fails before any work.
+  for (const double nm : spectral_grid())
+    (void)sphere_problem(1, nm, *job.medium, *job.surrounding, job.numbers.temperature_c);
+  plan.job = std::move(job);
+  return plan;
+}
+
+MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) {
+  const MediumJob& job = plan.job;
+  const MediumRequest& req = job.numbers;
+  const auto report = [&](double f, std::string_view label) {
+    if (progress) progress(std::clamp(f, 0.0, 1.0), label);
+  };
+  MediumOptics out;
+  out.drops = plan.phase.drops;
+  out.media = media_text(job);
+  out.number_per_m3 = plan.number_per_m3;
+  out.scene_unit_m = req.scene_unit_m;
+  out.phase_wavelength_nm = req.phase_wavelength_nm;
+  const RadiusQuadrature& scaled = plan.spectral;
+  double volume = 0;
+  for (std::size_t i = 0; i < scaled.size(); ++i) volume += scaled.weight[i] * 4.0 / 3 * kPi<> * std::pow(scaled.radius_m[i], 3);
+  out.lwc_g_m3 = volume * kWaterDensityGM3;
+
+  // The spectra.
+  out.wavelength_nm = spectral_grid();
+  for (std::size_t i = 0; i < out.wavelength_nm.size(); ++i) {
+    const double nm = out.wavelength_nm[i];
+    const SphereProblem p = sphere_problem(1, nm, *job.medium, *job.surrounding, req.temperature_c);
+    const double k = 2 * kPi<> * p.n_surrounding / (nm * 1e-9);
+    const MieBulkOptics b = mie_bulk_optics(p.m, k, scaled, req.threads);
+    out.extinction_per_m.push_back(b.extinction_per_m);
+    out.scattering_per_m.push_back(b.scattering_per_m);
+    out.absorption_per_m.push_back(b.absorption_per_m);
+    out.g.push_back(b.g);
+    report(0.1 * double(i + 1) / double(out.wavelength_nm.size()), "spectra");
+  }
+  const SphereProblem p0 = sphere_problem(1, req.phase_wavelength_nm, *job.medium, *job.surrounding, req.temperature_c);
+  const double k0 = 2 * kPi<> * p0.n_surrounding / (req.phase_wavelength_nm * 1e-9);
+  out.at_phase_wavelength = mie_bulk_optics(p0.m, k0, scaled, req.threads);
+  // The phase's own normalisation and asymmetry parameter: over the phase's radii (so that the table
+  // integrates to 1 exactly), which may differ from the spectra's denser radii by the ripple noise.
+  const MieBulkOptics of_phase = mie_bulk_optics(p0.m, k0, plan.phase.quadrature, req.threads);
+  const double csca_sum = of_phase.scattering_per_m;
+  double weight_sum = 0;
+  for (const double w : plan.phase.quadrature.weight) weight_sum += w;
+  if (!(csca_sum > 0)) throw Error("the drops scatter no light (m = 1?): no phase function to export");
+  const PhaseEvaluator eval{plan, k0, csca_sum / weight_sum};
+  const double g_uncut = of_phase.g;
+
+  // The table: levels of 2^k + 1 values (or the one size asked for), each analysed from p at its
+  // quarter points; a level's quarter points hold the previous level's, which are reused.
+  const bool auto_size = !req.values;
+  std::vector<int> sizes;
+  if (auto_size) {
+    for (int n = kAutoMinValues; n <= kAutoMaxValues; n = 2 * n - 1) sizes.push_back(n);
+  } else {
+    sizes.push_back(int(*req.values));
+  }
+  // Whether the forward peak is beyond the largest automatic table: its lobe is ~ (3.83 / x)^2 / 2
+  // wide in 1 - mu, with x the size parameter of the effective radius (sum r^3 / sum r^2, Hansen &
+  // Travis), and linear interpolation meets 0.01 with about 12 intervals across it (measured on fog
+  // drops: N ~ 3.3 x^2). Then a cut is considered at every size; otherwise only once the largest
+  // size without one falls short (a cut changes the physics; a larger table only costs time).
+  double m2 = 0, m3 = 0;
+  for (std::size_t i = 0; i < plan.phase.quadrature.size(); ++i) {
+    const double r = plan.phase.quadrature.radius_m[i], w = plan.phase.quadrature.weight[i];
+    m2 += w * r * r;
+    m3 += w * r * r * r;
+  }
+  const double x_eff = k0 * m3 / m2;
+  const bool hopeless = auto_size && 3.3 * x_eff * x_eff > 4.0 * kAutoMaxValues;
+  std::vector<double> q;  // p at the quarter points of the current level, mu ascending
+  int q_n = 0;             // the level they belong to
+  Level level;
+  Choice best;
+  double evaluated = 0, planned = 0;
+  for (const int n : sizes) planned += 4.0 * (n - 1) + 1;
+  if (auto_size) planned = 4.0 * (sizes.back() - 1) + 1;
+  for (std::size_t li = 0; li < sizes.size(); ++li) {
+    const int n = sizes[li];
+    const std::size_t points = 4 * std::size_t(n - 1) + 1;
+    const double dq = 2.0 / double(points - 1);
+    std::vector<double> next(points);
+    std::vector<double> todo;  // 1 - mu of the points not yet known
+    std::vector<std::size_t> where;
+    for (std::size_t j = 0; j < points; ++j) {
+      if (q_n > 0 && (n - 1) == 2 * (q_n - 1) && j % 2 == 0) {
+        next[j] = q[j / 2];
+        continue;
+      }
+      todo.push_back(double(points - 1 - j) * dq);
+      where.push_back(j);
+    }
+    const double before = evaluated;
+    const auto values = eval(todo, [&](double f, std::string_view) {
+      report(0.1 + 0.9 * (before + f * double(todo.size())) / planned, fmt::format("phase, {} values", n));
+    });
+    evaluated += double(todo.size());
+    for (std::size_t i = 0; i < where.size(); ++i) next[where[i]] = values[i];
+    q = std::move(next);
+    q_n = n;
+    level = analyse(n, q);
+    // The cut: the one asked for, or none if that meets the target, else the smallest allowed one
+    // that does (else the best allowed one).
+    if (req.forward_cut_deg) {
+      const double one_minus = 1 - std::cos(deg_to_rad(*req.forward_cut_deg));
+      const int m = std::min(n - 2, int(std::lround(one_minus / level.h)));
+      best = choose(level, q, m, g_uncut);
+    } else {
+      best = choose(level, q, 0, g_uncut);
+      const bool last = li + 1 == sizes.size();
+      for (int m = 1; (hopeless || last) && best.error > req.max_error && m < n - 1 &&
+                      cut_angle_deg(level, m) <= kAutoMaxCutDeg;
+           ++m) {
+        const Choice c = choose(level, q, m, g_uncut);
+        if (c.error < best.error) best = c;
+      }
+    }
+    if (!auto_size || best.error <= req.max_error) break;
+  }
+
+  TabulatedPhase& t = out.phase;
+  const int n = level.n, resolved = n - 1 - best.m;
+  t.exact.resize(std::size_t(n));
+  t.values.resize(std::size_t(n));
+  t.normalisation = 1 / best.trapezoid;
+  for (int j = 0; j < n; ++j) {
+    t.exact[std::size_t(j)] = q[4 * std::size_t(j)];
+    t.values[std::size_t(j)] = table_value(level, q, best, j) * t.normalisation;
+  }
+  // Two phase functions are at most 2 apart in L1 (no overlap); an unresolved peak (a small table
+  // asked for) can push the estimate past that.
+  t.l1_error = std::min(2.0, best.error);
+  t.target_met = !auto_size || best.error <= req.max_error;
+  t.cut_intervals = best.m;
+  t.cut_deg = cut_angle_deg(level, best.m);
+  t.cut_fraction = best.cut_fraction;
+  t.g = best.g;
+
+  // pbrt-v4's Henyey-Greenstein against the same (cut) phase: Simpson on the quarter points over the
+  // resolved intervals, a fine Simpson rule over the cone (where the cut phase is the flat cap).
+  const double kept = 1 - best.cut_fraction, two_pi = 2 * kPi<>;
+  t.hg_g = std::clamp(t.g, -0.99, 0.99);
+  double hg = 0;
+  for (int i = 0; i < resolved; ++i) {
+    const double* v = &q[4 * std::size_t(i)];
+    const double mu0 = -1 + i * level.h, dqq = level.h / 4;
+    double d[5];
+    for (int j = 0; j < 5; ++j) d[j] = std::fabs(henyey_greenstein(t.hg_g, mu0 + j * dqq) - v[j] / kept);
+    hg += two_pi * dqq / 3 * (d[0] + 4 * d[1] + 2 * d[2] + 4 * d[3] + d[4]);
+  }
+  for (int i = resolved; i < n - 1; ++i) {  // the cone: the cut phase is the table's line
+    const double a = -1 + i * level.h, va = table_value(level, q, best, i) / kept,
+                 vb = table_value(level, q, best, i + 1) / kept;
+    hg += two_pi * simpson(
+                       [&](double mu) {
+                         return std::fabs(henyey_greenstein(t.hg_g, mu) - (va + (vb - va) * (mu - a) / level.h));
+                       },
+                       a, a + level.h, 64);
+  }
+  t.hg_l1 = std::min(2.0, hg);
+  const double forward = best.m > 0 ? best.cap / kept : q.back();
+  t.hg_forward_ratio = henyey_greenstein(t.hg_g, 1) / forward;
+  t.hg_backward_ratio = henyey_greenstein(t.hg_g, -1) / (q.front() / kept);
+
+  // The coefficients as exported: the cut light leaves the scattering (and the extinction).
+  for (std::size_t i = 0; i < out.wavelength_nm.size(); ++i) {
+    const double s = out.scattering_per_m[i] * kept, a = out.absorption_per_m[i];
+    out.sigma_s_per_m.push_back(s);
+    out.sigma_a_per_m.push_back(std::max(0.0, a));
+    out.sigma_t_per_m.push_back(s + std::max(0.0, a));
+    out.albedo.push_back(s / (s + std::max(0.0, a)));
+  }
+  report(1, "done");
+  return out;
+}
+
+MediumOptics run_medium_job(MediumJob job, const ProgressFn& progress) {
+  return compute_medium(plan_medium(std::move(job)), progress);
+}
+
+double tabphase_eval(std::span<const double> values, double mu) {
+  const std::size_t n = values.size();
+  if (n < 2) throw Error("tabphase_eval: at least two values");
+  const double h = 2.0 / double(n - 1);
+  double trap = 0;
+  for (std::size_t j = 0; j + 1 < n; ++j) trap += (values[j] + values[j + 1]) / 2 * h;
+  const double x = (std::clamp(mu, -1.0, 1.0) + 1) / h;
+  const std::size_t i = std::min(n - 2, std::size_t(x));
+  const double w = x - double(i);
+  return ((1 - w) * values[i] + w * values[i + 1]) / (trap * 2 * kPi<>);
+}
+
+double henyey_greenstein(double g, double mu) {
+  g = std::clamp(g, -0.99, 0.99);
+  const double denom = 1 + g * g + 2 * g * -mu;  // pbrt's cos is between wo and wi: -mu
+  return (1 - g * g) / (4 * kPi<> * denom * std::sqrt(denom));
+}
+
+namespace {
+
+// The comment lines both files begin with (without the comment markers).
+std::vector<std::string> header_lines(const MediumOptics& o, RendererFormat format) {
+  const TabulatedPhase& t = o.phase;
+  std::vector<std::string> l;
+  std::size_t i550 = 0;
+  for (std::size_t i = 0; i < o.wavelength_nm.size(); ++i)
+    if (std::fabs(o.wavelength_nm[i] - 550) < std::fabs(o.wavelength_nm[i550] - 550)) i550 = i;
+  l.push_back(fmt::format("hydrolux {} medium for {} (docs/renderer-export.md)", kVersion, renderer_format_name(format)));
+  l.push_back(fmt::format("drops: {}; {}; {:.6g} per cm^3, liquid water {:.4g} g/m^3", o.drops, o.media,
+                          o.number_per_m3 * 1e-6, o.lwc_g_m3));
+  l.push_back(fmt::format("physical (Lorenz-Mie, no cut) at 550 nm: extinction {:.6g} m^-1 (visibility 3.912 / "
+                          "extinction = {:.4g} m), scattering {:.6g} m^-1, albedo {:.9g}, g {:.6g}",
+                          o.extinction_per_m[i550], 3.912 / o.extinction_per_m[i550], o.scattering_per_m[i550],
+                          o.scattering_per_m[i550] / o.extinction_per_m[i550], o.g[i550]));
+  l.push_back(fmt::format("spectra: {:g} to {:g} nm every {:g} nm (vacuum wavelengths); one scene unit = {:g} m",
+                          kExportMinNm, kExportMaxNm, kExportStepNm, o.scene_unit_m));
+  if (t.cut_intervals > 0)
+    l.push_back(fmt::format("forward cut: the fraction {:.6g} of the scattered light, scattered within {:.4g} deg of "
+                            "forward, is treated as unscattered (delta-M-like truncation, Wiscombe 1977): sigma_s "
+                            "and sigma_t are reduced by that fraction of sigma_s",
+                            t.cut_fraction, t.cut_deg));
+  else
+    l.push_back("forward cut: none (the whole phase function is tabulated)");
+  return l;
+}
+
+std::string number_list(std::span<const double> v, const char* sep) {
+  std::string s;
+  s.reserve(v.size() * 16);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (i) s += sep;
+    s += fmt::format("{:.9g}", v[i]);
+  }
+  return s;
+}
+
+std::string spectrum_pairs(const std::vector<double>& nm, const std::vector<double>& v, double divide,
+                           const char* pair, const char* sep) {
+  std::string s;
+  for (std::size_t i = 0; i < nm.size(); ++i) {
+    if (i) s += sep;
+    s += fmt::format("{:g}{}{:.9g}", nm[i], pair, v[i] / divide);
+  }
+  return s;
+}
+
+}  // namespace
+
+std::string mitsuba3_medium_xml(const MediumOptics& o, std::string_view name) {
+  if (!valid_medium_name(name)) throw Error(fmt::format("medium name '{}': 1 to 64 of A-Z a-z 0-9 _ . -", name));
+  const TabulatedPhase& t = o.phase;
+  const double sigma_max = *std::max_element(o.sigma_t_per_m.begin(), o.sigma_t_per_m.end());
+  std::string s = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<!--\n";
+  for (const auto& line : header_lines(o, RendererFormat::mitsuba3)) s += "  " + xml_comment_text(line) + "\n";
+  s += xml_comment_text(fmt::format(
+      "  sigma_t: the extinction spectrum divided by its largest value (so that RGB variants, which bound a spectrum "
+      "to [0, 1], keep it); scale = that value ({:.9g} m^-1) times the scene unit\n"
+      "  albedo: sigma_s / sigma_t\n"
+      "  phase: tabphase of {} values at {:g} nm, uniform in cos(theta) from -1 (back-scattering) to +1 "
+      "(forward), the physics convention tabphase reads; linear in cos(theta) between them; normalised so that 2 pi "
+      "times the trapezoid integral is 1 (Mitsuba's own normalisation then changes nothing); the values are "
+      "hydrolux's phase per steradian times {:.9g}{}\n"
+      "  error: L1 distance over the sphere between the table as Mitsuba interpolates it and hydrolux's phase{}: "
+      "{:.3g} (estimated from three more values inside each interval){}\n"
+      "  usage: mi.load_file(this file), or <include filename=\"this file\" name=\"interior\"/> inside a shape\n",
+      sigma_max, t.size(), o.phase_wavelength_nm, t.normalisation,
+      t.cut_intervals > 0 ? ", below the cut (a flat cap within it)" : "", t.cut_intervals > 0 ? " (with the cut)" : "",
+      t.l1_error, t.target_met ? "" : " (more than the error asked for)"));
+  s += "-->\n";
+  s += fmt::format("<medium version=\"3.0.0\" type=\"homogeneous\" id=\"{}\">\n", name);
+  s += fmt::format("    <spectrum name=\"sigma_t\" value=\"{}\"/>\n",
+                   spectrum_pairs(o.wavelength_nm, o.sigma_t_per_m, sigma_max, ":", ", "));
+  s += fmt::format("    <float name=\"scale\" value=\"{:.9g}\"/>\n", sigma_max * o.scene_unit_m);
+  s += fmt::format("    <spectrum name=\"albedo\" value=\"{}\"/>\n",
+                   spectrum_pairs(o.wavelength_nm, o.albedo, 1, ":", ", "));
+  s += "    <phase type=\"tabphase\">\n";
+  s += fmt::format("        <string name=\"values\" value=\"{}\"/>\n", number_list(t.values, ", "));
+  s += "    </phase>\n</medium>\n";
+  return s;
+}
+
+std::string pbrt_v4_medium(const MediumOptics& o, std::string_view name) {
+  if (!valid_medium_name(name)) throw Error(fmt::format("medium name '{}': 1 to 64 of A-Z a-z 0-9 _ . -", name));
+  const TabulatedPhase& t = o.phase;
+  std::string s;
+  for (const auto& line : header_lines(o, RendererFormat::pbrt_v4)) s += "# " + line + "\n";
+  s += fmt::format("# sigma_a, sigma_s: m^-1; scale = the scene unit in metres ({:g}) makes them per scene unit\n",
+                   o.scene_unit_m);
+  s += fmt::format(
+      "# phase: pbrt-v4's media take only Henyey-Greenstein; g = {:.6g}, the asymmetry parameter of hydrolux's phase "
+      "at {:g} nm{}\n"
+      "# error of Henyey-Greenstein against hydrolux's phase{}: L1 distance over the sphere {:.3g}; forward "
+      "(0 deg) value {:.3g} times hydrolux's, backward (180 deg) {:.3g} times\n"
+      "# usage: Include this file before the shapes, then MediumInterface \"{}\" \"\" on a closed shape (or "
+      "\"\" \"{}\" on the camera's side)\n",
+      t.hg_g, o.phase_wavelength_nm, t.hg_g != t.g ? fmt::format(" (clamped from {:.6g} as pbrt clamps it)", t.g) : "",
+      t.cut_intervals > 0 ? " (with the cut)" : "", t.hg_l1, t.hg_forward_ratio, t.hg_backward_ratio, name, name);
+  s += fmt::format("MakeNamedMedium \"{}\"\n    \"string type\" \"homogeneous\"\n", name);
+  s += fmt::format("    \"spectrum sigma_a\" [ {} ]\n", spectrum_pairs(o.wavelength_nm, o.sigma_a_per_m, 1, " ", " "));
+  s += fmt::format("    \"spectrum sigma_s\" [ {} ]\n", spectrum_pairs(o.wavelength_nm, o.sigma_s_per_m, 1, " ", " "));
+  s += fmt::format("    \"float scale\" {:.9g}\n", o.scene_unit_m);
+  s += fmt::format("    \"float g\" {:.9g}\n", t.hg_g);
+  return s;
+}
+
+std::string renderer_medium_text(const MediumOptics& o, RendererFormat format, std::string_view name) {
+  return format == RendererFormat::mitsuba3 ? mitsuba3_medium_xml(o, name) : pbrt_v4_medium(o, name);
+}
+
+}  // namespace hydrolux::scatter

@@ -1,0 +1,146 @@
+// hydrolux medium: a population of drops as a renderer's participating medium (issue 28): Mitsuba 3's
+// homogeneous medium with a tabphase, or pbrt-v4's homogeneous medium with Henyey-Greenstein. The job
+// is the library's (scatter/renderer_export.hpp): this file reads the flags, words the errors with
+// them, reserves the output before the work and writes it at the end.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "common.hpp"
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/io/files.hpp"
+#include "hydrolux/scatter/renderer_export.hpp"
+#include "params.hpp"
+#include "progress.hpp"
+
+namespace hydrolux::cli {
+
+namespace {
+
+struct MediumArgs {
+  std::shared_ptr<scatter::MediumRequest> r = std::make_shared<scatter::MediumRequest>();
+  std::optional<double> radius_um;
+  std::string distribution = "mono";
+  std::string medium = "water", surrounding = "air";
+  std::optional<std::string> format;
+  std::string name{scatter::kDefaultMediumName};
+  std::string output;
+  bool quiet = false;
+};
+
+int run_medium(const MediumArgs& a) {
+  // The file first: its format (from --format or the extension), then reserved before any work.
+  const std::string ext = io::lower_extension(a.output);
+  const auto from_ext = scatter::renderer_format_for_extension(ext);
+  if (!from_ext)
+    throw Error(fmt::format("-o {}: the medium is written as .xml (Mitsuba 3) or .pbrt (pbrt-v4); give one of "
+                            "those extensions",
+                            printable(a.output)));
+  scatter::RendererFormat format = *from_ext;
+  if (a.format) {
+    format = scatter::parse_renderer_format(*a.format);  // checked by the option's validator
+    if (format != *from_ext)
+      throw Error(fmt::format("--format {}: -o {} is a {} file; give {}", *a.format, printable(a.output),
+                              scatter::renderer_format_name(*from_ext),
+                              format == scatter::RendererFormat::mitsuba3 ? ".xml" : ".pbrt"));
+  }
+  scatter::MediumJob job;
+  job.medium = medium_flag("--medium", a.medium);
+  job.surrounding = medium_flag("--surrounding", a.surrounding);
+  check_temperature_flag(a.r->temperature_c, {job.medium.get(), job.surrounding.get()});
+  job.radius_um = a.radius_um;
+  job.size_distribution = a.distribution;
+  job.numbers = *a.r;
+  scatter::MediumPlan plan;
+  try {
+    plan = scatter::plan_medium(std::move(job));
+  } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
+    switch (e.field()) {
+      case scatter::PhaseJobError::Field::size_distribution: throw Error(e.worded("--size-distribution"));
+      case scatter::PhaseJobError::Field::radius_um: throw Error(e.worded("--radius-um"));
+      case scatter::PhaseJobError::Field::theory: break;
+    }
+    throw;
+  } catch (const DomainError&) {
+    throw;  // worded by the command's map of quantities to flags
+  } catch (const Error& e) {
+    // The count's errors name number_per_cm3 / lwc_g_m3: said with the flags.
+    std::string text = e.what();
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"number_per_cm3", "--number-per-cm3"},
+                                   {"lwc_g_m3", "--lwc-g-m3"},
+                                   {"size_distribution", "--size-distribution"}})
+      for (std::size_t pos; (pos = text.find(from)) != std::string::npos;) text.replace(pos, from.size(), to);
+    throw Error(text);
+  }
+  io::FileSet files;
+  io::OutputFile& out = files.output("-o", a.output);
+  ProgressBar bar("medium", a.quiet);
+  const scatter::MediumOptics optics = scatter::compute_medium(plan, bar.callback());
+  bar.finish();
+  out.write(scatter::renderer_medium_text(optics, format, a.name));
+  files.commit();
+  if (!a.quiet) {
+    const auto& t = optics.phase;
+    std::size_t i550 = 0;
+    while (i550 + 1 < optics.wavelength_nm.size() && optics.wavelength_nm[i550] < 550) ++i550;
+    fmt::print(stderr, "{}: {} values{}, L1 error {:.3g}{}; {}\n", a.output, t.size(),
+               t.cut_intervals > 0 ? fmt::format(", forward cut {:.3g} deg ({:.3g} of the light)", t.cut_deg,
+                                                 t.cut_fraction)
+                                   : std::string(),
+               t.l1_error, t.target_met ? "" : " (above --max-error)",
+               format == scatter::RendererFormat::pbrt_v4
+                   ? fmt::format("Henyey-Greenstein g {:.4g}, L1 error {:.3g}", t.hg_g, t.hg_l1)
+                   : fmt::format("extinction {:.4g} m^-1 at {:g} nm", optics.extinction_per_m[i550],
+                                 optics.wavelength_nm[i550]));
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_medium(CLI::App& app) {
+  auto args = std::make_shared<MediumArgs>();
+  auto* sub = app.add_subcommand(
+      "medium",
+      "A population of drops as a renderer's participating medium: the size-averaged Lorenz-Mie phase function as "
+      "Mitsuba 3's tabphase (.xml) or pbrt-v4's Henyey-Greenstein (.pbrt, with its error stated), with the "
+      "extinction and albedo spectra, 360-830 nm, per scene unit (docs/renderer-export.md).");
+  Command cmd{sub,
+              [args] { return run_medium(*args); },
+              {{"x", "--radius-um (size parameter x)"},
+               {"m_real", "--medium/--surrounding (relative index, real part)"},
+               {"m_imag", "--medium/--surrounding (relative index, imaginary part)"},
+               {"r_max_m", "--radius-um (largest radius of the distribution, m)"},
+               {"r_min_m", "--radius-um (smallest radius of the distribution, m)"},
+               {"radius_um", "--radius-um"},
+               {"radius_m", "--radius-um (m)"},
+               {"wavelength_nm", "--medium/--surrounding (their data's wavelengths)"}}};
+  sub->add_option("--radius-um", args->radius_um, "Drop radius (the mean radius with gamma or lognormal), micrometres")
+      ->check(positive_number(1e6, "um"));
+  sub->add_option("--size-distribution", args->distribution,
+                  "mono, gamma:W or lognormal:W (relative width W in [0.0001, 1] around --radius-um), or "
+                  "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um, its own count)")
+      ->capture_default_str();
+  sub->add_option("--medium", args->medium, "Drop medium (see hydrolux ior --list)")->capture_default_str();
+  sub->add_option("--surrounding", args->surrounding, "Surrounding medium")->capture_default_str();
+  add_params(*sub, args->r, scatter::medium_params(), cmd.flags_for_quantity);
+  sub->add_option("--format", args->format, "mitsuba3 or pbrt-v4 (default: from the extension of -o)")
+      ->check(CLI::IsMember({"mitsuba3", "pbrt-v4"}));
+  sub->add_option("--name", args->name, "The medium's id (Mitsuba) or name (pbrt): 1-64 of A-Z a-z 0-9 _ . -")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            return scatter::valid_medium_name(v) ? std::string()
+                                                 : "'" + printable(v) + "' is not 1-64 of A-Z a-z 0-9 _ . -";
+          },
+          "NAME"));
+  sub->add_option("-o,--output", args->output, "Output file: .xml (Mitsuba 3) or .pbrt (pbrt-v4)")->required();
+  sub->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
+  return cmd;
+}
+
+}  // namespace hydrolux::cli
