@@ -204,6 +204,20 @@ py::dict bulk_optics(std::complex<double> m, double wavenumber_per_m, py::handle
 
 // hydrolux phase's job (scatter/phase_job.hpp): the same checks and numbers as the CLI, said in the
 // keywords' names. The declared numbers (nodes, temperature_c, threads, mueller) come in `options`.
+// The library's quantities of a drop population in phase()'s and renderer_medium()'s keywords (the
+// CLI's flags_for_quantity, for Python).
+std::map<std::string, ArgName> drop_quantity_names() {
+  return {
+      {"x", {"radius_um (size parameter x)"}},
+      {"m_real", {"medium, surrounding (relative index, real part)"}},
+      {"m_imag", {"medium, surrounding (relative index, imaginary part)"}},
+      {"radius_m", {"radius_um", 1e6}},
+      {"mean_radius_m", {"radius_um", 1e6}},
+      {"r_min_m", {"radius_um (smallest radius of the distribution, m)"}},
+      {"r_max_m", {"radius_um (largest radius of the distribution, m)"}},
+  };
+}
+
 py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wavelength_arg,
                const std::string& size_distribution, const std::string& medium, const std::string& surrounding,
                py::handle angles_arg, const py::dict& options) {
@@ -248,16 +262,8 @@ py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wave
     for (py::ssize_t j = 0; j < a.size(); ++j) require_arg("angles_deg", a.data()[j], 0, 180, "deg");
     job.angles_deg.assign(a.data(), a.data() + a.size());
   }
-  // The library's quantities in the keywords' names (the CLI's flags_for_quantity, for Python).
-  const std::map<std::string, ArgName> names = {
-      {"x", {"radius_um (size parameter x)"}},
-      {"m_real", {"medium, surrounding (relative index, real part)"}},
-      {"m_imag", {"medium, surrounding (relative index, imaginary part)"}},
-      {"radius_m", {"radius_um", 1e6}},
-      {"mean_radius_m", {"radius_um", 1e6}},
-      {"r_min_m", {"radius_um (smallest radius of the distribution, m)"}},
-      {"r_max_m", {"radius_um (largest radius of the distribution, m)"}},
-      {"p", {"theory (order P)"}}};
+  std::map<std::string, ArgName> names = drop_quantity_names();
+  names.emplace("p", ArgName{"theory (order P)"});
   scatter::PhasePlan plan;
   try {
     plan = scatter::plan_phase(std::move(job));
@@ -372,15 +378,8 @@ py::dict renderer_medium(py::handle radius_arg, const std::string& size_distribu
   }
   if (!scatter::valid_medium_name(name))
     throw Error(fmt::format("name '{}': expected 1 to 64 of A-Z a-z 0-9 _ . -", name));
-  const std::map<std::string, ArgName> names = {
-      {"x", {"radius_um (size parameter x)"}},
-      {"m_real", {"medium, surrounding (relative index, real part)"}},
-      {"m_imag", {"medium, surrounding (relative index, imaginary part)"}},
-      {"radius_m", {"radius_um", 1e6}},
-      {"mean_radius_m", {"radius_um", 1e6}},
-      {"r_min_m", {"radius_um (smallest radius of the distribution, m)"}},
-      {"r_max_m", {"radius_um (largest radius of the distribution, m)"}},
-      {"wavelength_nm", {"medium, surrounding (their data's wavelengths)"}}};
+  std::map<std::string, ArgName> names = drop_quantity_names();
+  names.emplace("wavelength_nm", ArgName{"medium, surrounding (their data's wavelengths)"});
   scatter::MediumPlan plan;
   scatter::MediumOptics o;
   try {

@@ -57,6 +57,20 @@ void add_angular(Dataset& ds, const MieDatasetInput& in, const std::string& size
 
 }  // namespace
 
+MieDatasetInput one_sphere(Complex m, const double& x, const MieEfficiencies& q, const int& n_terms,
+                           std::span<const double> angles_deg, std::span<const Complex> s1,
+                           std::span<const Complex> s2, const MuellerElements* mueller) {
+  MieDatasetInput in;
+  in.m = m;
+  in.x = {&x, 1};
+  in.qext = {&q.qext, 1}, in.qsca = {&q.qsca, 1}, in.qabs = {&q.qabs, 1}, in.qback = {&q.qback, 1};
+  in.g = {&q.g, 1};
+  in.n_terms = {&n_terms, 1};
+  in.angles_deg = angles_deg, in.s1 = s1, in.s2 = s2;
+  if (mueller) in.s11 = mueller->s11, in.s12 = mueller->s12, in.s33 = mueller->s33, in.s34 = mueller->s34;
+  return in;
+}
+
 Dataset mie_dataset(const MieDatasetInput& in, std::string_view history) {
   const std::size_t n = in.x.size(), a = in.angles_deg.size();
   for (const auto* v : {&in.qext, &in.qsca, &in.qabs, &in.qback, &in.g})

@@ -168,15 +168,7 @@ TEST(NetCdf, MiePhaseFunctionIntegratesToOneOverTheSphere) {
   scatter::mie_amplitudes(c, mu, s1, s2, 1);
   const scatter::MuellerElements mm = scatter::mueller_elements(s1, s2);
   const int terms = c.terms();
-  scatter::MieDatasetInput in;
-  in.m = m;
-  in.x = std::span<const double>(&x, 1);
-  in.qext = std::span<const double>(&q.qext, 1), in.qsca = std::span<const double>(&q.qsca, 1);
-  in.qabs = std::span<const double>(&q.qabs, 1), in.qback = std::span<const double>(&q.qback, 1);
-  in.g = std::span<const double>(&q.g, 1);
-  in.n_terms = std::span<const int>(&terms, 1);
-  in.angles_deg = angles, in.s1 = s1, in.s2 = s2;
-  in.s11 = mm.s11, in.s12 = mm.s12, in.s33 = mm.s33, in.s34 = mm.s34;
+  scatter::MieDatasetInput in = scatter::one_sphere(m, x, q, terms, angles, s1, s2, &mm);
   const Dataset back = nc().decode(nc().encode(scatter::mie_dataset(in, "h")));
   const auto& p = values<double>(back, "phase_function");
   const double h = std::numbers::pi / (n - 1);

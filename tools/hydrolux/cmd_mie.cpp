@@ -195,15 +195,7 @@ int run_mie(const MieArgs& a) {
     Sink sink(out_file);
     auto& b = sink.buffer();
     if (format == FileFormat::netcdf) {
-      scatter::MieDatasetInput in;
-      in.m = m;
-      in.x = std::span<const double>(&x, 1);
-      in.qext = std::span<const double>(&q.qext, 1), in.qsca = std::span<const double>(&q.qsca, 1);
-      in.qabs = std::span<const double>(&q.qabs, 1), in.qback = std::span<const double>(&q.qback, 1);
-      in.g = std::span<const double>(&q.g, 1);
-      in.n_terms = std::span<const int>(&terms, 1);
-      in.angles_deg = angles, in.s1 = s1, in.s2 = s2;
-      if (mm) in.s11 = mm->s11, in.s12 = mm->s12, in.s33 = mm->s33, in.s34 = mm->s34;
+      scatter::MieDatasetInput in = scatter::one_sphere(m, x, q, terms, angles, s1, s2, mm);
       in.debye_p = r.debye;
       if (physical) {
         in.wavelength_nm = a.wavelength_nm;

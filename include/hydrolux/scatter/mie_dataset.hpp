@@ -9,6 +9,7 @@
 
 #include "hydrolux/core/dataset.hpp"
 #include "hydrolux/scatter/mie.hpp"
+#include "hydrolux/scatter/mueller.hpp"
 
 namespace hydrolux::scatter {
 
@@ -28,6 +29,12 @@ struct MieDatasetInput {
   std::string medium, surrounding;
   std::optional<double> temperature_c;
 };
+
+// The input for one sphere: x, its efficiencies and its term count (spans over the arguments, which
+// must outlive the input), the amplitudes S1, S2 at `angles_deg` and, if given, the Mueller elements.
+MieDatasetInput one_sphere(Complex m, const double& x, const MieEfficiencies& q, const int& n_terms,
+                           std::span<const double> angles_deg, std::span<const Complex> s1,
+                           std::span<const Complex> s2, const MuellerElements* mueller);
 
 // Dimensions size_parameter (N) and scattering_angle (A); coordinates size_parameter,
 // scattering_angle (degree) and, in the physical form, radius (um); variables qext, qsca, qabs,
