@@ -487,9 +487,10 @@ class PhaseResult(NamedTuple):
     header states: ``theory`` ("mie", "debye:2", ...), ``drops`` (the distribution in words),
     ``wavelength_nm``, ``m`` (relative index), ``x`` (the size parameter, for one radius; else None),
     ``radii``, ``radius_um`` and ``weight`` (the quadrature averaged over), ``notes`` (where the
-    theory is out of its depth) and ``history`` (the call, for :meth:`to_xarray`). With ``mueller=True``: s11, s12, s33, s34, the size-averaged
-    Mueller elements (Bohren & Huffman eq. 4.77), and pol = -S12/S11, the degree of linear
-    polarisation; else None.
+    theory is out of its depth, or where too few radii sample the Mie ripple: docs/mie.md, "Size
+    averages") and ``history`` (the call, for :meth:`to_xarray`). With ``mueller=True``: s11, s12,
+    s33, s34, the size-averaged Mueller elements (Bohren & Huffman eq. 4.77), and pol = -S12/S11, the
+    degree of linear polarisation; else None.
 
     Example:
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -93,6 +94,22 @@ PhasePlan plan_phase(PhaseJob job) {
   return plan;
 }
 
+std::optional<std::string> undersampled_ripple_note(const PhasePlan& plan) {
+  const auto& q = plan.quadrature.radius_m;
+  const bool wave = plan.theory.kind == TheoryKind::Mie || plan.theory.kind == TheoryKind::Debye;
+  if (!wave || q.size() < 2) return std::nullopt;
+  // x is proportional to r at one wavelength: the span of size parameters the radii cover.
+  const auto [lo, hi] = std::minmax_element(q.begin(), q.end());
+  const double x_per_m = plan.problem.x / q.front(), x_lo = *lo * x_per_m, x_hi = *hi * x_per_m;
+  const double span = x_hi - x_lo;
+  const double needed = std::ceil(kRippleNodesPerUnitX * span);
+  if (double(q.size()) >= kRippleNodesPerUnitX / 2 * span || needed > kMaxQuadratureNodes) return std::nullopt;
+  return fmt::format("{} radii over size parameters {:.3g} to {:.3g} ({:.2g} per unit of x): the Mie ripple is "
+                     "under-sampled and the average can be off by tens of percent at some angles; give --nodes {:g} "
+                     "or more (docs/mie.md, \"Size averages\")",
+                     q.size(), x_lo, x_hi, double(q.size()) / span, needed);
+}
+
 PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress) {
   const PhaseJob& job = plan.job;
   std::vector<double> theta(job.angles_deg.size());
@@ -119,6 +136,7 @@ PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress) {
                                   plan.theory.p, rad_to_deg(rainbow_angle(r.m.real(), plan.theory.p)), plan.theory.p));
   if (plan.theory.kind == TheoryKind::Geometric && r.x < 100)
     r.notes.push_back(fmt::format("geometric optics needs x >> 1 (here x = {:.3g}); use mie", r.x));
+  if (const auto note = undersampled_ripple_note(plan)) r.notes.push_back(*note);
   return r;
 }
 

@@ -52,6 +52,38 @@ TEST(PhaseJob, OneDropIsAverageIntensitiesOfItsRadius) {
   EXPECT_FALSE(run_phase_job(water_drop(10, {0})).mueller);  // only when asked for
 }
 
+// Too few radii for the Mie ripple of a cloud-droplet distribution: a note naming a count that
+// would do; none with that count, for one radius, for a smooth theory, or for rain (whose range
+// no allowed count covers at this density).
+TEST(PhaseJob, ANoteWhenTheRadiiUnderSampleTheMieRipple) {
+  auto fog = water_drop(10, {0, 90, 180});
+  fog.size_distribution = "gamma:0.1";
+  fog.numbers.nodes = 64;
+  const PhaseResult few = run_phase_job(fog);
+  ASSERT_EQ(few.notes.size(), 1u);
+  EXPECT_EQ(few.notes[0].rfind("64 radii over size parameters", 0), 0u) << few.notes[0];
+  const auto at = few.notes[0].find("give --nodes ");
+  ASSERT_NE(at, std::string::npos);
+  const int needed = std::stoi(few.notes[0].substr(at + 13));
+  EXPECT_GT(needed, 1000);
+  EXPECT_LE(needed, kMaxQuadratureNodes);
+  fog.numbers.nodes = needed;
+  EXPECT_TRUE(run_phase_job(fog).notes.empty());
+  fog.numbers.nodes = needed / 4;  // the note starts below half the advice
+  EXPECT_EQ(run_phase_job(fog).notes.size(), 1u);
+  EXPECT_TRUE(run_phase_job(water_drop(10, {90})).notes.empty());
+  auto airy = water_drop(500, {138});
+  airy.theory = "airy";
+  airy.size_distribution = "gamma:0.1";
+  airy.numbers.nodes = 8;
+  ASSERT_EQ(run_phase_job(airy).notes.size(), 1u);  // Airy's own note only
+  auto rain = water_drop(10, {138});
+  rain.radius_um.reset();
+  rain.size_distribution = "marshall-palmer:5";
+  rain.numbers.nodes = 8;
+  EXPECT_TRUE(run_phase_job(rain).notes.empty());
+}
+
 TEST(PhaseJob, SizeDistributionsAndTheirDescriptions) {
   auto gamma = water_drop(20, {0, 90, 180});
   gamma.size_distribution = "gamma:0.1";

@@ -63,6 +63,7 @@ int run_phase(const PhaseArgs& a) {
   const auto& mm = result.mueller;
 
   if (a.csv) {
+    for (const auto& note : result.notes) warn(note);  // the table has no header to hold them
     fmt::print("theta_deg,i1,i2,i{}\n", mm ? ",s11,s12,s33,s34" : "");
   } else {
     fmt::print("# theory {}, {}, wavelength {:g} nm: m = {:.6g}{:+.3g}i{}\n", result.theory, result.drops,
