@@ -94,7 +94,7 @@ PhasePlan plan_phase(PhaseJob job) {
   return plan;
 }
 
-std::optional<std::string> undersampled_ripple_note(const PhasePlan& plan) {
+std::optional<std::string> undersampled_ripple_note(const PhasePlan& plan, std::string_view nodes_option) {
   const auto& q = plan.quadrature.radius_m;
   const bool wave = plan.theory.kind == TheoryKind::Mie || plan.theory.kind == TheoryKind::Debye;
   if (!wave || q.size() < 2) return std::nullopt;
@@ -105,9 +105,9 @@ std::optional<std::string> undersampled_ripple_note(const PhasePlan& plan) {
   const double needed = std::ceil(kRippleNodesPerUnitX * span);
   if (double(q.size()) >= kRippleNodesPerUnitX / 2 * span || needed > kMaxQuadratureNodes) return std::nullopt;
   return fmt::format("{} radii over size parameters {:.3g} to {:.3g} ({:.2g} per unit of x): the Mie ripple is "
-                     "under-sampled and the average can be off by tens of percent at some angles; give --nodes {:g} "
-                     "or more (docs/mie.md, \"Size averages\")",
-                     q.size(), x_lo, x_hi, double(q.size()) / span, needed);
+                     "under-sampled and the average can be off by tens of percent at some angles; give {} {:g} or "
+                     "more (docs/mie.md, \"Size averages\")",
+                     q.size(), x_lo, x_hi, double(q.size()) / span, nodes_option, needed);
 }
 
 PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress) {

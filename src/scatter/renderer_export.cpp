@@ -299,6 +299,7 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
   out.number_per_m3 = plan.number_per_m3;
   out.scene_unit_m = req.scene_unit_m;
   out.phase_wavelength_nm = req.phase_wavelength_nm;
+  if (auto note = undersampled_ripple_note(plan.phase, "nodes")) out.notes.push_back(std::move(*note));
   const RadiusQuadrature& scaled = plan.spectral;
   double volume = 0;
   for (std::size_t i = 0; i < scaled.size(); ++i) volume += scaled.weight[i] * 4.0 / 3 * kPi<> * std::pow(scaled.radius_m[i], 3);
@@ -498,6 +499,7 @@ std::vector<std::string> header_lines(const MediumOptics& o, RendererFormat form
                           o.scattering_per_m[i550] / o.extinction_per_m[i550], o.g[i550]));
   l.push_back(fmt::format("spectra: {:g} to {:g} nm every {:g} nm (vacuum wavelengths); one scene unit = {:g} m",
                           kExportMinNm, kExportMaxNm, kExportStepNm, o.scene_unit_m));
+  for (const auto& note : o.notes) l.push_back("note (the phase): " + note);
   if (t.cut_intervals > 0)
     l.push_back(fmt::format("forward cut: the fraction {:.6g} of the scattered light, scattered within {:.4g} deg of "
                             "forward, is treated as unscattered (delta-M-like truncation, Wiscombe 1977): sigma_s "

@@ -83,6 +83,7 @@ int run_medium(const MediumArgs& a) {
   bar.finish();
   out.write(scatter::renderer_medium_text(optics, format, a.name));
   files.commit();
+  if (const auto note = scatter::undersampled_ripple_note(plan.phase)) warn(*note);  // the file states it too
   if (!a.quiet) {
     const auto& t = optics.phase;
     std::size_t i550 = 0;

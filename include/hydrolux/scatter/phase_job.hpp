@@ -95,8 +95,9 @@ inline constexpr double kRippleNodesPerUnitX = 8;
 // A note for a Mie or Debye average over radii spread too thinly across the size parameters they
 // cover (fewer than kRippleNodesPerUnitX / 2 per unit of x) when enough radii are within --nodes'
 // range; nullopt otherwise (one radius, another theory, or rain's wide range where no allowed count
-// would do). compute_phase adds it to the result's notes.
-std::optional<std::string> undersampled_ripple_note(const PhasePlan& plan);
+// would do). compute_phase adds it to the result's notes. `nodes_option` names the count in the
+// advice ("give --nodes N or more").
+std::optional<std::string> undersampled_ripple_note(const PhasePlan& plan, std::string_view nodes_option = "--nodes");
 
 struct PhaseResult {
   std::vector<double> angles_deg;

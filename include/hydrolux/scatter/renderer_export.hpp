@@ -145,6 +145,9 @@ struct MediumOptics {
   double number_per_m3 = 0, lwc_g_m3 = 0;
   double scene_unit_m = 1;
   std::string media;  // "water in air" (and the temperature)
+  // Where the phase is less accurate than the table: too few radii for the Mie ripple
+  // (phase_job.hpp's undersampled_ripple_note). The files state them; the CLI warns.
+  std::vector<std::string> notes;
 };
 
 // The spectra, then the table (growing it and choosing the cut as the request says). `progress`
