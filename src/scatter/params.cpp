@@ -43,7 +43,8 @@ const Field<MieRequest> kMie[] = {
 
 const Field<PhaseRequest> kPhase[] = {
     {{"nodes", "--nodes", "sizes", K::integer, "", 1, kMaxQuadratureNodes,
-      "Radii in the size average (Gauss-Legendre); Mie ripple needs them about lambda/10 apart"},
+      "Radii in the size average (Gauss-Legendre); cloud droplets' Mie ripple needs about 8 per unit of the size "
+      "parameters covered (a note says when there are fewer than 4)"},
      HYDROLUX_PARAM_MEMBER(nodes)},
     {kTemperature, HYDROLUX_PARAM_OPTIONAL(temperature_c)},
     {kThreads, HYDROLUX_PARAM_MEMBER(threads)},

@@ -30,7 +30,8 @@ const Field<MediumRequest> kMedium[] = {
       "Liquid water content instead of the count (fog 0.01-0.5, cloud 0.1-1)", "number_per_cm3"},
      HYDROLUX_PARAM_OPTIONAL(lwc_g_m3)},
     {{"nodes", "--nodes", "drops", K::integer, "", 1, kMaxQuadratureNodes,
-      "Radii in the size average (Gauss-Legendre); Mie ripple needs them about lambda/10 apart"},
+      "Radii in the size average (Gauss-Legendre); cloud droplets' Mie ripple needs about 8 per unit of the size "
+      "parameters covered (a note says when there are fewer than 4)"},
      HYDROLUX_PARAM_MEMBER(nodes)},
     {{"temperature_c", "--temperature-c", "media", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
       "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither medium does"},
