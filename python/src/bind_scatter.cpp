@@ -204,6 +204,24 @@ py::dict bulk_optics(std::complex<double> m, double wavenumber_per_m, py::handle
 
 // hydrolux phase's job (scatter/phase_job.hpp): the same checks and numbers as the CLI, said in the
 // keywords' names. The declared numbers (nodes, temperature_c, threads, mueller) come in `options`.
+// The drops of a phase or medium job (scatter::PhaseJob, scatter::MediumJob): radius_um (None: unset)
+// in sphere_problem's range, the media by name, and a temperature_c refused where neither medium
+// models one; each error names its keyword.
+template <class Job>
+void drops_args(Job& job, py::handle radius_arg, const std::string& medium, const std::string& surrounding) {
+  if (!radius_arg.is_none()) {
+    const double r = real_arg(radius_arg, "radius_um");
+    require_arg("radius_um", r, 1e-6, 1e6, "um");  // scatter::sphere_problem's range
+    job.radius_um = r;
+  }
+  job.medium = medium_arg("medium", medium);
+  job.surrounding = medium_arg("surrounding", surrounding);
+  if (const auto& t = job.numbers.temperature_c;
+      t && !job.medium->info().temperature_dependent && !job.surrounding->info().temperature_dependent)
+    throw Error(fmt::format("temperature_c {:g}: neither {} nor {} has a temperature model; leave it None", *t,
+                            job.medium->info().name, job.surrounding->info().name));
+}
+
 // The library's quantities of a drop population in phase()'s and renderer_medium()'s keywords (the
 // CLI's flags_for_quantity, for Python).
 std::map<std::string, ArgName> drop_quantity_names() {
@@ -228,22 +246,12 @@ py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wave
                                                         !std::isnan(f.get(scatter::PhaseRequest{})))
       (void)param_value(f.param, options[key]);  // "nodes: expected a whole number in [1, 4096], got None"
   apply_kwargs(job.numbers, options, scatter::phase_params());
-  if (!radius_arg.is_none()) {
-    const double r = real_arg(radius_arg, "radius_um");
-    require_arg("radius_um", r, 1e-6, 1e6, "um");  // scatter::sphere_problem's range
-    job.radius_um = r;
-  }
+  drops_args(job, radius_arg, medium, surrounding);
   job.wavelength_nm = real_arg(wavelength_arg, "wavelength_nm");
   if (!(job.wavelength_nm > 0 && job.wavelength_nm <= 1e6))  // as --wavelength-nm
     throw Error(fmt::format("wavelength_nm = {:g} is outside (0, 1e+06] nm", job.wavelength_nm));
   job.theory = theory;
   job.size_distribution = size_distribution;
-  job.medium = medium_arg("medium", medium);
-  job.surrounding = medium_arg("surrounding", surrounding);
-  if (const auto& t = job.numbers.temperature_c;
-      t && !job.medium->info().temperature_dependent && !job.surrounding->info().temperature_dependent)
-    throw Error(fmt::format("temperature_c {:g}: neither {} nor {} has a temperature model; leave it None", *t,
-                            job.medium->info().name, job.surrounding->info().name));
   constexpr std::size_t kMaxAngles = 1000000;
   if (py::isinstance<py::str>(angles_arg)) {  // the CLI's text, read by the same parser: the same angles
     const std::string text = angles_arg.cast<std::string>();
@@ -358,18 +366,8 @@ py::dict renderer_medium(py::handle radius_arg, const std::string& size_distribu
                          const py::dict& options) {
   scatter::MediumJob job;
   apply_kwargs(job.numbers, options, scatter::medium_params());
-  if (!radius_arg.is_none()) {
-    const double r = real_arg(radius_arg, "radius_um");
-    require_arg("radius_um", r, 1e-6, 1e6, "um");
-    job.radius_um = r;
-  }
+  drops_args(job, radius_arg, medium, surrounding);
   job.size_distribution = size_distribution;
-  job.medium = medium_arg("medium", medium);
-  job.surrounding = medium_arg("surrounding", surrounding);
-  if (const auto& t = job.numbers.temperature_c;
-      t && !job.medium->info().temperature_dependent && !job.surrounding->info().temperature_dependent)
-    throw Error(fmt::format("temperature_c {:g}: neither {} nor {} has a temperature model; leave it None", *t,
-                            job.medium->info().name, job.surrounding->info().name));
   scatter::RendererFormat renderer;
   try {
     renderer = scatter::parse_renderer_format(format);
