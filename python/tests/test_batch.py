@@ -147,7 +147,7 @@ def test_usage_errors_are_one_line_exit_2(frames, tmp_path, capfd):
          "--workers: 0 is outside the valid range [1, "),
         (["rain", "--input-dir", str(frames), "--output-dir", str(tmp_path / "o"), "--seed", "1.5"],
          "--seed: 1.5 is not a whole number; valid range [0, 9007199254740992]"),
-        (["lee-atlas", "--spec", str(tmp_path / "none.json"), "--output-dir", str(tmp_path / "o")], "does not exist"),
+        (["lee-atlas", "--spec", str(tmp_path / "none.json"), "--output-dir", str(tmp_path / "o")], "no such file"),
     ]
     for argv, text in cases:
         assert main(argv + ["-q"]) == 2, argv

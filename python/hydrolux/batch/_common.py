@@ -15,6 +15,7 @@ import logging
 import math
 import os
 import re
+import stat
 import sys
 import time
 import uuid
@@ -22,6 +23,10 @@ from typing import Any, Callable, Dict, Iterable, List, Optional
 
 MANIFEST = "hydrolux-manifest.jsonl"
 LOCK = "hydrolux-manifest.lock"
+# The largest manifest a run reads back (a rain frame's record is ~700 bytes, a lee-atlas table's at most
+# ~17 KB: 256 MiB holds ~380,000 frames or the 10,000 tables of the largest atlas); a larger one is refused
+# as any oversized input is, with the limit in the message.
+MANIFEST_MAX_BYTES = 256 << 20
 
 
 class UsageError(Exception):
@@ -37,6 +42,89 @@ def printable(text: str) -> str:
     """``text`` on one line that cannot drive the terminal, as the CLI prints names (docs/safe-io.md): the
     library's own hydrolux::printable (a name that is not UTF-8 reaches it as its bytes)."""
     return native("_core").printable(str(text).encode("utf-8", "surrogateescape"))
+
+
+def clip(value, limit: int = 60) -> str:
+    """``value`` as text for a message, at most about ``limit`` characters: a longer one is cut and says how
+    long it was ("aaaa... (1073741824 characters)"), so that a hostile value cannot make the one-line error
+    a gigabyte."""
+    text = value if isinstance(value, str) else repr(value)
+    if len(text) <= limit:
+        return text
+    return f"{text[:limit]}... ({len(text)} characters)"
+
+
+def fs(path):
+    """A path as the bindings take it: bytes (``os.fsencode``), so that a name that is not UTF-8 (a folder
+    named with byte 0xff, which Python holds as a surrogate escape) reaches the library as the bytes it
+    is, as the CLI gets it from argv. None stays None."""
+    return None if path is None else os.fsencode(path)
+
+
+# ---- files the batch reads itself -----------------------------------------------------------------
+# A lee-atlas spec, a manifest, an atlas's index, a staged chunk: checked as the CLI checks the files it
+# reads whole (io::read_file, src/io/files.cpp), with its words: a regular file (not a FIFO, which would
+# block, nor a device like /dev/zero, which never ends), of at most a limit of bytes, opened without
+# blocking and checked again on the open descriptor.
+
+def _file_kind(mode: int) -> str:
+    if stat.S_ISDIR(mode):
+        return "a folder"
+    if stat.S_ISFIFO(mode):
+        return "a named pipe (FIFO)"
+    if stat.S_ISCHR(mode):
+        return "a character device"
+    if stat.S_ISBLK(mode):
+        return "a block device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "not a regular file"
+
+
+def read_input(path: str, label: str, max_bytes: int, error=None) -> bytes:
+    """The bytes of the file ``path`` (named in messages as "<label> <path>"), checked as the CLI's
+    io::read_file checks an input: a regular file of at most ``max_bytes`` bytes, opened non-blocking.
+    ``error`` (default UsageError) otherwise, one line in the CLI's words: "--spec /dev/zero: a
+    character device, not a regular file; give a file", "--spec big.json: the file has 5000000 bytes,
+    more than the limit of 4194304 bytes", "--spec x.json: no such file". FileNotFoundError's case is
+    ``error`` too."""
+    error = error or UsageError
+    shown = f"{label} {path}" if label else f"'{path}'"
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        raise error(f"{shown}: no such file") from None
+    except OSError as e:
+        raise error(f"{shown}: {e.strerror or e}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise error(f"{shown}: {_file_kind(st.st_mode)}, not a regular file; give a file")
+    if st.st_size > max_bytes:
+        raise error(f"{shown}: the file has {st.st_size} bytes, more than the limit of {max_bytes} bytes")
+    try:  # non-blocking, so that a FIFO swapped in after the check cannot stall the open
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | os.O_NOCTTY)
+    except OSError as e:
+        raise error(f"{shown}: cannot open: {e.strerror or e}") from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode) or st.st_size > max_bytes:
+            raise error(f"{shown}: changed while being opened; not a regular file of at most {max_bytes} bytes")
+        parts, got = [], 0
+        while got <= max_bytes:  # at most one byte more than the limit: a file that grew is refused
+            try:
+                block = os.read(fd, min(1 << 20, max_bytes + 1 - got))
+            except InterruptedError:
+                continue
+            except OSError as e:
+                raise RunFailure(f"{path}: read failed: {e.strerror or e}") from None
+            if not block:
+                break
+            parts.append(block)
+            got += len(block)
+        if got > max_bytes:
+            raise error(f"{shown}: grew while being read, past the limit of {max_bytes} bytes")
+        return b"".join(parts)
+    finally:
+        os.close(fd)
 
 
 def os_error_text(e: OSError, path: Optional[str] = None) -> str:
@@ -315,8 +403,8 @@ class Manifest:
     hydrolux's atomic output path when opened; each record is then appended and fsync'd (a journal
     cannot be renamed into place per line: a torn last line is what the next open drops)."""
 
-    def __init__(self, folder: str, job: str, params: Dict[str, Any]):
-        self.folder, self.job, self.params = folder, job, params
+    def __init__(self, folder: str, job: str, params: Dict[str, Any], label: str = "--output-dir"):
+        self.folder, self.job, self.params, self.label = folder, job, params, label
         self.path = os.path.join(folder, MANIFEST)
         self.records: Dict[str, dict] = {}
         self.restarted = False
@@ -342,11 +430,11 @@ class Manifest:
             raise
 
     def _read(self):
-        try:
-            with open(self.path, "rb") as f:
-                lines = f.read().split(b"\n")
-        except FileNotFoundError:
+        if not os.path.lexists(self.path):
             return None
+        # Checked as every file the batch reads (a regular file, at most MANIFEST_MAX_BYTES): a UsageError
+        # naming it otherwise, before any work.
+        lines = read_input(self.path, self.label, MANIFEST_MAX_BYTES).split(b"\n")
         try:
             header = json.loads(lines[0])
         except (ValueError, IndexError):
@@ -357,7 +445,7 @@ class Manifest:
                 r = json.loads(line)
             except ValueError:
                 continue  # a torn last line
-            if isinstance(r, dict) and "output" in r:
+            if isinstance(r, dict) and isinstance(r.get("output"), str):
                 records[r["output"]] = r
         return header, records
 
@@ -365,7 +453,7 @@ class Manifest:
         _core = native("_core")  # hydrolux's checked, atomic output path
 
         try:
-            _core.write_file(self.path, "".join(json.dumps(line, sort_keys=True) + "\n" for line in lines).encode(),
+            _core.write_file(fs(self.path), "".join(json.dumps(line, sort_keys=True) + "\n" for line in lines).encode(),
                              "manifest")
         except OSError as e:  # hydrolux's message names the path and the OS's reason
             raise RunFailure(str(e)) from None
@@ -407,7 +495,7 @@ def check_members(inputs: List[tuple], outputs: List[tuple]) -> None:
     resolved path) an input or another output, nor a folder or a device. A UsageError naming both
     otherwise. The folder-level guards (an output folder that is the input folder) come first."""
     try:
-        native("_core").check_files([(f, os.fspath(p)) for f, p in inputs], [(f, os.fspath(p)) for f, p in outputs])
+        native("_core").check_files([(f, fs(p)) for f, p in inputs], [(f, fs(p)) for f, p in outputs])
     except OSError as e:
         raise UsageError(str(e)) from None
 
@@ -441,6 +529,33 @@ def remove_staging(folder: str, pattern: str) -> None:
         os.rmdir(folder)
     except OSError:
         pass
+
+
+def file_digest(path: str) -> Optional[dict]:
+    """{"size", "sha256"} of the regular file ``path`` (its content's SHA-256 in hex), or None where it is
+    missing, not a regular file (opened without blocking: a FIFO cannot stall it) or cannot be read."""
+    import hashlib
+
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC | os.O_NOCTTY)
+    except OSError:
+        return None
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return None
+        h = hashlib.sha256()
+        size = 0
+        while True:
+            block = os.read(fd, 1 << 20)
+            if not block:
+                break
+            h.update(block)
+            size += len(block)
+        return {"size": size, "sha256": h.hexdigest()}
+    except OSError:
+        return None
+    finally:
+        os.close(fd)
 
 
 def file_stamp(path: str) -> Optional[dict]:

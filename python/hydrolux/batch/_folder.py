@@ -40,6 +40,9 @@ class FrameJob:
     render: Callable[[Any, Any, int, Dict[str, Any]], tuple]
     # The options' own requirement (fog: a visibility or a liquid water content), as a UsageError.
     require: Optional[Callable[[Dict[str, Any]], None]] = None
+    # Whether the sequence has one size, as the CLI's job has it: fog refuses a frame of another size than
+    # the first (its sky colour and fog are the first frame's), lens-drops renders each frame at its own.
+    one_size: bool = True
 
 
 @functools.lru_cache(maxsize=None)
@@ -121,22 +124,22 @@ def _render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
         try:
             path = os.path.join(job["input_dir"], src)
             stamp = _common.file_stamp(path)
-            image = _image.read(path)[0]
+            image = _image.read(_common.fs(path))[0]
             h, w = image.shape[:2]
-            if (w, h) != (job["width"], job["height"]):
+            if job["one_size"] and (w, h) != (job["width"], job["height"]):
                 raise ValueError(f"is {w}x{h}, unlike the first frame ({job['width']}x{job['height']}); "
                                  "one sequence has one size")
             depth = None
             if depth_name:
-                depth = _image.read_depth(os.path.join(job["depth_dir"], depth_name), job["depth_scale_m"], w, h,
-                                          "--depth-dir")[:, :, 0]
+                depth = _image.read_depth(_common.fs(os.path.join(job["depth_dir"], depth_name)),
+                                          job["depth_scale_m"], w, h, "--depth-dir")[:, :, 0]
             out, mask = job["render"](image, depth, k, job)
             fmt = "exr" if name.endswith(".exr") else "png"
             if job["mask_dir"]:
-                _core.write_file(os.path.join(job["mask_dir"], name),
+                _core.write_file(_common.fs(os.path.join(job["mask_dir"], name)),
                                  _image.encode(mask, fmt, 16, True, job.get("png_compression")), "--mask-dir")
             data = _image.encode(out, fmt, 8, False, job.get("png_compression"))
-            _core.write_file(os.path.join(job["output_dir"], name), data, "--output-dir")
+            _core.write_file(_common.fs(os.path.join(job["output_dir"], name)), data, "--output-dir")
             rec.update(input_size=stamp["size"], input_mtime_ns=stamp["mtime_ns"], output_size=len(data))
         except Exception as e:
             rec["error"] = str(e)
@@ -201,7 +204,7 @@ def first_readable_frame(in_dir: str, frames: List[str]):
     _image = _common.native("_image")
     for f in frames:
         try:
-            return _image.read(os.path.join(in_dir, f))[0]
+            return _image.read(_common.fs(os.path.join(in_dir, f)))[0]
         except (ValueError, OSError):
             continue
     raise UsageError(f"--input-dir {in_dir}: no frame could be read")
@@ -256,6 +259,7 @@ def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
         cores = _common.usable_cores()
         job = {"input_dir": in_dir, "output_dir": out_dir, "mask_dir": mask_dir, "width": size[0], "height": size[1],
                "options": opts, "depth_dir": depth_dir, "depth_scale_m": depth_scale, "render": fj.render,
+               "one_size": fj.one_size,
                "png_compression": getattr(a, "png_compression", None),
                "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker)), **extra}
         progress = _common.Progress(tag, len(tasks), "frames", a.quiet)
@@ -284,6 +288,6 @@ def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
                     _common.remove_stale_temporaries(d, names)
             manifest.close()
     if not a.quiet:
-        print(f"{tag}: {len(frames) - len(failed)} of {len(frames)} frames in {out_dir}"
-              + (f"; {len(failed)} failed: {', '.join(failed[:5])}" if failed else ""), file=sys.stderr)
+        print(printable(f"{tag}: {len(frames) - len(failed)} of {len(frames)} frames in {out_dir}"
+                        + (f"; {len(failed)} failed: {', '.join(failed[:5])}" if failed else "")), file=sys.stderr)
     return 1 if failed else 0

@@ -3,7 +3,8 @@ on a Dask cluster.
 
 The frames are one sequence in name order, as ``hydrolux lens-drops --input-dir``: frame k (its place
 in the sequence) gets the drops of seed + k, so every frame has its own drops and the output is byte
-for byte that of the single-process CLI whatever the chunks (docs/lens-drops.md). Each frame is
+for byte that of the single-process CLI whatever the chunks (docs/lens-drops.md), frames of several
+sizes included (each is rendered at its own, as the CLI does). Each frame is
 written atomically and recorded in the manifest as it completes; a re-run skips recorded frames
 whose input is unchanged. Clean, degraded and mask folders are what raindrop-removal training uses.
 """
@@ -66,8 +67,9 @@ def _render(image, depth, k: int, job: Dict[str, Any]) -> tuple:
     return r.image, r.mask
 
 
+# Each frame at its own size, as hydrolux lens-drops --input-dir renders a folder of frames of several sizes.
 LENS_DROPS = _folder.FrameJob(name="lens-drops", job="lens_drops", noun="frames with drops", depth=False,
-                              prepare=_prepare, render=_render)
+                              prepare=_prepare, render=_render, one_size=False)
 
 
 def run(a: argparse.Namespace, after_result=None) -> int:

@@ -245,7 +245,7 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
         try:
             path = os.path.join(job["input_dir"], src)
             stamp = _common.file_stamp(path)
-            image = _image.read(path)[0]
+            image = _image.read(_common.fs(path))[0]
             h, w = image.shape[:2]
             if (w, h) != (job["width"], job["height"]):
                 raise ValueError(f"is {w}x{h}, unlike the first frame ({job['width']}x{job['height']}); "
@@ -253,17 +253,17 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
             depth = depth_stamp = None
             if depth_name:
                 depth_stamp = _common.file_stamp(os.path.join(job["depth_dir"], depth_name))
-                depth = _image.read_depth(os.path.join(job["depth_dir"], depth_name), job["depth_scale_m"], w, h,
-                                          "--depth-dir")[:, :, 0]
+                depth = _image.read_depth(_common.fs(os.path.join(job["depth_dir"], depth_name)),
+                                          job["depth_scale_m"], w, h, "--depth-dir")[:, :, 0]
             with warnings.catch_warnings():  # negative values: counted in the stats, said once by the client
                 warnings.simplefilter("ignore", RuntimeWarning)
                 result = renderer.render(image, depth, index)
             fmt = "exr" if name.endswith(".exr") else "png"
             if job["mask_dir"]:
-                _core.write_file(os.path.join(job["mask_dir"], name), _image.encode(result.mask, fmt, 16, True, job.get("png_compression")),
-                                 "--mask-dir")
+                _core.write_file(_common.fs(os.path.join(job["mask_dir"], name)),
+                                 _image.encode(result.mask, fmt, 16, True, job.get("png_compression")), "--mask-dir")
             data = _image.encode(result.image, fmt, 8, False, job.get("png_compression"))
-            _core.write_file(os.path.join(job["output_dir"], name), data, "--output-dir")
+            _core.write_file(_common.fs(os.path.join(job["output_dir"], name)), data, "--output-dir")
             rec.update(input_size=stamp["size"], input_mtime_ns=stamp["mtime_ns"], output_size=len(data),
                        stats=result.stats)
             if depth_name:
@@ -462,9 +462,9 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
                     _common.remove_stale_temporaries(d, names)
             manifest.close()
     if not a.quiet:
-        print(f"batch rain: {len(frames) - len(failed)} of {len(frames)} frames in {out_dir}"
-              + (f"; {len(failed)} failed: {', '.join(failed[:5])}{' ...' if len(failed) > 5 else ''}"
-                 if failed else ""), file=sys.stderr)
+        print(_common.printable(f"batch rain: {len(frames) - len(failed)} of {len(frames)} frames in {out_dir}"
+                                + (f"; {len(failed)} failed: {', '.join(failed[:5])}{' ...' if len(failed) > 5 else ''}"
+                                   if failed else "")), file=sys.stderr)
     return 1 if failed else 0
 
 
@@ -495,7 +495,7 @@ def render_video_chunk(job: Dict[str, Any], start: int, count: int) -> Dict[str,
     parts, stats = [], []
     try:  # the video's own problems (truncated, corrupt): a bad input, reported as the CLI reports it
         renderer = _renderer(job, ground=True)
-        reader = _video.VideoReader(job["video"], job["video_label"])
+        reader = _video.VideoReader(_common.fs(job["video"]), job["video_label"])
         if reader.skip(start) != start:  # the container promised more frames than it holds
             count = 0
         while count < 0 or len(parts) < count:
@@ -509,7 +509,7 @@ def render_video_chunk(job: Dict[str, Any], start: int, count: int) -> Dict[str,
         return {"output": name, "start": start, "error": str(e), "input_error": True}
     data = b"".join(parts)
     try:  # a full disk in the staging folder: the system failed (exit 1)
-        _core.write_file(os.path.join(job["staging"], name), data, "staging")
+        _core.write_file(_common.fs(os.path.join(job["staging"], name)), data, "staging")
     except OSError as e:
         return {"output": name, "start": start, "error": str(e), "input_error": False}
     return {"output": name, "start": start, "frames": len(parts), "size": len(data), "stats": stats}
@@ -560,7 +560,7 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
         raise UsageError(f"-o {a.output}: is the input video")
     video_label = "--video"  # the bindings' errors read "--video <path>: <reason>"
     try:
-        info = _video.VideoReader(video, video_label).info()
+        info = _video.VideoReader(_common.fs(video), video_label).info()
     except (ValueError, OSError) as e:
         raise UsageError(str(e)) from None
     if info["width"] % 2 or info["height"] % 2:  # the encoder's rule, before any frame is rendered
@@ -575,7 +575,7 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
     expected = info["frame_count"] if info["frame_count"] > 0 else round(info["duration_s"] * info["fps"])
     if expected <= 0:  # the container says nothing: count them
         try:
-            expected = _video.VideoReader(video, video_label).skip(1 << 40)
+            expected = _video.VideoReader(_common.fs(video), video_label).skip(1 << 40)
         except (ValueError, OSError) as e:
             raise UsageError(str(e)) from None
     staging = os.path.join(out_dir, f".{os.path.basename(output)}.chunks")
@@ -603,7 +603,7 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
     finished = interrupted = False
     try:
         _common.make_folder("-o", staging)
-        manifest = _common.Manifest(staging, "rain-video", params)
+        manifest = _common.Manifest(staging, "rain-video", params, label="-o")
         out_name = os.path.basename(output)
         final = manifest.records.get(out_name)
         if final and final.get("crf") == a.crf and _common.file_stamp(output) and \
@@ -693,10 +693,11 @@ def _video_job(a, after_result, client, info, field, expected, staging, manifest
     frame_bytes = info["width"] * info["height"] * 3
     frames = 0
     try:
-        writer = _video.VideoWriter(output, info, a.crf, "-o")
+        writer = _video.VideoWriter(_common.fs(output), info, a.crf, "-o")
         for name in chunk_names:
-            with open(os.path.join(staging, name), "rb") as f:
-                data = f.read()
+            # Checked as every file the batch reads: a regular file of the size its record says.
+            data = _common.read_input(os.path.join(staging, name), "-o", manifest.records[name]["size"],
+                                      error=_common.RunFailure)
             for k in range(len(data) // frame_bytes):
                 writer.write(np.frombuffer(data, np.uint8, frame_bytes, k * frame_bytes).reshape(
                     info["height"], info["width"], 3))
