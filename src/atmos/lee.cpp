@@ -382,6 +382,16 @@ LeeSpec make_lee_spec(const LeeRequest& r) {
   s.threads = r.threads;
   s.temperature_c = r.temperature_c;
   s.shape = parse_drop_shape(r.shape);
+  if (s.shape.spherical()) {
+    // The non-spherical drops' parameters, set for spheres, would be ignored.
+    const LeeRequest defaults;
+    for (const auto& f : lee_params())
+      for (const std::string_view name : kShapeOnlyParams)
+        if (f.param.name == name && f.get(r) != f.get(defaults)) {
+          f.param.check(f.get(r));  // out of its range: that first
+          throw Error(shape_only_message(name, f.get(r), name, "shape"));
+        }
+  }
   s.sun_elevation_deg = r.sun_elevation_deg;
   s.position_deg = r.position_deg;
   s.canting_deg = r.canting_deg;

@@ -1,5 +1,7 @@
 #include "hydrolux/atmos/lee_params.hpp"
 
+#include <fmt/format.h>
+
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -51,6 +53,15 @@ const Field<LeeRequest> kLee[] = {
 }  // namespace
 
 std::span<const Field<LeeRequest>> lee_params() { return kLee; }
+
+std::string shape_only_message(std::string_view param, double value, std::string_view name, std::string_view shape) {
+  const std::string_view what = param == "sun_elevation_deg" ? "the sun"
+                                : param == "position_deg"    ? "the bow's position angle"
+                                                             : "the canting";
+  return fmt::format("{} {:g}: sets {} of the non-spherical drops' table ({}); the spheres' tables do not depend "
+                     "on it (omit it or give {})",
+                     name, value, what, shape, shape);
+}
 
 const Param& lee_param(std::string_view name) {
   if (const auto* f = find_field(lee_params(), name)) return f->param;

@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
+#include <cstdlib>
 #include <ctime>
 #include <set>
+#include <type_traits>
 
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/parse.hpp"
 #include "hydrolux/version.hpp"
 
 namespace hydrolux {
@@ -101,13 +103,34 @@ void Dataset::check() const {
     if (value_count(v.data) != n)
       throw Error(fmt::format("dataset: variable '{}' holds {} values, its dimensions {}", v.name,
                               value_count(v.data), n));
+    // A coordinate variable (one dimension, of its own name) is strictly monotonic (CF 1.8, 5).
+    if (v.dims.size() == 1 && v.dims[0] == v.name && !std::holds_alternative<std::vector<std::string>>(v.data)) {
+      const std::vector<double> values = std::visit(
+          [](const auto& d) -> std::vector<double> {
+            if constexpr (std::is_same_v<std::decay_t<decltype(d)>, std::vector<std::string>>)
+              return {};
+            else
+              return std::vector<double>(d.begin(), d.end());
+          },
+          v.data);
+      try {
+        parse::require_strictly_monotonic(values);
+      } catch (const Error& e) {
+        throw Error(fmt::format("dataset: coordinate '{}': {}", v.name, e.what()));
+      }
+    }
   }
 }
 
 std::string history_line(std::string_view call) {
-  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  // No clock: the same inputs make the same bytes. A time only from SOURCE_DATE_EPOCH
+  // (reproducible-builds.org), a whole number of seconds since 1970 up to the year 9999.
+  const char* epoch = std::getenv("SOURCE_DATE_EPOCH");
+  const auto seconds = epoch ? parse::integer(epoch) : std::nullopt;
+  if (!seconds || *seconds < 0 || *seconds > 253402300799LL) return fmt::format("hydrolux {}: {}", kVersion, call);
+  const std::time_t when = std::time_t(*seconds);
   std::tm utc{};
-  gmtime_r(&now, &utc);
+  gmtime_r(&when, &utc);
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", &utc);
   return fmt::format("{} hydrolux {}: {}", stamp, kVersion, call);

@@ -139,6 +139,8 @@ std::vector<double> range_or_list(std::string_view text, double lo, double hi, s
     const auto n = integer(parts[2]);
     if (!n || *n < 1 || static_cast<unsigned long long>(*n) > max_count)
       throw Error(fmt::format("N must be a whole number in [1, {}]", max_count));
+    // One value cannot run from A to a different B: "0:180:1" would silently be A alone.
+    if (*n == 1 && a != b) throw Error("N = 1 gives one value: N must be >= 2, or A == B");
     const auto count = static_cast<std::size_t>(*n);
     out.reserve(count);
     // std::lerp is exact at both ends, monotonic and never overflows (a + (b - a) t rounded 180 to
@@ -147,6 +149,7 @@ std::vector<double> range_or_list(std::string_view text, double lo, double hi, s
     const double low = std::min(a, b), high = std::max(a, b);
     for (std::size_t i = 0; i < count; ++i)
       out.push_back(count == 1 ? a : std::clamp(std::lerp(a, b, double(i) / double(count - 1)), low, high));
+    require_strictly_monotonic(out);  // a span too narrow for N distinct doubles repeats values
     return out;
   }
   std::size_t start = 0;
@@ -157,7 +160,24 @@ std::vector<double> range_or_list(std::string_view text, double lo, double hi, s
     if (pos == std::string_view::npos) break;
     start = pos + 1;
   }
+  require_strictly_monotonic(out);
   return out;
+}
+
+void require_strictly_monotonic(std::span<const double> values) {
+  if (values.size() < 2) return;
+  const bool increasing = values[1] > values[0];
+  for (std::size_t i = 1; i < values.size(); ++i) {
+    const double before = values[i - 1], v = values[i];
+    if (v == before)
+      throw Error(fmt::format("{:g} is repeated (values {} and {}); the values must be strictly increasing or "
+                              "strictly decreasing",
+                              v, i, i + 1));
+    if ((v > before) != increasing)
+      throw Error(fmt::format("{:g} follows {:g} in values that {}; the values must be strictly increasing or "
+                              "strictly decreasing",
+                              v, before, increasing ? "increase" : "decrease"));
+  }
 }
 
 }  // namespace hydrolux::parse

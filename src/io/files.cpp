@@ -46,6 +46,20 @@ std::string file_kind(mode_t mode) {
 
 fs::path folder_of(const fs::path& p) { return p.has_parent_path() ? p.parent_path() : fs::path("."); }
 
+// Where a dangling symbolic link points, for its message: " (to the missing X)"; empty if unreadable.
+std::string dangling_target(const fs::path& link, std::string_view what) {
+  std::error_code ec;
+  const fs::path to = fs::read_symlink(link, ec);
+  return ec ? std::string() : fmt::format(" (to the missing {} '{}')", what, to.string());
+}
+
+// Whether `p` is a symbolic link whose target does not exist.
+bool dangling(const fs::path& p) {
+  struct stat st {};
+  if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return false;
+  return ::stat(p.c_str(), &st) != 0 && errno == ENOENT;
+}
+
 // A hidden name beside `target` that no other writer uses: .<name>.tmp-<pid>-<n>. Long names are
 // shortened so the temporary name stays within the 255-byte limit of common file systems.
 fs::path temporary_sibling(const fs::path& target) {
@@ -304,7 +318,8 @@ std::pair<fs::path, std::optional<mode_t>> output_destination(const fs::path& ta
   if (::lstat(target.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
     struct stat pointed {};
     if (::stat(target.c_str(), &pointed) != 0 && errno == ENOENT)
-      throw IoError(fmt::format("{}: is a symbolic link to a missing file; give the file itself", name));
+      throw IoError(fmt::format("{}: is a dangling symbolic link{}; give the file itself", name,
+                                dangling_target(target, "file")));
     std::error_code ec;
     destination = fs::weakly_canonical(fs::absolute(target), ec);
     if (ec) throw IoError(fmt::format("{}: cannot resolve the symbolic link: {}", name, ec.message()));
@@ -438,7 +453,8 @@ OutputDirectory::OutputDirectory(fs::path target, std::string label) : s_(std::m
   struct stat st {};
   const bool exists = ::stat(s_->target.c_str(), &st) == 0;
   if (!exists && ::lstat(s_->target.c_str(), &st) == 0 && S_ISLNK(st.st_mode))
-    throw IoError(fmt::format("{}: is a symbolic link to a missing folder; give the folder itself", s_->name()));
+    throw IoError(fmt::format("{}: is a dangling symbolic link{}; give the folder itself", s_->name(),
+                              dangling_target(s_->target, "folder")));
   if (exists && !S_ISDIR(st.st_mode))
     throw IoError(fmt::format("{}: is {}, not a folder", s_->name(), S_ISREG(st.st_mode) ? "a file" : file_kind(st.st_mode)));
   // A new folder is staged beside its destination and renamed into place whole. Into an existing
@@ -516,7 +532,8 @@ void OutputDirectory::commit() {
   struct stat st {};
   const bool exists = ::stat(s_->target.c_str(), &st) == 0;
   if (!exists && ::lstat(s_->target.c_str(), &st) == 0 && S_ISLNK(st.st_mode))
-    throw IoError(fmt::format("{}: is a symbolic link to a missing folder; give the folder itself", s_->name()));
+    throw IoError(fmt::format("{}: is a dangling symbolic link{}; give the folder itself", s_->name(),
+                              dangling_target(s_->target, "folder")));
   if (exists && !S_ISDIR(st.st_mode)) throw IoError(fmt::format("{}: is no longer a folder", s_->name()));
   if (exists)
     for (const auto& f : s_->files)
@@ -667,6 +684,15 @@ OutputFile& FileSet::output(std::string label, fs::path path) {
 }
 
 void FileSet::planned_output(std::string label, fs::path path) {
+  // Its folder is created later (create_directories would fail on a dangling link with "File
+  // exists"): a folder that is a dangling symbolic link is refused now, by its label.
+  for (fs::path folder = path.parent_path(); !folder.empty() && folder != folder.root_path();
+       folder = folder.parent_path()) {
+    if (dangling(folder))
+      throw IoError(fmt::format("{} {}: is a dangling symbolic link{}; give a folder, or create its target", label,
+                                folder.string(), dangling_target(folder, "folder")));
+    if (folder == folder.parent_path()) break;
+  }
   const State::Key k = s_->refuse_clash(label, path);
   output_destination(path, describe(label, path));
   s_->add_output(k, std::move(label), std::move(path));

@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/parse.hpp"
 #include "hydrolux/version.hpp"
 
 namespace hydrolux::scatter {
@@ -81,6 +83,14 @@ Dataset mie_dataset(const MieDatasetInput& in, std::string_view history) {
     throw Error("mie_dataset: the Mueller elements are not x by angles");
   const bool physical = in.wavelength_nm.has_value();
   if (physical && in.radius_um.size() != n) throw Error("mie_dataset: radius_um's length differs from x's");
+  // Both label the dataset's axes: CF coordinates, which must be strictly monotonic.
+  for (const auto& [name, values] : {std::pair{"x", in.x}, std::pair{"angles_deg", in.angles_deg}}) {
+    try {
+      parse::require_strictly_monotonic(values);
+    } catch (const Error& e) {
+      throw Error(fmt::format("{}: {} (a labelled dataset's coordinate; CF)", name, e.what()));
+    }
+  }
 
   Dataset ds;
   const std::string size = ds.dim("size_parameter", n);

@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <utility>
 
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/parse.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/geometric.hpp"
 
@@ -29,6 +31,13 @@ std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
   }
   const int nodes = job.numbers.nodes;
   if (spec.kind == SizeDistributionKind::marshall_palmer) {
+    if (job.radius_um)
+      throw PhaseJobError(Field::radius_um,
+                          fmt::format(" {:g}: size_distribution {} sets its own radii ({:g}-{:g} um); omit radius_um, "
+                                      "or give mono, gamma:W or lognormal:W for drops of that radius",
+                                      *job.radius_um, job.size_distribution, kPhaseRainMinRadiusUm,
+                                      kPhaseRainMaxRadiusUm),
+                          Field::size_distribution);
     const auto d = SizeDistribution::marshall_palmer(spec.parameter);
     return {d.quadrature(nodes, kPhaseRainMinRadiusUm * 1e-6, kPhaseRainMaxRadiusUm * 1e-6),
             fmt::format("Marshall-Palmer rain, {:g} mm/h, radii {:g}-{:g} um", spec.parameter, kPhaseRainMinRadiusUm,
@@ -36,8 +45,10 @@ std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
   }
   if (!job.radius_um) throw PhaseJobError(Field::radius_um, " is required (the mean radius for gamma and lognormal)");
   const double radius_um = *job.radius_um, r = radius_um * 1e-6;
-  if (spec.kind == SizeDistributionKind::monodisperse)
+  if (spec.kind == SizeDistributionKind::monodisperse) {
+    if (nodes != PhaseRequest{}.nodes) throw one_radius_nodes_error(nodes, job.size_distribution);
     return {SizeDistribution::monodisperse(r).quadrature(1), fmt::format("radius {:g} um", radius_um)};
+  }
   const bool gamma = spec.kind == SizeDistributionKind::gamma;
   const auto d = gamma ? SizeDistribution::gamma(r, spec.parameter) : SizeDistribution::log_normal(r, spec.parameter);
   // Gauss-Legendre over a range holding the number and r^4-weighted tails: Mie intensities
@@ -50,14 +61,43 @@ std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
 
 }  // namespace
 
-PhaseJobError::PhaseJobError(Field field, std::string rest)
-    : Error(message(field, rest)), field_(field), rest_(std::move(rest)) {}
+PhaseJobError::PhaseJobError(Field field, std::string rest, std::optional<Field> also)
+    : Error(message(field, rest)), field_(field), also_(also), rest_(std::move(rest)) {}
+
+std::string PhaseJobError::worded(std::string_view name, std::string_view also_name) const {
+  std::string rest = rest_;
+  if (also_) {
+    // The message's own text names both fields by their library names, as whole words.
+    const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (const auto& [from, to] : {std::pair{field_name(field_), name}, std::pair{field_name(*also_), also_name}}) {
+      for (std::size_t pos = 0; (pos = rest.find(from, pos)) != std::string::npos;) {
+        const std::size_t end = pos + from.size();
+        if ((pos > 0 && word(rest[pos - 1])) || (end < rest.size() && word(rest[end]))) {
+          pos = end;
+          continue;
+        }
+        rest.replace(pos, from.size(), to);
+        pos += to.size();
+      }
+    }
+  }
+  return std::string(name) + rest;
+}
+
+PhaseJobError one_radius_nodes_error(int nodes, std::string_view size_distribution) {
+  return PhaseJobError(PhaseJobError::Field::nodes,
+                       fmt::format(" {}: size_distribution {} is one radius, with nothing to average; nodes sets the "
+                                   "radii of gamma:W, lognormal:W and marshall-palmer:H (omit nodes)",
+                                   nodes, size_distribution),
+                       PhaseJobError::Field::size_distribution);
+}
 
 std::string_view PhaseJobError::field_name(Field field) {
   switch (field) {
     case Field::theory: return "theory";
     case Field::size_distribution: return "size_distribution";
     case Field::radius_um: return "radius_um";
+    case Field::nodes: return "nodes";
   }
   return "?";
 }
@@ -84,6 +124,11 @@ PhasePlan plan_phase(PhaseJob job) {
     throw Error(fmt::format("temperature_c {:g}: neither {} nor {} has a temperature model", *t, sphere.info().name,
                             outside.info().name));
   for (const double a : job.angles_deg) require_in_range("angles_deg", a, 0.0, 180.0);
+  try {
+    parse::require_strictly_monotonic(job.angles_deg);  // the output's rows, a NetCDF coordinate
+  } catch (const Error& e) {
+    throw Error(fmt::format("angles_deg: {}", e.what()));
+  }
   auto [quadrature, drops] = size_quadrature(job);
   // The media at this wavelength (and temperature), so that a bad wavelength fails before any work.
   plan.problem =

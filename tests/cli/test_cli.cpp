@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdint>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 
 #include "hydrolux/optics/fresnel.hpp"
@@ -184,8 +186,28 @@ TEST(Cli, MieBadInput) {
       {"mie --m 1.333", "--x"},
       {"mie --m 1.333 --x 10 --radius-um 3", "--radius-um"},
       {"mie --m 1.333 --x 10 --threads -1", "--threads"},
+      // Issue 37: "0:180:1" was 0 alone; repeated or unsorted angles made a table (and a .nc
+      // coordinate) that is not monotonic.
+      {"mie --m 1.333 --x 10 --angles-deg 0:180:1", "N must be >= 2, or A == B"},
+      {"mie --m 1.333 --x 10 --angles-deg 10,10,20", "--angles-deg"},
+      {"mie --m 1.333 --x 10 --angles-deg 0,90,45", "--angles-deg"},
+      {"mie --m 1.333 --x 10 --angles-deg 0:1e-322:1000", "--angles-deg"},  // too narrow for 1000 doubles
+      {"mie --m 1.333 --x 10 --angles-deg 10,10,20 -o /tmp/hydrolux_mie_never.nc", "--angles-deg"},
+      {"mie --m 1.333 --x 10 --angles-deg 10,10,20 -o /tmp/hydrolux_mie_never.csv", "--angles-deg"},
   };
   expect_usage_errors(cases);
+  EXPECT_FALSE(fs::exists("/tmp/hydrolux_mie_never.nc"));
+  EXPECT_FALSE(fs::exists("/tmp/hydrolux_mie_never.csv"));
+  for (const char* text : {"0:180:1", "10,10,20", "0,90,45"}) {
+    const auto r = run(std::string("mie --m 1.333 --x 10 --angles-deg ") + text);
+    EXPECT_NE(r.err.find("--angles-deg '" + std::string(text) + "': "), std::string::npos) << r.err;
+  }
+  // What stays accepted: one angle as A:A:1, a decreasing range or list.
+  for (const auto& [text, count] : {std::pair{"5:5:1", 1u}, std::pair{"180:0:3", 3u}, std::pair{"90,45,0", 3u}}) {
+    const auto r = run(std::string("mie --m 1.333 --x 10 --json --angles-deg ") + text);
+    ASSERT_EQ(r.code, 0) << text << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out).at("angles_deg").size(), count) << text;
+  }
   // A negative imaginary part is refused with the reason, the sign convention; never conjugated.
   const auto r = run("mie --m 1.5-0.1i --x 10");
   EXPECT_NE(r.err.find("n + ik"), std::string::npos) << r.err;
@@ -351,8 +373,130 @@ TEST(Cli, PhaseBadInput) {
       {"phase --radius-um 10 --wavelength-nm 500 --nodes 0", "--nodes"},
       {"phase --radius-um 10 --wavelength-nm 2000", "--wavelength-nm"},
       {"phase --radius-um 10 --wavelength-nm 500 --angles-deg 190", "--angles-deg"},
+      {"phase --radius-um 10 --wavelength-nm 500 --angles-deg 0:180:1", "N must be >= 2, or A == B"},
+      {"phase --radius-um 10 --wavelength-nm 500 --angles-deg 10,10,20", "--angles-deg"},
+      {"phase --radius-um 10 --wavelength-nm 500 --angles-deg 0,90,45", "--angles-deg"},
   };
   expect_usage_errors(cases);
+}
+
+// Issue 37: flags that the rest of the command would ignore are refused, in one line naming both:
+// Marshall-Palmer rain sets its own radii (50-3000 um); one radius (mono) has no radii to count.
+TEST(Cli, PhaseRefusesFlagsItWouldIgnore) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"phase -q --radius-um 500 --wavelength-nm 650 --size-distribution marshall-palmer:5", "--radius-um 500: "},
+      {"phase -q --radius-um 10 --wavelength-nm 500 --nodes 16", "--nodes 16: "},
+      {"phase -q --radius-um 10 --wavelength-nm 500 --nodes 64", "--nodes 64: "},  // the default, given
+      {"phase -q --radius-um 10 --wavelength-nm 500 --size-distribution mono --nodes 8", "--nodes 8: "},
+  };
+  expect_usage_errors(cases);
+  const auto rain = run("phase -q --radius-um 500 --wavelength-nm 650 --size-distribution marshall-palmer:5");
+  EXPECT_NE(rain.err.find("--size-distribution marshall-palmer:5 sets its own radii (50-3000 um); omit --radius-um"),
+            std::string::npos)
+      << rain.err;
+  const auto mono = run("phase -q --radius-um 10 --wavelength-nm 500 --nodes 16");
+  EXPECT_NE(mono.err.find("--size-distribution mono is one radius"), std::string::npos) << mono.err;
+  // Each alone is still fine.
+  EXPECT_EQ(run("phase -q --wavelength-nm 650 --size-distribution marshall-palmer:5 --nodes 3 --angles-deg 140").code, 0);
+  EXPECT_EQ(run("phase -q --radius-um 10 --wavelength-nm 500 --size-distribution gamma:0.1 --nodes 4 --angles-deg 140")
+                .code,
+            0);
+}
+
+// Issue 37: a table printed to a full disk is one line saying standard output could not be written,
+// exit 1 (a system failure, as every other failed write), never "internal error": large tables
+// fail in fmt's writes midway, small ones at the final flush.
+TEST(Cli, StandardOutputThatCannotBeWrittenIsOneLine) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  for (const char* args : {"phase -q --radius-um 10 --wavelength-nm 500",
+                           "phase -q --radius-um 10 --wavelength-nm 500 --csv --mueller",
+                           "phase -q --radius-um 10 --wavelength-nm 500 --angles-deg 140",
+                           "mie -q --m 1.333 --x 10",
+                           "mie -q --m 1.333 --x 10 --json",
+                           "mie -q --m 1.333 --x 10 --angles-deg 0:180:100000",
+                           "lee -q --theory airy --radius-um 500 --size-spread 0 --size 1x400 --angle-deg 130:145 --wavelengths-nm "
+                           "400:700:4 --json",
+                           "fresnel --theta-deg 30 --json",
+                           "ior --list"}) {
+    const auto r = run(std::string(args) + " >/dev/full");
+    EXPECT_EQ(r.code, 1) << args << "\n" << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("cannot write to standard output"), std::string::npos) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << args << "\n" << r.err;
+  }
+}
+
+// Issue 37: output extensions are matched whatever their case, by every command (io::lower_extension,
+// as image outputs always were): -o P.CSV, -o H.NC, -o T.EXR are written, in their formats.
+TEST(Cli, OutputExtensionsAreCaseInsensitive) {
+  const fs::path dir = hydrolux::testing::temp_dir("hydrolux_cli_ext");
+  auto r = run("mie -q --m 1.333 --x 10 --angles-deg 0:180:3 -o " + (dir / "p.CSV").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(hydrolux::testing::slurp(dir / "p.CSV").rfind("theta_deg,", 0), 0u);
+  r = run("mie -q --m 1.333 --x 10 --angles-deg 0:180:3 -o " + (dir / "p.Nc").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(hydrolux::testing::slurp(dir / "p.Nc").substr(1, 3), "HDF");  // NetCDF-4: an HDF5 file
+  const std::string lee = "lee -q --size 2x3 --radius-um 20:400 --angle-deg 130:145 --wavelengths-nm 400:700:4 -o ";
+  r = run(lee + (dir / "h.NC").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(hydrolux::testing::slurp(dir / "h.NC").substr(1, 3), "HDF");
+  r = run(lee + (dir / "t.EXR").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"t.EXR", "t.png", "t.json"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+  r = run("medium -q --radius-um 4 --number-per-cm3 100 --values 65 -o " + (dir / "m.XML").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "m.XML"));
+}
+
+// Issue 37: the same inputs make the same bytes, also as NetCDF: no time in `history` (unless
+// SOURCE_DATE_EPOCH gives one), and none from HDF5 (tests/io/test_netcdf.cpp encodes across a second).
+TEST(Cli, NetcdfFilesAreTheSameBytesForTheSameInputs) {
+  const fs::path dir = hydrolux::testing::temp_dir("hydrolux_cli_nc");
+  const std::string args = "mie -q --radius-um 2 --wavelength-nm 550 --angles-deg 0:180:7 --mueller -o " +
+                           (dir / "p.nc").string();
+  ASSERT_EQ(run(args).code, 0);
+  const std::string first = hydrolux::testing::slurp(dir / "p.nc");
+  ::usleep(1100000);  // into another second: a clock in the file would show
+  ASSERT_EQ(run(args).code, 0);
+  EXPECT_EQ(hydrolux::testing::slurp(dir / "p.nc"), first);
+  // history: the version and the command line, no time (the attribute's text is in the file as is).
+  const std::regex stamp("[0-9]{4}-[0-9]{2}-[0-9]{2}T[0-9]{2}:[0-9]{2}:[0-9]{2}Z hydrolux");
+  EXPECT_FALSE(std::regex_search(first, stamp));
+  EXPECT_NE(first.find(": hydrolux mie -q --radius-um 2 --wavelength-nm 550 --angles-deg 0:180:7 --mueller -o "),
+            std::string::npos);
+  // A time only from SOURCE_DATE_EPOCH (reproducible builds), the same at every run.
+  ::setenv("SOURCE_DATE_EPOCH", "86400", 1);
+  const auto dated = run(args);
+  ::unsetenv("SOURCE_DATE_EPOCH");
+  ASSERT_EQ(dated.code, 0) << dated.err;
+  EXPECT_NE(hydrolux::testing::slurp(dir / "p.nc").find("1970-01-02T00:00:00Z hydrolux "), std::string::npos);
+}
+
+// Issue 37: an output folder (or file) that is a dangling symbolic link is named with its flag as
+// one, found before any work (it said "File exists" when the folder was created); the link is kept.
+TEST(Cli, DanglingSymbolicLinkOutputsAreNamed) {
+  const fs::path dir = hydrolux::testing::temp_dir("hydrolux_cli_dangling");
+  const fs::path in = dir / "in", out = dir / "out";
+  fs::create_directories(in);
+  hydrolux::testing::builtin_frame(in / "f.png", "16x16");
+  fs::create_directory_symlink(dir / "nowhere", out);
+  fs::create_symlink(dir / "nowhere.nc", dir / "p.nc");
+  const std::string folder = " --input-dir " + in.string() + " --output-dir " + out.string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"fog -q --visibility-m 300" + folder, "--output-dir " + out.string() + ": is a dangling symbolic link"},
+      {"rain -q --rate-mmh 5" + folder, "--output-dir " + out.string() + ": is a dangling symbolic link"},
+      {"fog -q --visibility-m 300 --input-dir " + in.string() + " --output-dir " + (dir / "o2").string() +
+           " --mask-dir " + out.string(),
+       "--mask-dir " + out.string() + ": is a dangling symbolic link"},
+      {"gallery -q -o " + out.string(), "-o " + out.string() + ": is a dangling symbolic link"},
+      {"mie -q --m 1.333 --x 10 -o " + (dir / "p.nc").string(), "is a dangling symbolic link"},
+  };
+  expect_usage_errors(cases);
+  for (const auto& [args, text] : cases) EXPECT_EQ(run(args).err.find("File exists"), std::string::npos) << args;
+  EXPECT_TRUE(fs::is_symlink(out));
+  EXPECT_FALSE(fs::exists(dir / "nowhere"));
+  EXPECT_FALSE(fs::exists(dir / "nowhere.nc"));
+  EXPECT_FALSE(fs::exists(dir / "o2"));
 }
 
 // drop profile: Garg & Nayar's Figure 4 as JSON.

@@ -167,4 +167,38 @@ TEST(LeeCli, BadInput) {
   EXPECT_FALSE(fs::exists(fs::temp_directory_path() / "hydrolux_lee_never.exr"));
 }
 
+// Issue 37: the flags of non-spherical drops (--sun-elevation-deg, --position-deg, --canting-deg)
+// given for spheres would be ignored: refused, as export refuses --sun-elevation-deg without
+// --shape, in export's words; with a shape they are taken.
+TEST(LeeCli, ShapeFlagsForSpheresAreRefused) {
+  const fs::path never = fs::temp_directory_path() / "hydrolux_lee_never_shape.nc";
+  const std::string out = std::string(" ") + kSmall + " -o " + never.string();
+  expect_usage_errors(std::vector<std::pair<std::string, std::string>>{
+      {"lee --sun-elevation-deg 20" + out, "--sun-elevation-deg 20: "},
+      {"lee --position-deg 30" + out, "--position-deg 30: "},
+      {"lee --canting-deg 5" + out, "--canting-deg 5: "},
+      {"lee --shape sphere --canting-deg 0" + out, "--canting-deg 0: "},  // given, even at its default
+      {"lee --radius-um 500 --size 1x9 --json --sun-elevation-deg 10", "--sun-elevation-deg 10: "},
+  });
+  EXPECT_FALSE(fs::exists(never));
+  // export's sentence, word for word after the flag and its value.
+  const auto lee = run("lee --sun-elevation-deg 20" + out);
+  const auto exp = run("export -q --sun-elevation-deg 20 --dir " + (fs::temp_directory_path() / "hydrolux_never_export").string());
+  ASSERT_EQ(exp.code, 2) << exp.err;
+  const auto sentence = [](const std::string& err) { return err.substr(err.find("--sun-elevation-deg 20: ")); };
+  EXPECT_EQ(sentence(lee.err), sentence(exp.err));
+  EXPECT_FALSE(fs::exists(fs::temp_directory_path() / "hydrolux_never_export"));
+  for (const char* flag : {"--position-deg 30", "--canting-deg 5"}) {
+    const auto r = run(std::string("lee ") + flag + out);
+    EXPECT_NE(r.err.find("of the non-spherical drops' table (--shape); the spheres' tables do not depend on it (omit "
+                         "it or give --shape)"),
+              std::string::npos)
+        << r.err;
+  }
+  // With a shape: taken.
+  const auto shaped = run("lee -q --theory airy --shape spheroid:0.95 --radius-um 500 --size 1x9 --angle-deg 130:145 "
+                          "--wavelengths-nm 400:700:4 --sun-elevation-deg 20 --position-deg 30 --canting-deg 5 --json");
+  EXPECT_EQ(shaped.code, 0) << shaped.err;
+}
+
 }  // namespace

@@ -110,4 +110,24 @@ TEST(MediumCli, BadInputIsOneLineAndNothingWritten) {
   EXPECT_FALSE(fs::exists(dir() / "bad.txt"));
 }
 
+// Issue 37: a flag the rest of the command would ignore is refused in one line naming both flags:
+// a radius for Marshall-Palmer rain (its own radii), a count of radii for one radius (mono).
+TEST(MediumCli, FlagsThatWouldBeIgnoredAreRefused) {
+  const std::string o = " -o " + (dir() / "ignored.xml").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"medium -q --radius-um 500 --size-distribution marshall-palmer:5" + o, "--radius-um 500: "},
+      {"medium -q --radius-um 10 --number-per-cm3 10 --nodes 16" + o, "--nodes 16: "},
+      {"medium -q --radius-um 10 --number-per-cm3 10 --nodes 64" + o, "--nodes 64: "},  // the default, given
+      {"medium -q --radius-um 10 --size-distribution mono --number-per-cm3 10 --nodes 4" + o, "--nodes 4: "},
+  };
+  hydrolux::testing::expect_usage_errors(cases);
+  EXPECT_FALSE(fs::exists(dir() / "ignored.xml"));
+  const auto rain = run("medium -q --radius-um 500 --size-distribution marshall-palmer:5" + o);
+  EXPECT_NE(rain.err.find("--size-distribution marshall-palmer:5 sets its own radii (50-3000 um); omit --radius-um"),
+            std::string::npos)
+      << rain.err;
+  const auto mono = run("medium -q --radius-um 10 --number-per-cm3 10 --nodes 16" + o);
+  EXPECT_NE(mono.err.find("--size-distribution mono is one radius"), std::string::npos) << mono.err;
+}
+
 }  // namespace

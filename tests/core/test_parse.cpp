@@ -71,8 +71,12 @@ TEST(Parse, RangesAndLists) {
   EXPECT_EQ(range_or_list("0.7:180:7", 0, 180, 10).back(), 180.0);
   for (double v : range_or_list("-1e308:1e308:3", -1e308, 1e308, 10)) EXPECT_TRUE(std::isfinite(v));
   for (const char* bad : {"", "0:180", "0:180:0", "0:180:11", "0:180:2.5", "0:200:3", "1,2,", ",1", "0:1:2:3",
-                          "a:b:3", "1,2,3,4,5,6,7,8,9,10,11", "-1,0"})
+                          "a:b:3", "1,2,3,4,5,6,7,8,9,10,11", "-1,0",
+                          // Issue 37: one value cannot span A to B; values repeated or out of order
+                          // (a span too narrow for N distinct doubles repeats them).
+                          "0:180:1", "10,10,20", "0,90,45", "90,0,45", "0:1e-323:10"})
     EXPECT_THROW((void)range_or_list(bad, 0, 180, 10), Error) << bad;
+  EXPECT_EQ(range_or_list("90,45,0", 0, 180, 10), (std::vector<double>{90, 45, 0}));
 }
 
 }  // namespace

@@ -2,7 +2,10 @@
 // type exactly, and the Lee and Mie datasets hold what their tables hold, with CF attributes.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -16,6 +19,7 @@
 #include "hydrolux/scatter/mie.hpp"
 #include "hydrolux/scatter/mie_dataset.hpp"
 #include "hydrolux/scatter/mueller.hpp"
+#include "hydrolux/version.hpp"
 
 namespace {
 
@@ -190,6 +194,64 @@ TEST(NetCdf, MiePhaseFunctionIntegratesToOneOverTheSphere) {
   // One Debye order's amplitudes are not normalised by the sphere's Qsca: no phase function then.
   in.debye_p = 2;
   EXPECT_EQ(scatter::mie_dataset(in, "h").find("phase_function"), nullptr);
+}
+
+// Issue 37: the same dataset makes the same bytes, also a second later (HDF5 can stamp objects with
+// times; netCDF-4 turns that off, checked here), and history_line holds no clock: "same inputs, same
+// bytes" (README) for the .nc files too. A time only from SOURCE_DATE_EPOCH.
+TEST(NetCdf, TheSameDatasetIsTheSameBytesAtAnyTime) {
+  atmos::LeeSpec s = atmos::default_lee_spec(atmos::LeeTableKind::corona);
+  s.columns = 3, s.rows = 4, s.wavelengths = 4;
+  const atmos::LeeTable t = atmos::compute_lee_table(s);
+  const atmos::LeeImages im = atmos::lee_images(t);
+  ::unsetenv("SOURCE_DATE_EPOCH");
+  const std::string first = nc().encode(atmos::lee_dataset(t, im, history_line("hydrolux lee --table corona")));
+  ::usleep(1100000);  // into another second
+  const std::string second = nc().encode(atmos::lee_dataset(t, im, history_line("hydrolux lee --table corona")));
+  EXPECT_EQ(first, second);
+  EXPECT_EQ(history_line("x"), std::string("hydrolux ") + kVersion + ": x");
+  ::setenv("SOURCE_DATE_EPOCH", "1700000000", 1);
+  EXPECT_EQ(history_line("x"), std::string("2023-11-14T22:13:20Z hydrolux ") + kVersion + ": x");
+  for (const char* not_a_time : {"", "abc", "-1", "1.5", "1e30"}) {
+    ::setenv("SOURCE_DATE_EPOCH", not_a_time, 1);
+    EXPECT_EQ(history_line("x"), std::string("hydrolux ") + kVersion + ": x") << not_a_time;
+  }
+  ::unsetenv("SOURCE_DATE_EPOCH");
+}
+
+// Issue 37: a coordinate (a variable over the one dimension of its name) that repeats or turns back
+// is not CF: refused by the dataset, and by the Mie dataset naming its argument (Python's
+// MieResult.to_xarray() and hydrolux mie -o p.nc build it).
+TEST(NetCdf, CoordinatesMustBeStrictlyMonotonic) {
+  for (const auto& v : {std::vector<double>{10, 10, 20}, std::vector<double>{0, 90, 45}}) {
+    Dataset ds;
+    ds.dim("scattering_angle", 3);
+    ds.add("scattering_angle", {"scattering_angle"}, v);
+    EXPECT_THROW(ds.check(), Error);
+    EXPECT_THROW((void)nc().encode(ds), Error);
+  }
+  Dataset down;  // decreasing is monotonic; an auxiliary variable may repeat
+  down.dim("scattering_angle", 3);
+  down.add("scattering_angle", {"scattering_angle"}, std::vector<double>{180, 90, 0});
+  down.add("cos_scattering_angle", {"scattering_angle"}, std::vector<double>{1, 1, 1});
+  EXPECT_NO_THROW(down.check());
+  const scatter::Complex m(1.333, 0);
+  const double x = 10;
+  const std::vector<double> angles{10, 10, 20};
+  std::vector<double> mu;
+  for (double a : angles) mu.push_back(std::cos(a * std::numbers::pi / 180));
+  const scatter::MieCoefficients c = scatter::mie_coefficients(m, x);
+  std::vector<scatter::Complex> s1(3), s2(3);
+  scatter::mie_amplitudes(c, mu, s1, s2, 1);
+  const int terms = c.terms();
+  const scatter::MieDatasetInput in =
+      scatter::one_sphere(m, x, scatter::mie_efficiencies(c), terms, angles, s1, s2, nullptr);
+  try {
+    (void)scatter::mie_dataset(in, "h");
+    ADD_FAILURE() << "repeated angles accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("angles_deg: 10 is repeated", 0), 0u) << e.what();
+  }
 }
 
 }  // namespace

@@ -144,6 +144,38 @@ TEST(PhaseJob, ErrorsNameTheField) {
   EXPECT_THROW((void)phase_theory("foo"), PhaseJobError);
   EXPECT_EQ(phase_theory("airy").p, 2);
 
+  // Issue 37: what the job would ignore is refused in every door, naming both fields: a radius for
+  // Marshall-Palmer rain (its own radii), a count of radii for one radius.
+  bad = water_drop(500, {140});
+  bad.size_distribution = "marshall-palmer:5";
+  const auto rain = field_error(bad);
+  EXPECT_EQ(rain.field(), PhaseJobError::Field::radius_um);
+  EXPECT_EQ(std::string(rain.what()).rfind("radius_um 500: size_distribution marshall-palmer:5 sets its own radii "
+                                           "(50-3000 um); omit radius_um",
+                                           0),
+            0u)
+      << rain.what();
+  EXPECT_EQ(rain.worded("--radius-um", "--size-distribution")
+                .rfind("--radius-um 500: --size-distribution marshall-palmer:5 sets its own radii (50-3000 um); omit "
+                       "--radius-um",
+                       0),
+            0u);
+  bad = water_drop(10, {0});
+  bad.numbers.nodes = 16;
+  const auto one = field_error(bad);
+  EXPECT_EQ(one.field(), PhaseJobError::Field::nodes);
+  EXPECT_EQ(std::string(one.what()).rfind("nodes 16: size_distribution mono is one radius", 0), 0u) << one.what();
+  // Angles given as an array (Python): strictly increasing or decreasing, as the parser reads text.
+  for (const std::vector<double>& angles : {std::vector<double>{10, 10, 20}, std::vector<double>{0, 90, 45}}) {
+    try {
+      (void)plan_phase(water_drop(10, angles));
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("angles_deg: ", 0), 0u) << e.what();
+    }
+  }
+  EXPECT_NO_THROW((void)plan_phase(water_drop(10, {180, 90, 0})));
+
   const auto quantity = [](PhaseJob job) -> std::string {
     try {
       (void)plan_phase(std::move(job));

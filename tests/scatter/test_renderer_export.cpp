@@ -159,7 +159,7 @@ TEST(RendererExport, StatedErrorHoldsAgainstAFinerReference) {
                                         std::tuple{3.0, std::string("gamma:0.2"), 1025},
                                         std::tuple{1.0, std::string("mono"), 513}}) {
     MediumJob job = fog(radius, dist, 100);
-    job.numbers.nodes = 24;
+    if (dist != "mono") job.numbers.nodes = 24;  // one radius has none to count (refused)
     job.numbers.values = n;
     const MediumOptics o = run_medium_job(job);
     const double ref = reference_l1(job, o.phase.values);

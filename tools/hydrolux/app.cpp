@@ -14,6 +14,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <memory>
 #include <new>
@@ -207,8 +208,10 @@ int run_command(const CLI::App& app, const std::vector<Command>& commands) {
       const int code = cmd.run();
       wait_if_cancelled();
       std::cout.flush();
+      errno = 0;
       if (std::fflush(stdout) != 0 || std::ferror(stdout) || std::cout.fail()) {
-        fmt::print(stderr, "{}: cannot write to standard output\n", prog);
+        fmt::print(stderr, "{}: cannot write to standard output{}\n", prog,
+                   errno ? fmt::format(": {}", std::strerror(errno)) : std::string());
         return kExitFailure;
       }
       return code;
@@ -234,6 +237,15 @@ int run_command(const CLI::App& app, const std::vector<Command>& commands) {
     } catch (const std::bad_alloc&) {
       wait_if_cancelled();  // a failure the cancellation caused is not reported
       fmt::print(stderr, "{}: out of memory\n", prog);
+      return kExitFailure;
+    } catch (const std::system_error& e) {
+      wait_if_cancelled();  // a failure the cancellation caused is not reported
+      // A table printed to a full disk or a closed pipe: fmt::print's write to stdout failed midway.
+      if (std::ferror(stdout)) {
+        fmt::print(stderr, "{}: cannot write to standard output: {}\n", prog, printable(e.code().message()));
+        return kExitFailure;
+      }
+      fmt::print(stderr, "{}: internal error: {}\n", prog, printable(e.what()));
       return kExitFailure;
     } catch (const std::exception& e) {
       wait_if_cancelled();  // a failure the cancellation caused is not reported

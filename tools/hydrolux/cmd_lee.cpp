@@ -2,7 +2,9 @@
 // tables, as a linear EXR, a display PNG and a JSON sidecar; or one radius's profile as JSON.
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -58,11 +60,16 @@ int run_lee(const LeeArgs& a) {
   } catch (const Error& e) {
     throw Error(fmt::format("--theory {}: {}", a.theory, e.what()));
   }
+  bool spheres = true;
   try {
-    (void)atmos::parse_drop_shape(req.shape);
+    spheres = atmos::parse_drop_shape(req.shape).spherical();
   } catch (const Error& e) {
     throw Error(fmt::format("--{}", e.what()));  // the library's message starts "shape '<value>': "
   }
+  // The non-spherical drops' flags given for spheres would be ignored (as export refuses them).
+  for (const std::string_view name : atmos::kShapeOnlyParams)
+    if (const Param& p = atmos::lee_param(name); spheres && given(*a.sub, p))
+      throw Error(atmos::shape_only_message(name, find_field(atmos::lee_params(), name)->get(req), p.flag, "--shape"));
   if (a.radius_um)
     req.radius_um = parse_span(*a.radius_um, "--radius-um",
                                fmt::format("micrometres in [{:g}, {:g}]", atmos::kMinRadiusUm, atmos::kMaxRadiusUm), true);
@@ -133,7 +140,7 @@ int run_lee(const LeeArgs& a) {
   if (a.json) {
     std::cout << atmos::lee_profile_json(t).dump() << '\n';
     std::cout.flush();
-    if (!std::cout) throw IoFailure("writing the profile to standard output failed");
+    if (!std::cout) throw IoFailure(fmt::format("cannot write to standard output: {}", std::strerror(errno)));
   }
   if (out) {
     out->write(t, im);

@@ -30,7 +30,19 @@ struct MediumArgs {
   std::string name{scatter::kDefaultMediumName};
   std::string output;
   bool quiet = false;
+  const CLI::App* sub = nullptr;  // which flags were given: refused where they have no effect
 };
+
+// The flag of each of the job's fields, for its errors.
+std::string_view flag_of(scatter::PhaseJobError::Field field) {
+  switch (field) {
+    case scatter::PhaseJobError::Field::theory: return "--theory";  // medium has none: not raised
+    case scatter::PhaseJobError::Field::size_distribution: return "--size-distribution";
+    case scatter::PhaseJobError::Field::radius_um: return "--radius-um";
+    case scatter::PhaseJobError::Field::nodes: return "--nodes";
+  }
+  return "?";
+}
 
 int run_medium(const MediumArgs& a) {
   // The file first: its format (from --format or the extension), then reserved before any work.
@@ -58,13 +70,12 @@ int run_medium(const MediumArgs& a) {
   scatter::MediumPlan plan;
   try {
     plan = scatter::plan_medium(std::move(job));
+    // One radius has nothing to average: a --nodes given (even at its default) would be ignored.
+    if (given(*a.sub, scatter::medium_param("nodes")) &&
+        scatter::parse_size_distribution(a.distribution).kind == scatter::SizeDistributionKind::monodisperse)
+      throw scatter::one_radius_nodes_error(a.r->nodes, a.distribution);
   } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
-    switch (e.field()) {
-      case scatter::PhaseJobError::Field::size_distribution: throw Error(e.worded("--size-distribution"));
-      case scatter::PhaseJobError::Field::radius_um: throw Error(e.worded("--radius-um"));
-      case scatter::PhaseJobError::Field::theory: break;
-    }
-    throw;
+    throw Error(e.worded(flag_of(e.field()), e.also() ? flag_of(*e.also()) : std::string_view()));
   } catch (const DomainError&) {
     throw;  // worded by the command's map of quantities to flags
   } catch (const Error& e) {
@@ -110,6 +121,7 @@ Command add_medium(CLI::App& app) {
       "A population of drops as a renderer's participating medium: the size-averaged Lorenz-Mie phase function as "
       "Mitsuba 3's tabphase (.xml) or pbrt-v4's Henyey-Greenstein (.pbrt, with its error stated), with the "
       "extinction and albedo spectra, 360-830 nm, per scene unit (docs/renderer-export.md).");
+  args->sub = sub;
   Command cmd{sub,
               [args] { return run_medium(*args); },
               {{"x", "--radius-um (size parameter x)"},
@@ -124,7 +136,8 @@ Command add_medium(CLI::App& app) {
       ->check(positive_number(1e6, "um"));
   sub->add_option("--size-distribution", args->distribution,
                   "mono, gamma:W or lognormal:W (relative width W in [0.0001, 1] around --radius-um), or "
-                  "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um, its own count)")
+                  "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um, its own count: no --radius-um, "
+                  "--number-per-cm3 or --lwc-g-m3)")
       ->capture_default_str();
   sub->add_option("--medium", args->medium, "Drop medium (see hydrolux ior --list)")->capture_default_str();
   sub->add_option("--surrounding", args->surrounding, "Surrounding medium")->capture_default_str();

@@ -1,8 +1,10 @@
 // hydrolux mie: Lorenz-Mie scattering by one sphere.
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -53,7 +55,7 @@ class Sink {
     if (file_) {
       file_->write(buffer_);
     } else if (std::fwrite(buffer_.data(), 1, buffer_.size(), stdout) != buffer_.size()) {
-      throw IoFailure("standard output: write failed");
+      throw IoFailure(fmt::format("cannot write to standard output: {}", std::strerror(errno)));
     }
     buffer_.clear();
   }
@@ -110,7 +112,7 @@ std::string json_head(double x, scatter::Complex m, int terms, const scatter::Mi
 enum class FileFormat { csv, npy, json, netcdf };
 
 FileFormat output_format(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
+  const std::string ext = io::lower_extension(path);  // as every output's format: whatever the case
   if (ext == ".csv") return FileFormat::csv;
   if (ext == ".npy") return FileFormat::npy;
   if (ext == ".json") return FileFormat::json;
@@ -313,8 +315,8 @@ Command add_mie(CLI::App& app) {
   for (auto* o : {m_opt, sub->get_option("--x")})
     o->excludes(medium_opt)->excludes(surrounding_opt)->excludes(sub->get_option("--temperature-c"));
   sub->add_option("--angles-deg", args->angles,
-                  "Scattering angles, degrees (0 = forward): A:B:N for N angles from A to B (N up to 1e6), or a "
-                  "list 0,10,90")
+                  "Scattering angles, degrees (0 = forward): A:B:N for N angles from A to B (N from 2 to 1e6, or 1 with "
+                  "A == B), or a list 0,10,90, strictly increasing or decreasing")
       ->capture_default_str();
   declared(2, 4);
   sub->add_option("-o,--output", args->output,

@@ -30,7 +30,19 @@ struct PhaseArgs {
   std::string angles = "0:180:181";
   bool csv = false;
   bool quiet = false;
+  const CLI::App* sub = nullptr;  // which flags were given: refused where they have no effect
 };
+
+// The flag of each of the job's fields, for its errors.
+std::string_view flag_of(scatter::PhaseJobError::Field field) {
+  switch (field) {
+    case scatter::PhaseJobError::Field::theory: return "--theory";
+    case scatter::PhaseJobError::Field::size_distribution: return "--size-distribution";
+    case scatter::PhaseJobError::Field::radius_um: return "--radius-um";
+    case scatter::PhaseJobError::Field::nodes: return "--nodes";
+  }
+  return "?";
+}
 
 int run_phase(const PhaseArgs& a) {
   scatter::PhaseJob job;
@@ -49,13 +61,14 @@ int run_phase(const PhaseArgs& a) {
     job.size_distribution = a.distribution;
     job.numbers = *a.r;
     plan = scatter::plan_phase(std::move(job));
+    // One radius has nothing to average: a --nodes given (even at its default) would be ignored.
+    if (given(*a.sub, scatter::phase_param("nodes")) &&
+        scatter::parse_size_distribution(a.distribution).kind == scatter::SizeDistributionKind::monodisperse)
+      throw scatter::one_radius_nodes_error(a.r->nodes, a.distribution);
   } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
-    switch (e.field()) {
-      case scatter::PhaseJobError::Field::theory: throw UnknownNameError(e.worded("--theory"));
-      case scatter::PhaseJobError::Field::size_distribution: throw Error(e.worded("--size-distribution"));
-      case scatter::PhaseJobError::Field::radius_um: throw Error(e.worded("--radius-um"));
-    }
-    throw;
+    const std::string text(e.worded(flag_of(e.field()), e.also() ? flag_of(*e.also()) : std::string_view()));
+    if (e.field() == scatter::PhaseJobError::Field::theory) throw UnknownNameError(text);
+    throw Error(text);
   }
   ProgressBar bar("phase", a.quiet || plan.quadrature.size() < 2);
   const auto result = scatter::compute_phase(plan, bar.callback());
@@ -101,6 +114,7 @@ Command add_phase(CLI::App& app) {
       "phase",
       "Scattered intensity against scattering angle for one drop: i1 = |S1|^2, i2 = |S2|^2 and "
       "their average, by Lorenz-Mie, one Debye order, Airy theory or geometric optics.");
+  args->sub = sub;
   Command cmd{sub,
               [args] { return run_phase(*args); },
               {{"x", "--radius-um (size parameter x)"},
@@ -127,7 +141,7 @@ Command add_phase(CLI::App& app) {
       ->check(positive_number(1e6, "um"));
   sub->add_option("--size-distribution", args->distribution,
                   "mono, gamma:W or lognormal:W (relative width W in [0.0001, 1] around --radius-um), or "
-                  "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um)")
+                  "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um: no --radius-um)")
       ->capture_default_str();
   declared(0);  // --nodes
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")
@@ -137,7 +151,8 @@ Command add_phase(CLI::App& app) {
   sub->add_option("--surrounding", args->surrounding, "Surrounding medium")->capture_default_str();
   declared(1);  // --temperature-c
   sub->add_option("--angles-deg", args->angles,
-                  "Scattering angles, degrees (0 = forward): A:B:N or a list 0,10,90")
+                  "Scattering angles, degrees (0 = forward): A:B:N (N >= 2, or 1 with A == B) or a list 0,10,90, "
+                  "strictly increasing or decreasing")
       ->capture_default_str();
   declared(2);  // --threads
   sub->add_flag("--csv", args->csv,

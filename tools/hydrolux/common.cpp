@@ -87,8 +87,8 @@ std::vector<double> parse_angles_deg(const std::string& text, const std::string&
   try {
     return parse::range_or_list(text, 0, 180, 1000000);
   } catch (const Error& e) {
-    throw Error(fmt::format("{} '{}': {}; expected A:B:N (N angles from A to B, N in [1, 1000000]) or a list "
-                            "0,10,90, angles in [0, 180] deg",
+    throw Error(fmt::format("{} '{}': {}; expected A:B:N (N angles from A to B, N in [2, 1000000], or 1 with A == "
+                            "B) or a strictly increasing or decreasing list 0,10,90, angles in [0, 180] deg",
                             flag, text, e.what()));
   }
 }

@@ -82,7 +82,8 @@ CLI::Validator size_validator();
 
 // "1.333", "1.333+1e-8i": a complex number.
 std::complex<double> parse_complex(const std::string& text, const std::string& flag);
-// Scattering angles in degrees: "A:B:N" or "0,10,90"; each in [0, 180], N in [1, 1e6].
+// Scattering angles in degrees: "A:B:N" or "0,10,90"; each in [0, 180], N in [2, 1e6] (1 with A ==
+// B), strictly increasing or decreasing (parse::range_or_list).
 std::vector<double> parse_angles_deg(const std::string& text, const std::string& flag);
 
 // ---- media ----

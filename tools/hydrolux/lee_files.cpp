@@ -48,12 +48,13 @@ void set_wavelengths_flag(atmos::LeeSpec& s, const std::string& w) {
 LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& exr_path) {
   const std::filesystem::path p(exr_path);
   LeeOutputs o;
-  if (p.extension() == ".nc") {
+  const std::string ext = io::lower_extension(p);  // as every output's format: whatever the case
+  if (ext == ".nc") {
     o.netcdf = &files.output("-o", exr_path);
     (void)io::netcdf_api();  // NetCDF support loads now, not after the work
     return o;
   }
-  if (p.extension() != ".exr")
+  if (ext != ".exr")
     throw Error(fmt::format("-o {}: give a .exr path (the table as OpenEXR, with a .png and a .json beside it) or a "
                             ".nc path (one NetCDF-4 file with CF attributes)",
                             printable(exr_path)));
@@ -173,7 +174,7 @@ scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_pat
                              "beside it)",
                              flag, printable(exr_path), what));
   };
-  if (p.extension() != ".exr") throw bad("expected a .exr file");
+  if (io::lower_extension(p) != ".exr") throw bad("expected a .exr file");
   const std::string text = io::read_file(json_path, std::uint64_t(64) << 20, flag + " (its .json sidecar)");
   atmos::LeeSidecarAxes axes;
   try {

@@ -182,8 +182,10 @@ class LeeShapeError : public Error {
 // The spec of a request: the kind's defaults, the radii and angles given (one radius: one column),
 // the size (columns, rows), the names of the radius scale and the axis, and the rest as given.
 // Throws LeeShapeError (a single radius with more than one column; equal angles with more than one
-// row) and UnknownNameError ("radius_scale 'x': expected log or linear", "axis 'x': expected angle
-// or cos"). Not validated: the caller adds what it sets and calls validate().
+// row), UnknownNameError ("radius_scale 'x': expected log or linear", "axis 'x': expected angle
+// or cos") and Error for a parameter of non-spherical drops set for spheres, which would ignore it
+// (lee_params.hpp, shape_only_message). Not validated: the caller adds what it sets and calls
+// validate().
 LeeSpec make_lee_spec(const LeeRequest& request);
 
 // Checks a spec before any work: DomainError naming the quantity ("radius_um", "angle_deg",

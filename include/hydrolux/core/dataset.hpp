@@ -61,14 +61,18 @@ struct Dataset {
   std::size_t dim_size(std::string_view name) const;  // Error if no such dimension
   // Error naming the fault: a name used twice or not a NetCDF name ([A-Za-z_][A-Za-z0-9_]*), a
   // variable over a dimension that does not exist, or whose values are not the product of its
-  // dimensions' sizes.
+  // dimensions' sizes, or a numeric coordinate variable (one dimension of its own name) whose values
+  // are not strictly increasing or strictly decreasing (CF).
   void check() const;
 };
 
 // The number of values a variable holds.
 std::size_t value_count(const VariableData& data);
 
-// A CF "history" line: "<UTC time, ISO 8601> hydrolux <version>: <call>".
+// A CF "history" line: "hydrolux <version>: <call>", with no time, so that the same inputs make the
+// same bytes (README); "<UTC time, ISO 8601> hydrolux <version>: <call>" when the environment sets
+// SOURCE_DATE_EPOCH (reproducible-builds.org: whole seconds since 1970-01-01 UTC, at most the end
+// of the year 9999; any other value is not a time and is left out).
 std::string history_line(std::string_view call);
 
 }  // namespace hydrolux

@@ -43,7 +43,8 @@ MieDatasetInput one_sphere(Complex m, const double& x, const MieEfficiencies& q,
 // Qsca), sr^-1, which integrates to 1 over the sphere (not with debye_p: one order's amplitudes are
 // not normalised by the whole sphere's Qsca); the index and the medium as global attributes.
 // Without angles, the efficiencies alone (no scattering_angle dimension). Error if the spans' sizes
-// disagree.
+// disagree, or if x or the angles (the coordinates) are not strictly increasing or strictly
+// decreasing ("angles_deg: 10 is repeated ...": CF coordinates are strictly monotonic).
 Dataset mie_dataset(const MieDatasetInput& in, std::string_view history);
 
 }  // namespace hydrolux::scatter

@@ -37,7 +37,8 @@ inline constexpr double kPhaseRainMinRadiusUm = 50, kPhaseRainMaxRadiusUm = 3000
 
 struct PhaseJob {
   std::string theory = "mie";  // parse_theory: mie, debye:P, airy[:P], geometric[:P]
-  // The drop's radius, or the mean radius of gamma and lognormal; Marshall-Palmer rain ignores it.
+  // The drop's radius, or the mean radius of gamma and lognormal; Marshall-Palmer rain sets its own
+  // radii and refuses one (PhaseJobError naming both).
   std::optional<double> radius_um;
   double wavelength_nm = 0;                 // in vacuum
   std::string size_distribution = "mono";  // parse_size_distribution: mono, gamma:W, lognormal:W, marshall-palmer:H
@@ -46,23 +47,32 @@ struct PhaseJob {
   PhaseRequest numbers;            // nodes, temperature_c, threads, mueller (scatter/params.hpp)
 };
 
-// One of the job's texts (or the radius they need) that cannot be read. what() names it as the
-// library and Python do ("theory: unknown theory 'x'; ...", "size_distribution 'gamma:2': ...",
-// "radius_um is required ..."); worded() names it as a door does ("--theory: ...").
+// One of the job's texts (or the radius they need) that cannot be read, or two fields that do not
+// go together. what() names them as the library and Python do ("theory: unknown theory 'x'; ...",
+// "size_distribution 'gamma:2': ...", "radius_um is required ...", "radius_um 10: size_distribution
+// marshall-palmer:5 sets its own radii ..."); worded() names them as a door does ("--theory: ...").
 class PhaseJobError : public Error {
  public:
-  enum class Field { theory, size_distribution, radius_um };
-  // `rest`: the message after the field's name, with its separator (": ..." or " ...").
-  PhaseJobError(Field field, std::string rest);
+  enum class Field { theory, size_distribution, radius_um, nodes };
+  // `rest`: the message after the field's name, with its separator (": ..." or " ..."). `also`: the
+  // other field of a combination refused, which `rest` names (field_name) as does every later
+  // mention of `field` itself.
+  PhaseJobError(Field field, std::string rest, std::optional<Field> also = std::nullopt);
   Field field() const noexcept { return field_; }
-  // The message with the field called `name`.
-  std::string worded(std::string_view name) const { return std::string(name) + rest_; }
+  std::optional<Field> also() const noexcept { return also_; }
+  // The message with the field called `name` (and the other field of a combination `also_name`).
+  std::string worded(std::string_view name, std::string_view also_name = {}) const;
   static std::string_view field_name(Field field);
 
  private:
   Field field_;
+  std::optional<Field> also_;
   std::string rest_;
 };
+
+// The job's count of radii (numbers.nodes) given for one radius (mono), which has nothing to average:
+// what plan_phase throws for a count other than the default, and a door for any count given.
+PhaseJobError one_radius_nodes_error(int nodes, std::string_view size_distribution);
 
 // The job's theory from its text (parse_theory): PhaseJobError for a name it does not know,
 // DomainError "p" for an order out of range. plan_phase reads it so; a door that checks the theory
@@ -81,9 +91,12 @@ struct PhasePlan {
 // Checks the job before any work, in this order: the numbers in their declared ranges (DomainError
 // naming nodes, temperature_c, threads), the theory (PhaseJobError; DomainError "p" for an order out
 // of range), a temperature given when neither medium models one (Error naming temperature_c), the
-// angles (DomainError "angles_deg"), the size distribution and the radius it needs (PhaseJobError;
-// DomainError from the distribution's own checks, e.g. "radius_m"), then the media at this
-// wavelength (DomainError "wavelength_nm", "temperature_c", "radius_um").
+// angles (DomainError "angles_deg" out of [0, 180]; Error "angles_deg: ..." unless strictly
+// increasing or strictly decreasing, as parse::range_or_list reads them), the size distribution and
+// the radius it needs (PhaseJobError; DomainError from the distribution's own checks, e.g.
+// "radius_m"), the combinations that would ignore a field (PhaseJobError: a radius with
+// Marshall-Palmer rain, which sets its own; a count of radii other than the default with mono),
+// then the media at this wavelength (DomainError "wavelength_nm", "temperature_c", "radius_um").
 PhasePlan plan_phase(PhaseJob job);
 
 // Radii per unit of size parameter that average the Mie ripple of a size distribution to 1-5% on
