@@ -85,17 +85,55 @@ def _complex(value: Any, name: str) -> complex:
 
 def _reals(value: Any, name: str) -> np.ndarray:
     """Numbers of any shape: an ndarray as it is (_core checks its dtype and copies it, MemoryError
-    when the copy cannot be made), anything else through numpy as float64."""
+    when the copy cannot be made), anything else through numpy as float64. Text is never a number
+    here (``["10"]`` is a TypeError, as ``"10"`` is)."""
     if isinstance(value, np.ndarray):
         return value
+    expected = f"{name}: expected a number or an array of numbers, got {_describe(value)}"
     if value is None or isinstance(value, (str, bytes, complex, np.complexfloating)):
-        raise TypeError(f"{name}: expected a number or an array of numbers, got {_describe(value)}")
+        raise TypeError(expected)
+    try:
+        a = np.asarray(value)
+    except OverflowError:
+        raise ValueError(f"{name}: holds a number beyond what a double holds (about 1e308)") from None
+    except (TypeError, ValueError):
+        raise TypeError(expected) from None
+    if a.dtype.kind in "USO" and any(isinstance(v, (str, bytes, np.str_, np.bytes_)) for v in a.flat):
+        raise TypeError(f"{expected} holding text")
+    if a.dtype.kind not in "biufO":
+        raise TypeError(f"{expected} of {a.dtype}")
     try:
         return np.asarray(value, dtype=np.float64)
     except OverflowError:
         raise ValueError(f"{name}: holds a number beyond what a double holds (about 1e308)") from None
     except (TypeError, ValueError):
-        raise TypeError(f"{name}: expected a number or an array of numbers, got {_describe(value)}") from None
+        raise TypeError(expected) from None
+
+
+def _rgb(value: Any, name: str) -> list:
+    """Three finite non-negative real numbers (linear R, G, B): a list, a tuple or a 1-D array of 3.
+    Text, a set, a bool or a number is a TypeError; a sequence or array of numbers of another length
+    or shape ((3, 1)), or a negative or non-finite value, a ValueError: each naming the argument."""
+    what = "three finite numbers >= 0 (linear R, G, B), e.g. (0.8, 0.8, 0.85)"
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "iuf":
+            raise TypeError(f"{name}: expected {what}, got {_describe(value)}")
+        if value.shape != (3,):  # numbers, but not three of them
+            raise ValueError(f"{name}: expected {what}, got {_describe(value)}")
+        items = list(value)
+    elif isinstance(value, (list, tuple)):
+        if len(value) != 3:
+            raise ValueError(f"{name}: expected {what}, got a {type(value).__name__} of {len(value)}")
+        items = list(value)
+    else:
+        raise TypeError(f"{name}: expected {what}, got {_describe(value)}")
+    out = []
+    for k, v in enumerate(items):
+        x = _real(v, f"{name}[{k}]")
+        if not (math.isfinite(x) and x >= 0):
+            raise ValueError(f"{name}[{k}] = {x:g} is not a finite value >= 0 (linear light); expected {what}")
+        out.append(x)
+    return out
 
 
 def _text(value: Any, name: str, valid: str) -> str:
@@ -333,7 +371,7 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
     angles = None
     if angles_deg is not None:
         if isinstance(angles_deg, str):
-            angles = _parse_angles(angles_deg)
+            angles = _core.parse_angles(angles_deg)  # the CLI's parser: the CLI's angles, bit for bit
         else:
             angles = np.atleast_1d(_reals(angles_deg, "angles_deg"))
     if not isinstance(mueller, (bool, np.bool_)):
@@ -343,20 +381,6 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
             "history": _history("mie", arguments)}
     return MieResult(d["qext"], d["qsca"], d["qabs"], d["qback"], d["g"], d["n_terms"], d.get("s1"), d.get("s2"),
                      d.get("s11"), d.get("s12"), d.get("s33"), d.get("s34"), info)
-
-
-def _parse_angles(text: str) -> np.ndarray:
-    parts = text.split(":")
-    try:
-        if len(parts) == 3:
-            a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-            if not (1 <= n <= 1000000):
-                raise ValueError
-            return np.linspace(a, b, n) if n > 1 else np.array([a])
-        return np.array([float(v) for v in text.split(",")])
-    except ValueError:
-        raise ValueError(f"angles_deg '{text}': expected A:B:N (N angles from A to B, N in [1, 1000000]) "
-                         "or a list 0,10,90, angles in [0, 180] deg") from None
 
 
 def mie_terms(x: float) -> int:
@@ -490,7 +514,8 @@ class PhaseResult(NamedTuple):
     theory is out of its depth, or where too few radii sample the Mie ripple: docs/mie.md, "Size
     averages") and ``history`` (the call, for :meth:`to_xarray`). With ``mueller=True``: s11, s12,
     s33, s34, the size-averaged Mueller elements (Bohren & Huffman eq. 4.77), and pol = -S12/S11, the
-    degree of linear polarisation; else None.
+    degree of linear polarisation (NaN where S11 = 0, with a RuntimeWarning naming how many angles);
+    else None.
 
     Example:
 
@@ -614,6 +639,10 @@ def phase(radius_um: Optional[float], wavelength_nm: float, theory: str = "mie",
     if "s11" in d:
         with np.errstate(divide="ignore", invalid="ignore"):
             pol = -d["s12"] / d["s11"]
+        undefined = int(np.count_nonzero(~np.isfinite(pol)))
+        if undefined:  # S11 = 0: no light scattered there, so no degree of polarisation (NaN, not 0)
+            warnings.warn(f"pol: NaN at {undefined} of {pol.size} angles, where S11 = 0 (no light is scattered there, "
+                          "so -S12/S11 is undefined)", RuntimeWarning, stacklevel=2)
     d["info"]["history"] = _history("phase", arguments)
     return PhaseResult(d["angles_deg"], d["phase"], d["i1"], d["i2"], d["info"], d.get("s11"), d.get("s12"),
                        d.get("s33"), d.get("s34"), pol)
@@ -703,6 +732,13 @@ def renderer_medium(radius_um: Optional[float], size_distribution: str = "mono",
                           d["sigma_a_per_m"], d["albedo"], d["phase"], d["info"])
 
 
+def _remake_distribution(method: str, args: tuple) -> "SizeDistribution":
+    """A pickled SizeDistribution made again: the classmethod that made it, with the same arguments."""
+    if method not in ("monodisperse", "gamma", "log_normal", "marshall_palmer"):
+        raise ValueError(f"SizeDistribution: no classmethod {method!r}")
+    return getattr(SizeDistribution, method)(*args)
+
+
 class SizeDistribution:
     """A distribution of drop radii n(r) (m^-4): monodisperse, gamma, log-normal or Marshall-Palmer.
 
@@ -720,8 +756,17 @@ class SizeDistribution:
     10.80 um gamma
     """
 
-    def __init__(self, native: Any):
+    def __init__(self, native: Any, _made_by: Optional[tuple] = None):
         self._d = native
+        self._made_by = _made_by  # (classmethod name, its arguments): what pickling rebuilds it from
+
+    def __reduce__(self):
+        # Pickled as the call that made it (Dask ships distributions and results holding them between
+        # processes): the same arguments give the same distribution, bit for bit.
+        if self._made_by is None:
+            raise TypeError("cannot pickle a SizeDistribution not made by one of its classmethods")
+        method, args = self._made_by
+        return (_remake_distribution, (method, args))
 
     @classmethod
     def monodisperse(cls, radius_m: float, number_per_m3: float = 1.0) -> "SizeDistribution":
@@ -734,8 +779,8 @@ class SizeDistribution:
         >>> d.kind, d.mean_radius, d.number_concentration
         ('monodisperse', 0.001, 100.0)
         """
-        return cls(_core.SizeDistribution.monodisperse(_real(radius_m, "radius_m"),
-                                                       _real(number_per_m3, "number_per_m3")))
+        args = (_real(radius_m, "radius_m"), _real(number_per_m3, "number_per_m3"))
+        return cls(_core.SizeDistribution.monodisperse(*args), ("monodisperse", args))
 
     @classmethod
     def gamma(cls, mean_radius_m: float, relative_width: float, number_per_m3: float = 1.0) -> "SizeDistribution":
@@ -749,9 +794,9 @@ class SizeDistribution:
         >>> print(f"{d.mean_radius * 1e6:.1f} um, sigma {d.radius_variance ** 0.5 * 1e6:.1f} um")
         10.0 um, sigma 2.0 um
         """
-        return cls(_core.SizeDistribution.gamma(_real(mean_radius_m, "mean_radius_m"),
-                                                _real(relative_width, "relative_width"),
-                                                _real(number_per_m3, "number_per_m3")))
+        args = (_real(mean_radius_m, "mean_radius_m"), _real(relative_width, "relative_width"),
+                _real(number_per_m3, "number_per_m3"))
+        return cls(_core.SizeDistribution.gamma(*args), ("gamma", args))
 
     @classmethod
     def log_normal(cls, mean_radius_m: float, relative_width: float,
@@ -766,9 +811,9 @@ class SizeDistribution:
         >>> print(d.kind, f"{d.mean_radius * 1e6:.1f} um", f"{d.radius_variance ** 0.5 * 1e6:.1f} um")
         log_normal 5.0 um 1.5 um
         """
-        return cls(_core.SizeDistribution.log_normal(_real(mean_radius_m, "mean_radius_m"),
-                                                     _real(relative_width, "relative_width"),
-                                                     _real(number_per_m3, "number_per_m3")))
+        args = (_real(mean_radius_m, "mean_radius_m"), _real(relative_width, "relative_width"),
+                _real(number_per_m3, "number_per_m3"))
+        return cls(_core.SizeDistribution.log_normal(*args), ("log_normal", args))
 
     @classmethod
     def marshall_palmer(cls, rain_rate_mm_per_h: float, n0_per_m4: float = 8e6) -> "SizeDistribution":
@@ -781,8 +826,8 @@ class SizeDistribution:
         >>> print(f"{d.number_concentration:.0f} drops per m^3, mean radius {d.mean_radius * 1e3:.3f} mm")
         1368 drops per m^3, mean radius 0.171 mm
         """
-        return cls(_core.SizeDistribution.marshall_palmer(_real(rain_rate_mm_per_h, "rain_rate_mm_per_h"),
-                                                          _real(n0_per_m4, "n0_per_m4")))
+        args = (_real(rain_rate_mm_per_h, "rain_rate_mm_per_h"), _real(n0_per_m4, "n0_per_m4"))
+        return cls(_core.SizeDistribution.marshall_palmer(*args), ("marshall_palmer", args))
 
     @property
     def kind(self) -> str:
@@ -946,17 +991,18 @@ class LeeTable(NamedTuple):
 
 
 def _span(value, name):
-    """One value, (A, B), or the CLI's text "A:B" / "A"."""
+    """One value, (A, B), or the CLI's text "A:B" / "A", read by the CLI's parsers (the library's
+    parse::number and parse::pair): the same text gives the same numbers, and the same text is refused."""
     if value is None:
         return None
     if isinstance(value, str):
-        try:
-            parts = [float(v) for v in value.split(":")]
-        except ValueError:
-            parts = []
-        if len(parts) not in (1, 2):
-            raise ValueError(f"{name} '{value}': expected A:B or one value (numbers)")
-        return (parts[0], parts[-1])
+        one = _core.parse_number(value)
+        if one is not None:
+            return (one, one)
+        pair = _core.parse_pair(value, ":")
+        if pair is None or pair[1] < pair[0]:
+            raise ValueError(f"{name} '{_core.printable(value)}': expected A:B (numbers, A <= B) or one value")
+        return tuple(pair)
     if isinstance(value, (tuple, list, np.ndarray)) and np.ndim(value) == 1:
         a, b = _pair(value, name, "one value or (A, B)")
         return (_real(a, f"{name}[0]"), _real(b, f"{name}[1]"))
@@ -988,7 +1034,7 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     "geometric[:P]". ``radius_um``: (A, B) in [0.1, 5000] um or one radius; ``angle_deg``: (A, B) in
     [0, 180]; ``size``: (columns, rows), default (512, 1024), (1, rows) for one radius.
     ``wavelengths``: samples over ``wavelengths_nm`` (0: one every 10 nm / sampling). ``shape``:
-    "sphere", "spheroid:Q" (oblate, axis ratio Q = polar / equatorial in [0.7, 1], axis vertical)
+    "sphere", "spheroid:Q" (oblate, axis ratio Q = polar / equatorial in [0.77, 1], axis vertical)
     or "beard-chuang" (falling drops, Q from the radius); non-spherical drops need theory "airy" or
     "airy:3" and a rainbow table, and take ``sun_elevation_deg`` [0, 89], ``position_deg`` (the
     bow's position angle around the antisolar point: 0 top, 90 side, 180 bottom) and
@@ -1136,6 +1182,13 @@ class RainResult(NamedTuple):
     stats: dict
 
 
+def _warn_negative(count: int, job: str, stacklevel: int = 3) -> None:
+    """The one warning of rain, fog and lens_drops for negative light in their image (read as 0)."""
+    if count:
+        warnings.warn(f"image: {count} negative value{'s' if count != 1 else ''} read as 0 ({job} needs linear "
+                      "light, >= 0)", RuntimeWarning, stacklevel=stacklevel)
+
+
 def _declared(job: str, *groups: str) -> list:
     """A job's declared parameters (the library's one table, hydrolux/jobs.hpp) of the given groups."""
     return [p for p in _core.params(job) if p["group"] in groups]
@@ -1220,6 +1273,16 @@ class RainRenderer:
     @_with_options(_RAIN_PARAMS, 4)
     def __init__(self, width: int, height: int, ground_plane: bool = True, **options: Any):
         self._r = _core.RainRenderer(width, height, _flag(ground_plane, "ground_plane"), _rain_options(options))
+        self._made_by = (width, height, ground_plane, dict(options))
+
+    # Pickled as its arguments (Dask ships renderers between processes): the field is made again from
+    # them, deterministic in the options and the seed, so the copy renders the same bytes.
+    def __getstate__(self):
+        return self._made_by
+
+    def __setstate__(self, state):
+        width, height, ground_plane, options = state
+        RainRenderer.__init__(self, width, height, ground_plane, **options)
 
     def render(self, image: np.ndarray, depth: Optional[np.ndarray] = None, frame_index: int = 0,
                with_layer: bool = False) -> RainResult:
@@ -1240,10 +1303,7 @@ class RainRenderer:
     def _render(self, image, depth, frame_index, with_layer, stacklevel) -> RainResult:
         d = self._r.render(_array_arg(image, "image"), None if depth is None else _array_arg(depth, "depth"),
                            frame_index, _flag(with_layer, "with_layer"))
-        n = d["stats"]["negative_values_clamped"]
-        if n:
-            warnings.warn(f"image: {n} negative value{'s' if n != 1 else ''} read as 0 (rain needs linear light, "
-                          ">= 0)", RuntimeWarning, stacklevel=stacklevel)
+        _warn_negative(d["stats"]["negative_values_clamped"], "rain", stacklevel + 1)
         return RainResult(d["image"], d["mask"], d["layer"], d["stats"])
 
     def field_info(self) -> dict:
@@ -1405,8 +1465,9 @@ def fog(image: np.ndarray, depth: Optional[np.ndarray] = None, sky_rgb: Optional
         if k not in _FOG_OPTIONS:
             raise TypeError(f"unknown fog option '{k}' (options: {', '.join(_FOG_OPTIONS)})")
     d = _core.fog(_array_arg(image, "image"), None if depth is None else _array_arg(depth, "depth"),
-                  None if sky_rgb is None else [float(v) for v in sky_rgb],
+                  None if sky_rgb is None else _rgb(sky_rgb, "sky_rgb"),
                   {k: v for k, v in options.items() if v is not None})
+    _warn_negative(d["stats"]["negative_values_clamped"], "fog")
     return FogResult(d["image"], d["mask"], d["stats"])
 
 
@@ -1418,8 +1479,11 @@ def _image_module():
 
 
 def read_image(path: str) -> np.ndarray:
-    """An image file (PNG, JPEG, EXR, TIFF, HDR, PNM) as (H, W, C) float32 linear values (8/16-bit
-    files through the sRGB curve), checked as the CLI checks its inputs.
+    """An image file (PNG, JPEG, EXR, TIFF, HDR, PNM) as (H, W, C) float32 linear values, checked as
+    the CLI checks its inputs: float files as they are; a PNG that declares linear codes (gAMA 1.0 and
+    no sRGB chunk: the coverage masks hydrolux writes, and :func:`write_image` with ``linear=True``)
+    as code / max; other 8/16-bit files through the sRGB curve. Every file hydrolux writes reads back
+    as what it holds (a mask's alpha within half a code).
 
     Example:
 
@@ -1433,18 +1497,24 @@ def read_image(path: str) -> np.ndarray:
     return _image_module().read(_path(path, "path"))[0]
 
 
-def write_image(path: str, image: np.ndarray, bits: int = 8) -> None:
-    """Writes (H, W, C) linear float values as .png (sRGB, ``bits`` 8 or 16) or .exr (float),
-    atomically: the file appears whole or not at all, never half-written.
+def write_image(path: str, image: np.ndarray, bits: int = 8, linear: bool = False) -> None:
+    """Writes (H, W, C) linear float values as .png (``bits`` 8 or 16) or .exr (float), atomically:
+    the file appears whole or not at all, never half-written. A PNG holds colour through the sRGB
+    curve (with the sRGB chunk) or, with ``linear=True`` for data that is not colour (a mask, a depth
+    map as codes), the values in [0, 1] as linear codes, declared by gAMA 1.0 and no sRGB chunk;
+    :func:`read_image` and hydrolux's readers read either back as the values written.
 
     Example:
 
     >>> import hydrolux, os, tempfile
+    >>> import numpy as np
     >>> folder = tempfile.mkdtemp()
     >>> scene = hydrolux.builtin_scene(64, 48)
     >>> hydrolux.write_image(os.path.join(folder, "street.png"), scene, bits=16)
     >>> hydrolux.write_image(os.path.join(folder, "street.exr"), scene)   # float, linear
-    >>> sorted(os.listdir(folder))
-    ['street.exr', 'street.png']
+    >>> mask = np.full((48, 64, 1), 0.17, np.float32)
+    >>> hydrolux.write_image(os.path.join(folder, "mask.png"), mask, bits=16, linear=True)
+    >>> sorted(os.listdir(folder)), round(float(hydrolux.read_image(os.path.join(folder, "mask.png"))[0, 0, 0]), 5)
+    (['mask.png', 'street.exr', 'street.png'], 0.17)
     """
-    _image_module().write(_path(path, "path"), _array_arg(image, "image"), bits)
+    _image_module().write(_path(path, "path"), _array_arg(image, "image"), bits, _flag(linear, "linear"))

@@ -85,6 +85,12 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
     rethrow_named(e, {{"radius_um", {"radius_um"}}, {"angle_deg", {"angle_deg"}}, {"columns", {"size[0] (columns)"}},
                       {"rows", {"size[1] (rows)"}}, {"wavelength_nm", {"wavelengths_nm"}}});
   }
+  // The CLI's up-front memory check, the library's one (the same estimate, the same numbers): a table
+  // too large for this machine is a ValueError naming size and what would fit, not a process killed.
+  atmos::check_table_memory({&s},
+                            size_arg ? fmt::format("({}, {})", s.columns, s.rows)
+                                     : fmt::format("({}, {}) (the default)", s.columns, s.rows),
+                            atmos::SizeSyntax::python);
   const atmos::LeeTable t = run_cancellable([&](const ProgressFn& p) { return atmos::compute_lee_table(s, p); });
   const atmos::LeeImages im = atmos::lee_images(t);
   // The labelled form (atmos::lee_dataset, as hydrolux lee -o table.nc writes it; its history is set by

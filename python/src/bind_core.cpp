@@ -102,6 +102,16 @@ void bind_core(py::module_& m) {
   // within +-2^53, also in exponent form ("1e3"), or None. Exactly what the CLI's flags accept.
   m.def("parse_number", [](const std::string& text) { return hydrolux::parse::number(text); }, py::arg("text"));
   m.def("parse_integer", [](const std::string& text) { return hydrolux::parse::integer(text); }, py::arg("text"));
+  // parse_pair: two numbers joined by `separator` ("1:2" with ':'), as a tuple, or None (parse::pair:
+  // what the CLI's span flags, e.g. hydrolux lee --radius-um A:B, accept).
+  m.def(
+      "parse_pair",
+      [](const std::string& text, char separator) -> std::optional<std::pair<double, double>> {
+        const auto p = hydrolux::parse::pair(text, separator);
+        if (!p) return std::nullopt;
+        return std::pair<double, double>{(*p)[0], (*p)[1]};
+      },
+      py::arg("text"), py::arg("separator"));
   // The largest seed every door accepts (rain::kMaxSeed, 2^53).
   m.attr("kMaxSeed") = py::int_(hydrolux::rain::kMaxSeed);
   // The files of one run declared as the CLI declares them (io::FileSet): each input must be a regular

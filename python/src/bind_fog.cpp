@@ -41,19 +41,19 @@ py::dict fog(const py::array& image, std::optional<py::array> depth, std::option
       throw Error(fmt::format("depth: expected ({}, {}) metres, got {}x{} with {} channels", frame.height, frame.width,
                               z->width, z->height, z->channels));
   }
-  rain::FogFrame r;
+  // On a thread of its own without the GIL, stopped by Ctrl-C (KeyboardInterrupt) within ~50 ms: the
+  // library's loops call the progress callback once a row (rain/fog.hpp).
   rain::FogOptics optics;
-  {
-    py::gil_scoped_release release;
+  const rain::FogFrame r = run_cancellable([&](const ProgressFn& progress) {
     try {
       optics = rain::fog_optics(o.settings);
-      r = rain::render_fog(frame, z ? &*z : nullptr, cam, o.settings, optics, sky);
+      return rain::render_fog(frame, z ? &*z : nullptr, cam, o.settings, optics, sky, progress);
     } catch (const DomainError&) {
       throw;
     } catch (const Error& e) {
       throw Error(fmt::format("image: {}", e.what()));
     }
-  }
+  });
   py::dict d;
   d["image"] = to_array(r.image);
   d["mask"] = to_array(r.alpha);

@@ -140,11 +140,10 @@ py::dict lens_drops(const py::array& image, const py::dict& kw) {
   rain::LensDropSettings s;
   apply_kwargs(s, kw, rain::lens_drops_params());
   const Image frame = to_image(image, "image");
-  rain::LensDropsResult r;
-  {
-    py::gil_scoped_release release;
-    r = rain::render_lens_drops(frame, s);
-  }
+  // On a thread of its own without the GIL, stopped by Ctrl-C (KeyboardInterrupt) within ~50 ms: the
+  // library calls the progress callback once a row (rain/lens_drops.hpp).
+  const rain::LensDropsResult r =
+      run_cancellable([&](const ProgressFn& progress) { return rain::render_lens_drops(frame, s, progress); });
   py::dict d;
   d["image"] = to_array(r.image);
   d["mask"] = to_array(r.mask);

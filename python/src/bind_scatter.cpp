@@ -91,6 +91,20 @@ void check_mie_args(std::complex<double> m, const double* x, py::ssize_t n) {
   }
 }
 
+// Scattering angles from the CLI's text ("A:B:N" or "0,10,90"), read by the library's parser with the
+// CLI's limits and in its words (hydrolux mie/phase --angles-deg): mie(), phase() and
+// _core.parse_angles give exactly the CLI's angles, and refuse exactly what it refuses.
+constexpr std::size_t kMaxAngles = 1000000;
+std::vector<double> angles_from_text(const std::string& text) {
+  try {
+    return parse::range_or_list(text, 0, 180, kMaxAngles);
+  } catch (const Error& e) {
+    throw Error(fmt::format("angles_deg '{}': {}; expected A:B:N (N angles from A to B, N in [1, 1000000]) or a "
+                            "list 0,10,90, angles in [0, 180] deg",
+                            printable(text), e.what()));
+  }
+}
+
 py::dict mie(std::complex<double> m, py::handle x_arg, py::handle angles_arg, py::handle threads_arg,
              bool mueller) {
   // threads and x as hydrolux mie takes --threads and --x: the declared parameters (scatter/params.hpp).
@@ -252,16 +266,8 @@ py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wave
     throw Error(fmt::format("wavelength_nm = {:g} is outside (0, 1e+06] nm", job.wavelength_nm));
   job.theory = theory;
   job.size_distribution = size_distribution;
-  constexpr std::size_t kMaxAngles = 1000000;
   if (py::isinstance<py::str>(angles_arg)) {  // the CLI's text, read by the same parser: the same angles
-    const std::string text = angles_arg.cast<std::string>();
-    try {
-      job.angles_deg = parse::range_or_list(text, 0, 180, kMaxAngles);
-    } catch (const Error& e) {
-      throw Error(fmt::format("angles_deg '{}': {}; expected A:B:N (N angles from A to B, N in [1, 1000000]) or a "
-                              "list 0,10,90, angles in [0, 180] deg",
-                              text, e.what()));
-    }
+    job.angles_deg = angles_from_text(angles_arg.cast<std::string>());
   } else {
     const DoubleArray a = c_array<double>(angles_arg, "angles_deg");
     if (a.ndim() != 1) throw Error("angles_deg: expected a 1-D array of angles in degrees");
@@ -422,6 +428,13 @@ void bind_scatter(py::module_& m) {
         py::arg("options"));
   m.def("renderer_medium", &renderer_medium, py::arg("radius_um"), py::arg("size_distribution"), py::arg("medium"),
         py::arg("surrounding"), py::arg("format"), py::arg("name"), py::arg("options"));
+  m.def(
+      "parse_angles",
+      [](const std::string& text) {
+        const std::vector<double> a = angles_from_text(text);
+        return DoubleArray(py::ssize_t(a.size()), a.data());
+      },
+      py::arg("text"));
   m.def("mie_terms", [](double x) {
     sc::mie_param("x").check(x);
     return sc::mie_terms(x);

@@ -40,7 +40,7 @@ py::tuple read_image(const std::string& path) {
     bytes = io::read_file(path, io::ImageLimits{}.max_file_bytes, "path");
     d = io::decode_image(bytes, path);
   }
-  return py::make_tuple(to_array(d.image), short_name(d.format), d.warnings);
+  return py::make_tuple(to_array(d.image), short_name(d.format), d.warnings, d.linear);
 }
 
 // A depth map for a width x height frame (io::depth_from_decoded), as hydrolux rain reads --depth.
@@ -59,13 +59,18 @@ py::array_t<float> read_depth(const std::string& path, double scale_m, int width
 
 // The bytes of a PNG or EXR (a coverage mask through io::coverage_for_encoding), as the CLI writes them.
 std::string encode_bytes(const py::array& image, io::ImageFormat f, py::handle bits_arg, bool coverage,
-                         py::handle compression_arg = py::none()) {
+                         py::handle compression_arg = py::none(), bool linear = false) {
   const int bits = int(whole_arg(bits_arg, "bits", 8, 16));
   const int compression = compression_arg.is_none()
                               ? io::kDefaultPngCompression
                               : int(whole_arg(compression_arg, "compression", 0, io::kMaxPngCompression));
   if (bits != 8 && bits != 16) throw Error(fmt::format("bits: {} is not 8 or 16 (PNG's sample sizes)", bits));
   Image img = to_image(image, "image");
+  if (linear && img.channels != 1 && img.channels != 3)
+    throw Error(fmt::format("linear: data is written with 1 or 3 channels, not {} (a PNG's alpha channel is read "
+                            "back associated with the others)",
+                            img.channels));
+  img.non_colour = linear;
   if (coverage && img.channels != 1) throw Error("coverage: a coverage mask has one channel");
   py::gil_scoped_release release;
   if (coverage) img = io::coverage_for_encoding(img, f);
@@ -78,8 +83,10 @@ py::bytes encode(const py::array& image, const std::string& format, py::handle b
   return py::bytes(encode_bytes(image, format_arg(format), bits, coverage, compression));
 }
 
-void write_image(const std::string& path, const py::array& image, py::handle bits) {
-  const std::string bytes = encode_bytes(image, io::output_image_format(path, "path"), bits, false);
+// `linear`: the values are data, not colour (Image::non_colour): a PNG holds them linearly.
+void write_image(const std::string& path, const py::array& image, py::handle bits, py::handle linear_arg) {
+  const bool linear = flag_arg(linear_arg, "linear");
+  const std::string bytes = encode_bytes(image, io::output_image_format(path, "path"), bits, false, py::none(), linear);
   py::gil_scoped_release release;
   io::write_file(path, bytes, "path");
 }
@@ -96,5 +103,5 @@ PYBIND11_MODULE(_image, m) {
         py::arg("label"));
   m.def("encode", &encode, py::arg("image"), py::arg("format"), py::arg("bits"), py::arg("coverage"),
         py::arg("compression") = py::none());
-  m.def("write", &write_image, py::arg("path"), py::arg("image"), py::arg("bits"));
+  m.def("write", &write_image, py::arg("path"), py::arg("image"), py::arg("bits"), py::arg("linear") = false);
 }

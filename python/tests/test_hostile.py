@@ -177,3 +177,247 @@ def test_negative_values_are_read_as_zero_with_one_warning():
         ref = h.rain(clean, seed=3)
     np.testing.assert_array_equal(r.image, ref.image)
     assert ref.stats["negative_values_clamped"] == 0
+
+
+# ---- issue 37: files read back as written, the CLI's parsers, memory, Ctrl-C, pickling, colours ----
+
+def _srgb_encode(v):
+    return np.where(v <= 0.0031308, v * 12.92, 1.055 * np.power(np.maximum(v, 0), 1 / 2.4) - 0.055)
+
+
+def _png_chunks(data):
+    """(type, body) of each chunk of a PNG's bytes."""
+    import struct
+    out, pos = [], 8
+    while pos + 8 <= len(data):
+        n, = struct.unpack(">I", data[pos:pos + 4])
+        out.append((data[pos + 4:pos + 8], data[pos + 8:pos + 8 + n]))
+        pos += 12 + n
+    return out
+
+
+def test_masks_read_back_as_written_through_the_cli_and_python(tmp_path, cli):
+    # rain --mask-out writes 16-bit linear codes (gAMA 1.0, no sRGB chunk); read_image used to put them
+    # through the sRGB curve (a 0.17 alpha read as 0.02).
+    args = ["rain", "-q", "--image", "builtin", "--size", "96x64", "--rate-mmh", "50", "--seed", "3"]
+    cli(*args, "-o", tmp_path / "a.png", "--mask-out", tmp_path / "m.png")
+    cli(*args, "-o", tmp_path / "b.png", "--mask-out", tmp_path / "m.exr")
+    exact = h.read_image(str(tmp_path / "m.exr"))
+    png = h.read_image(str(tmp_path / "m.png"))
+    assert exact.max() > 0.1
+    np.testing.assert_allclose(png, exact, rtol=0, atol=0.5 / 65535 + 1e-7)
+    chunks = dict(_png_chunks((tmp_path / "m.png").read_bytes()))
+    assert b"sRGB" not in chunks and chunks[b"gAMA"] == (100000).to_bytes(4, "big")
+    # The Python doors write the same file: the batch's mask encoder and write_image(linear=True).
+    alpha = np.linspace(0, 1, 96 * 64, dtype=np.float32).reshape(64, 96, 1)
+    alpha[0, 0, 0] = 0.17
+    (tmp_path / "p.png").write_bytes(h._image_module().encode(alpha, "png", 16, True))
+    for bits in (8, 16):
+        h.write_image(str(tmp_path / f"w{bits}.png"), alpha, bits=bits, linear=True)
+    for name, step in (("p.png", 65535), ("w16.png", 65535), ("w8.png", 255)):
+        back = h.read_image(str(tmp_path / name))
+        np.testing.assert_allclose(back, alpha, rtol=0, atol=0.5 / step + 1e-7, err_msg=name)
+        assert abs(back[0, 0, 0] - 0.17) <= 0.5 / step + 1e-7
+    with pytest.raises(TypeError, match="^linear: expected True or False"):
+        h.write_image(str(tmp_path / "x.png"), alpha, linear="yes")
+
+
+def test_an_srgb_png_still_decodes_through_the_curve(tmp_path):
+    import zlib
+    colour = np.full((1, 1, 1), 0.17, np.float32)
+    h.write_image(str(tmp_path / "c.png"), colour, bits=16)
+    chunks = _png_chunks((tmp_path / "c.png").read_bytes())
+    assert b"sRGB" in dict(chunks)
+    raw = zlib.decompress(b"".join(body for kind, body in chunks if kind == b"IDAT"))
+    assert int.from_bytes(raw[1:3], "big") == round(float(_srgb_encode(0.17)) * 65535)  # the curve's code
+    assert abs(h.read_image(str(tmp_path / "c.png"))[0, 0, 0] - 0.17) < 1e-5
+
+
+def test_mie_angles_are_the_clis_bit_for_bit(tmp_path, cli):
+    xr = pytest.importorskip("xarray")
+    cli("mie", "--m", "1.333", "--x", "10", "-q", "-o", tmp_path / "p.nc")
+    with xr.open_dataset(tmp_path / "p.nc") as f:
+        on_disk = f.scattering_angle.values.copy()
+    mem = h.mie(1.333, 10.0).to_xarray().scattering_angle.values
+    assert on_disk.tobytes() == mem.tobytes()  # numpy's linspace differed in 19 of the 181
+    assert h._core.parse_angles("0:180:181").tobytes() == on_disk.tobytes()
+
+
+@pytest.mark.parametrize("text", ["0:1_80:3", "0:180:0", " 0:180:3", "0:180:3 ", "0:inf:3", "nan", "0:200:3",
+                                  "1e400:180:3", "0x10:180:2", "0,,10", "0:180:2.5", "0:180", ""])
+def test_mie_refuses_the_angle_texts_the_cli_refuses(text, cli):
+    p = cli("mie", "--m", "1.333", "--x", "1", "-q", "--json", "--angles-deg", text, check=False)
+    assert p.returncode == 2, (text, p.stdout[:200])
+    with pytest.raises(ValueError, match="^angles_deg '") as e:
+        h.mie(1.333, 1.0, angles_deg=text)
+    assert "\n" not in str(e.value)
+    with pytest.raises(ValueError, match="^angles_deg '"):
+        h.phase(10, 550, angles_deg=text)
+
+
+@pytest.mark.parametrize("text", ["0:180:7", "+5:.5e2:3", "0,10,90", "1e1", "180:0:5"])
+def test_mie_takes_the_angle_texts_the_cli_takes(text, cli):
+    import json
+    p = cli("mie", "--m", "1.333", "--x", "1", "-q", "--json", "--angles-deg", text)
+    assert h.mie(1.333, 1.0, angles_deg=text).info["angles_deg"].tolist() == json.loads(p.stdout)["angles_deg"]
+
+
+def test_text_is_not_a_number():
+    for bad in (["10"], [1.0, "2"], np.array(["10"]), [b"1"]):
+        with pytest.raises(TypeError, match="^x: expected (a number or an array of numbers|real numbers)"):
+            h.mie(1.333, bad)
+    with pytest.raises(TypeError, match="^theta_deg: expected"):
+        h.fresnel(["45"])
+    with pytest.raises(ValueError, match=r"^radius_um '1_0:20': expected A:B"):
+        h.lee(radius_um="1_0:20", size=(2, 4))
+    with pytest.raises(ValueError, match=r"^angle_deg '140:130': expected A:B"):
+        h.lee(angle_deg="140:130", size=(2, 4))
+
+
+# A Lee table too large for the memory this process may take: refused before the work, with the same
+# estimate in both doors (the library's check; it ran until killed in Python).
+_LEE_LIMITED = """
+import resource
+import hydrolux as h
+def mapped():
+    with open("/proc/self/status") as f:
+        return next(int(l.split()[1]) * 1024 for l in f if l.startswith("VmSize:"))
+resource.setrlimit(resource.RLIMIT_AS, (mapped() + 1024 * 2**20, resource.getrlimit(resource.RLIMIT_AS)[1]))
+try:
+    h.lee(size=(4096, 4096), wavelengths=2)
+    print("no error")
+except ValueError as e:
+    print(e)
+"""
+
+
+def test_a_lee_table_too_large_is_refused_by_both_doors_with_the_same_numbers(cli):
+    import re
+    import resource
+    p = subprocess.run([sys.executable, "-c", _LEE_LIMITED], capture_output=True, text=True, env=os.environ.copy())
+    py = p.stdout.strip()
+    assert re.fullmatch(r"size \(4096, 4096\): the rainbow table needs about (\S+ [GM]B) of memory and \S+ [GMk]?B is "
+                        r"available; about size=\(\d+, \d+\) would fit", py), (py, p.stderr[-2000:])
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (1536 * 2**20, resource.getrlimit(resource.RLIMIT_AS)[1]))
+    c = subprocess.run([cli.path, "lee", "--size", "4096x4096", "--wavelengths-nm", "380:780:2", "-q", "-o",
+                        "/nonexistent/t.exr"], capture_output=True, text=True, preexec_fn=limit)
+    assert c.returncode == 2, c.stderr
+    m = re.search(r"--size 4096x4096: the rainbow table needs about (\S+ [GM]B) of memory and .* available; about "
+                  r"--size \d+x\d+ would fit", c.stderr)
+    assert m and m.group(1) == re.search(r"needs about (\S+ [GM]B)", py).group(1), c.stderr
+
+
+# Ctrl-C: the call itself raises KeyboardInterrupt (the profiler sees the C function end in an exception),
+# where it used to run to its end and the interrupt came after it had returned.
+def _interrupted(function, call):
+    import signal
+    import threading
+    events = []
+
+    def profile(frame, event, arg):
+        if arg is function and event.startswith("c_"):
+            events.append(event)
+            if event == "c_call":
+                threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT)).start()
+
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        sys.setprofile(profile)
+        try:
+            call()
+        except KeyboardInterrupt:
+            pass
+        finally:
+            sys.setprofile(None)
+    finally:
+        signal.signal(signal.SIGINT, old)
+    return events
+
+
+def test_ctrl_c_stops_lens_drops():
+    img = np.full((1000, 1000, 3), 0.5, np.float32)
+    assert _interrupted(h._core.lens_drops, lambda: h.lens_drops(img, drops=20000, seed=1)) == ["c_call", "c_exception"]
+
+
+def test_ctrl_c_stops_fog():
+    img = np.full((3000, 4000, 3), 2.0, np.float32)  # every pixel a glow source: the glow's longest search
+    img[:1500] = 0.5
+    assert _interrupted(h._core.fog, lambda: h.fog(img, visibility_m=100)) == ["c_call", "c_exception"]
+
+
+def test_cancellable_calls_give_the_same_results():
+    img = h.builtin_scene(96, 64)
+    a, b = h.lens_drops(img, drops=40, seed=2), h.lens_drops(img, drops=40, seed=2)
+    np.testing.assert_array_equal(a.image, b.image)
+    f = h.fog(img, visibility_m=150)
+    assert f.image.shape == (64, 96, 3) and f.stats["negative_values_clamped"] == 0
+
+
+def test_distributions_results_and_renderers_pickle():
+    import pickle
+    for d in (h.SizeDistribution.monodisperse(1e-3, 100), h.SizeDistribution.gamma(1e-5, 0.2, 1e8),
+              h.SizeDistribution.log_normal(5e-6, 0.3, 1e9), h.SizeDistribution.marshall_palmer(5.0)):
+        e = pickle.loads(pickle.dumps(d))
+        assert e.kind == d.kind and e.parameters == d.parameters
+        for x, y in zip(d.quadrature(16), e.quadrature(16)):
+            assert x.tobytes() == y.tobytes()
+    fog = h.SizeDistribution.gamma(1e-5, 0.2, 1e8)
+    b = h.bulk_optics(1.333, 550, fog, nodes=16)
+    c = pickle.loads(pickle.dumps(b))
+    assert c == b and isinstance(c, h.BulkOptics)
+    xr = pytest.importorskip("xarray")
+    xr.testing.assert_identical(c.to_xarray(), b.to_xarray())
+    r = h.RainRenderer(64, 48, rate_mmh=25, wind_mps=3, seed=4)
+    s = pickle.loads(pickle.dumps(r))
+    scene = h.builtin_scene(64, 48)
+    assert s.field_info() == r.field_info()
+    np.testing.assert_array_equal(s.render(scene, frame_index=3).image, r.render(scene, frame_index=3).image)
+
+
+@pytest.mark.parametrize("bad, error, message", [
+    ("123", TypeError, "sky_rgb: expected three finite numbers >= 0 (linear R, G, B), e.g. (0.8, 0.8, 0.85), got '123'"),
+    ("abc", TypeError, "sky_rgb: expected three finite numbers >= 0"),
+    (5, TypeError, "sky_rgb: expected three finite numbers >= 0 (linear R, G, B), e.g. (0.8, 0.8, 0.85), got 5"),
+    ({1, 2, 3}, TypeError, "sky_rgb: expected three finite numbers >= 0 (linear R, G, B), e.g. (0.8, 0.8, 0.85), got a set"),
+    (True, TypeError, "sky_rgb: expected three finite numbers >= 0 (linear R, G, B), e.g. (0.8, 0.8, 0.85), got True"),
+    (np.ones((3, 1)), ValueError, "sky_rgb: expected three finite numbers >= 0 (linear R, G, B), e.g. (0.8, 0.8, "
+                                  "0.85), got an array of shape (3, 1) and dtype float64"),
+    (np.array(["1", "2", "3"]), TypeError, "sky_rgb: expected three finite numbers >= 0"),
+    ((1, 2), ValueError, "sky_rgb: expected three finite numbers >= 0 (linear R, G, B), e.g. (0.8, 0.8, 0.85), got a "
+                         "tuple of 2"),
+    ((1, "2", 3), TypeError, "sky_rgb[1]: expected a number, got '2'"),
+    ((True, 1, 1), TypeError, "sky_rgb[0]: expected a number, got True"),
+    ((1, 2, -1), ValueError, "sky_rgb[2] = -1 is not a finite value >= 0"),
+    ([1, float("nan"), 1], ValueError, "sky_rgb[1] = nan is not a finite value >= 0"),
+])
+def test_sky_rgb_is_three_finite_numbers(bad, error, message):
+    with pytest.raises(error) as e:
+        h.fog(_IMG, visibility_m=100, sky_rgb=bad)
+    assert message in str(e.value) and "\n" not in str(e.value)
+
+
+def test_sky_rgb_takes_a_sequence_or_an_array_of_three():
+    ref = h.fog(_IMG + 0.25, visibility_m=100, sky_rgb=(0.5, 0.5, 0.75)).image
+    for given in ([0.5, 0.5, 0.75], np.array([0.5, 0.5, 0.75]), np.array([0.5, 0.5, 0.75], np.float32),
+                  (np.float64(0.5), 0.5, 0.75)):
+        np.testing.assert_array_equal(h.fog(_IMG + 0.25, visibility_m=100, sky_rgb=given).image, ref)
+
+
+def test_fog_and_lens_drops_warn_of_negative_light_as_rain_does():
+    img = np.full((64, 64, 3), 0.5, np.float32)
+    img[:2, :, 0] = -0.25  # 128 negative red values
+    for call, job in ((lambda: h.fog(img, visibility_m=100), "fog"),):
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            call()
+        assert [str(x.message) for x in w] == [f"image: 128 negative values read as 0 ({job} needs linear light, >= 0)"]
+        assert w[0].category is RuntimeWarning and w[0].filename == __file__
+
+
+def test_pol_where_s11_is_zero_is_nan_with_a_warning():
+    with pytest.warns(RuntimeWarning, match=r"^pol: NaN at 1 of 2 angles, where S11 = 0") as w:
+        p = h.phase(500, 550, theory="airy", angles_deg=[10, 140], mueller=True)  # Airy: near the bow only
+    assert len(w) == 1 and w[0].filename == __file__
+    assert p.s11[0] == 0 and np.isnan(p.pol[0]) and np.isfinite(p.pol[1])

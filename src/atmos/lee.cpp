@@ -15,6 +15,7 @@
 #include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/memory.hpp"
 #include "hydrolux/core/parse.hpp"
 #include "hydrolux/core/vec.hpp"
 #include "hydrolux/drop/shape.hpp"
@@ -435,6 +436,26 @@ double estimated_bytes(const LeeSpec& s) {
   // more EXR channels (floats).
   const double q_nodes = q_is_fraction_of_i(s) ? 0.0 : 8 * w.nodes * w.cells;
   return s.stokes ? base + 24 * double(s.columns) * w.cells + q_nodes + (24 + 12) * pixels : base;
+}
+
+void check_table_memory(const std::vector<const LeeSpec*>& specs, const std::string& size_text, SizeSyntax syntax,
+                        std::optional<std::uint64_t> available) {
+  const LeeSpec* worst = nullptr;
+  double need = 0;
+  for (const auto* sp : specs)
+    if (const double b = estimated_bytes(*sp); b > need) need = b, worst = sp;
+  const double avail = double(available ? *available : available_memory_bytes());
+  if (!worst || need <= avail) return;
+  // The arrays grow with columns x rows: scale both sides alike.
+  const double k = std::sqrt(std::max(0.0, avail - kLeeFixedBytes) / (need - kLeeFixedBytes));
+  const double columns = std::max(1.0, std::floor(specs.front()->columns * k));
+  const double rows = std::max(1.0, std::floor(specs.front()->rows * k));
+  const bool cli = syntax == SizeSyntax::cli;
+  throw Error(fmt::format("{} {}: the {} table needs about {} of memory and {} is available; about {} would fit",
+                          cli ? "--size" : "size", size_text, table_kind_name(worst->table), format_bytes(need),
+                          format_bytes(avail),
+                          cli ? fmt::format("--size {:.0f}x{:.0f}", columns, rows)
+                              : fmt::format("size=({:.0f}, {:.0f})", columns, rows)));
 }
 
 void validate(const LeeSpec& s) {

@@ -595,7 +595,8 @@ Image coverage_for_encoding(const Image& alpha, ImageFormat format) {
     a.channel_names = {"Y"};
     return a;
   }
-  for (float& v : a.pixels) v = float(color::srgb_decode(double(std::clamp(v, 0.f, 1.f))));
+  for (float& v : a.pixels) v = std::clamp(v, 0.f, 1.f);
+  a.non_colour = true;  // linear codes, declared (gAMA 1.0, no sRGB chunk)
   return a;
 }
 
@@ -624,7 +625,10 @@ Image depth_from_decoded(const DecodedImage& decoded, double scale_m, int width,
       const float v = src.at(sx, sy, 0);
       double z = v;
       if (coded) {
-        z = std::round(color::srgb_encode(double(v)) * max_code) * scale_m;
+        // The 16-bit code back: v is code / max for a file that declares linear codes, else the
+        // code through the sRGB curve.
+        const bool linear_png = decoded.linear && decoded.format == ImageFormat::png;
+        z = std::round((linear_png ? double(v) : color::srgb_encode(double(v))) * max_code) * scale_m;
         if (z <= 0) z = std::numeric_limits<double>::infinity();  // code 0: no geometry
       }
       depth.at(x, y, 0) = float(z);

@@ -209,15 +209,16 @@ const SrgbDecodeTable& srgb_decode_table(bool sixteen) {
 }
 
 // A coded image (8 or 16 bits) read as its codes and turned into linear floats by table: the same
-// floats as reading it as FLOAT and applying srgb_decode to each colour value (alpha kept linear).
+// floats as reading it as FLOAT and applying srgb_decode to each colour value (alpha kept linear);
+// with `linear` (a file that declares linear codes) every value as read as FLOAT, without the curve.
 template <typename Code>
-bool read_coded(OIIO::ImageInput& in, int alpha, Image& img) {
+bool read_coded(OIIO::ImageInput& in, int alpha, Image& img, bool linear_codes) {
   const std::size_t c = std::size_t(img.channels);
   std::vector<Code> codes(img.pixels.size());
   const OIIO::TypeDesc type = sizeof(Code) == 1 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16;
   if (!in.read_image(0, 0, 0, int(c), type, codes.data())) return false;
   const SrgbDecodeTable& t = srgb_decode_table(sizeof(Code) == 2);
-  const float* linear = t.linear.data();
+  const float* linear = linear_codes ? t.value.data() : t.linear.data();
   const float* value = t.value.data();
   float* out = img.pixels.data();
   if (alpha < 0 || alpha >= int(c)) {
@@ -247,6 +248,15 @@ std::vector<T> quantise_srgb(const Image& img, double max_code) {
                                   : color::srgb_encode(double(straight(pixel, int(i % 4))));
     out[i] = static_cast<T>(std::lround(v * max_code));
   }
+  return out;
+}
+
+// Data that is not colour (Image::non_colour): every value clamped to [0, 1] and quantised linearly.
+template <typename T>
+std::vector<T> quantise_linear(const Image& img, double max_code) {
+  std::vector<T> out(img.pixels.size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = static_cast<T>(std::lround(std::clamp(double(img.pixels[i]), 0.0, 1.0) * max_code));  // NaN: 0
   return out;
 }
 
@@ -311,7 +321,9 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
       std::vector<std::uint8_t> samples;
       if (png::read_samples(bytes, *header, samples)) {
         Image img(header->width, header->height, header->channels);
-        const float* linear = srgb_decode_table(header->bits == 16).linear.data();
+        // A file that declares linear codes (hydrolux's masks) as code / max, others through the curve.
+        const SrgbDecodeTable& table = srgb_decode_table(header->bits == 16);
+        const float* linear = header->linear ? table.value.data() : table.linear.data();
         float* out = img.pixels.data();
         if (header->bits == 8) {
           for (std::size_t i = 0; i < img.pixels.size(); ++i) out[i] = linear[samples[i]];
@@ -322,6 +334,7 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
         result.channel_names = header->channels == 3 ? std::vector<std::string>{"R", "G", "B"}
                                                      : std::vector<std::string>{"Y"};
         result.image = std::move(img);
+        result.linear = header->linear;
         return result;
       }
     }
@@ -369,14 +382,18 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
   const bool one_type = spec.channelformats.empty();
   const bool coded8 = one_type && spec.format == OIIO::TypeDesc::UINT8;
   const bool coded16 = one_type && spec.format == OIIO::TypeDesc::UINT16;
-  const bool read = coded8    ? read_coded<std::uint8_t>(*in, spec.alpha_channel, img)
-                    : coded16 ? read_coded<std::uint16_t>(*in, spec.alpha_channel, img)
+  // A PNG that declares linear codes (gAMA 1.0, no sRGB chunk) is read without the curve, as the
+  // fast reader reads it; float formats are linear.
+  const bool linear_codes = *format == ImageFormat::png && png::declares_linear(bytes);
+  const bool read = coded8    ? read_coded<std::uint8_t>(*in, spec.alpha_channel, img, linear_codes)
+                    : coded16 ? read_coded<std::uint16_t>(*in, spec.alpha_channel, img, linear_codes)
                               : in->read_image(0, 0, 0, int(c), OIIO::TypeDesc::FLOAT, img.pixels.data());
   if (!read) throw codec_failure(in->geterror());
   in->close();
   result.warnings = captured.finish();
   result.channel_names.assign(spec.channelnames.begin(), spec.channelnames.end());
-  if (!spec.format.is_floating_point() && !coded8 && !coded16) {
+  result.linear = linear_codes || spec.format.is_floating_point();
+  if (!spec.format.is_floating_point() && !coded8 && !coded16 && !linear_codes) {
     const int alpha = spec.alpha_channel;
     for (std::size_t i = 0; i < img.pixels.size(); ++i)
       if (int(i % std::size_t(c)) != alpha) img.pixels[i] = float(color::srgb_decode(img.pixels[i]));
@@ -397,13 +414,16 @@ std::string encode_image(const Image& image, ImageFormat format, PngOptions png)
     throw IoError(fmt::format("PNG compression level {} (use 0 to {})", png.compression, kMaxPngCompression));
 
   if (format == ImageFormat::png) {
-    if (png.bits == 8) return png::encode(quantise_srgb8(image).data(), image.width, image.height, image.channels, 8,
-                                          png.compression);
-    const std::vector<std::uint16_t> codes = quantise_srgb<std::uint16_t>(image, 65535.0);
+    const bool linear = image.non_colour;  // data: linear codes, gAMA 1.0 and no sRGB chunk
+    if (png.bits == 8)
+      return png::encode((linear ? quantise_linear<std::uint8_t>(image, 255.0) : quantise_srgb8(image)).data(),
+                         image.width, image.height, image.channels, 8, png.compression, linear);
+    const std::vector<std::uint16_t> codes =
+        linear ? quantise_linear<std::uint16_t>(image, 65535.0) : quantise_srgb<std::uint16_t>(image, 65535.0);
     std::vector<std::uint8_t> big_endian(2 * codes.size());
     for (std::size_t i = 0; i < codes.size(); ++i)
       big_endian[2 * i] = std::uint8_t(codes[i] >> 8), big_endian[2 * i + 1] = std::uint8_t(codes[i]);
-    return png::encode(big_endian.data(), image.width, image.height, image.channels, 16, png.compression);
+    return png::encode(big_endian.data(), image.width, image.height, image.channels, 16, png.compression, linear);
   }
 
   const OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT;

@@ -18,6 +18,7 @@ namespace {
 constexpr std::string_view kSignature = "\x89PNG\r\n\x1a\n";
 enum Filter : std::uint8_t { kNone = 0, kSub = 1, kUp = 2, kAverage = 3, kPaeth = 4 };
 constexpr std::size_t kIdatBytes = std::size_t(1) << 20;  // image data split into chunks of 1 MiB
+constexpr std::uint32_t kLinearGama = 100000;              // gAMA's value of gamma 1.0 (linear codes)
 
 std::uint32_t be32(std::string_view b, std::size_t at) {
   return std::uint32_t(static_cast<unsigned char>(b[at])) << 24 | std::uint32_t(static_cast<unsigned char>(b[at + 1])) << 16 |
@@ -102,7 +103,8 @@ struct DecompressorDeleter {
 
 }  // namespace
 
-std::string encode(const std::uint8_t* samples, int width, int height, int channels, int bits, int level) {
+std::string encode(const std::uint8_t* samples, int width, int height, int channels, int bits, int level,
+                   bool linear) {
   if (width <= 0 || height <= 0 || channels < 1 || channels > 4 || (bits != 8 && bits != 16) || level < 0 || level > 12)
     throw std::invalid_argument("png::encode: bad dimensions, bit depth or level");
   static constexpr std::uint8_t kColourType[] = {0, 0, 4, 2, 6};  // by channels: grey, grey+alpha, RGB, RGBA
@@ -146,20 +148,42 @@ std::string encode(const std::uint8_t* samples, int width, int height, int chann
   ihdr += char(kColourType[channels]);
   ihdr.append(3, '\0');  // deflate, the adaptive filter method, no interlace
   put_chunk(file, "IHDR", ihdr.data(), ihdr.size());
-  // sRGB (perceptual intent) with the gAMA and cHRM values the specification gives for it, for
-  // readers that know only those.
-  const char intent = 0;
-  put_chunk(file, "sRGB", &intent, 1);
-  std::string gama;
-  put32(gama, 45455);
-  put_chunk(file, "gAMA", gama.data(), gama.size());
-  std::string chrm;
-  for (const std::uint32_t v : {31270u, 32900u, 64000u, 33000u, 30000u, 60000u, 15000u, 6000u}) put32(chrm, v);
-  put_chunk(file, "cHRM", chrm.data(), chrm.size());
+  if (linear) {
+    // Linear codes (data, not colour): a gamma of 1.0 alone, as the specification says it.
+    std::string gama;
+    put32(gama, kLinearGama);
+    put_chunk(file, "gAMA", gama.data(), gama.size());
+  } else {
+    // sRGB (perceptual intent) with the gAMA and cHRM values the specification gives for it, for
+    // readers that know only those.
+    const char intent = 0;
+    put_chunk(file, "sRGB", &intent, 1);
+    std::string gama;
+    put32(gama, 45455);
+    put_chunk(file, "gAMA", gama.data(), gama.size());
+    std::string chrm;
+    for (const std::uint32_t v : {31270u, 32900u, 64000u, 33000u, 30000u, 60000u, 15000u, 6000u}) put32(chrm, v);
+    put_chunk(file, "cHRM", chrm.data(), chrm.size());
+  }
   for (std::size_t at = 0; at < z_bytes; at += kIdatBytes)
     put_chunk(file, "IDAT", z.data() + at, std::min(kIdatBytes, z_bytes - at));
   put_chunk(file, "IEND", nullptr, 0);
   return file;
+}
+
+bool declares_linear(std::string_view file) {
+  if (file.size() < kSignature.size() || file.substr(0, kSignature.size()) != kSignature) return false;
+  bool gamma_one = false;
+  for (std::size_t pos = kSignature.size(); pos + 12 <= file.size();) {
+    const std::uint32_t length = be32(file, pos);
+    if (file.size() - pos - 12 < length) return false;
+    const std::string_view type = file.substr(pos + 4, 4);
+    if (type == "IDAT" || type == "IEND") break;  // the colour chunks come before the image data
+    if (type == "sRGB" || type == "iCCP") return false;
+    if (type == "gAMA") gamma_one = length == 4 && be32(file, pos + 8) == kLinearGama;
+    pos += 12 + std::size_t(length);
+  }
+  return gamma_one;
 }
 
 std::optional<Header> plain_header(std::string_view file) {
@@ -175,6 +199,7 @@ std::optional<Header> plain_header(std::string_view file) {
   if ((h.bits != 8 && h.bits != 16) || (colour != 0 && colour != 2) || byte(10) != 0 || byte(11) != 0 || byte(12) != 0)
     return std::nullopt;
   h.channels = colour == 2 ? 3 : 1;
+  h.linear = declares_linear(file);
   // Transparency (tRNS) would add an alpha channel, a palette is only a suggestion here but rare:
   // both to the general reader.
   for (pos += 25; pos + 8 <= file.size();) {

@@ -18,13 +18,22 @@
 namespace hydrolux::io::png {
 
 // Samples in PNG order (rows top to bottom, channels interleaved, 16-bit samples big-endian) as a
-// PNG file with the sRGB, gAMA and cHRM chunks of an sRGB image. `level`: 0 stores the rows
+// PNG file with the sRGB, gAMA and cHRM chunks of an sRGB image or, with `linear` (data that is not
+// colour: a coverage mask), a gAMA of 1.0 (100000) and no sRGB or cHRM chunk, which says that the
+// codes are linear (declares_linear). `level`: 0 stores the rows
 // unfiltered; 1-2 filter every row with Up; 3-9 choose each row's filter by the PNG
 // specification's heuristic (the least sum of absolute differences); the level is libdeflate's.
-std::string encode(const std::uint8_t* samples, int width, int height, int channels, int bits, int level);
+std::string encode(const std::uint8_t* samples, int width, int height, int channels, int bits, int level,
+                   bool linear = false);
+
+// Whether a PNG declares its codes linear: a gAMA chunk of 1.0 (100000) before the image data and
+// no sRGB or iCCP chunk (which would take precedence over gAMA). Every other PNG is read as sRGB.
+// The file's chunk structure must have been walked already (png_structure_problem).
+bool declares_linear(std::string_view file);
 
 struct Header {
   int width = 0, height = 0, channels = 0, bits = 0;
+  bool linear = false;  // declares_linear: the codes are linear, not sRGB
 };
 
 // The header of a PNG the fast reader takes, or nullopt. The file's chunk structure must have been

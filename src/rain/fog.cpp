@@ -181,7 +181,11 @@ Vec3 estimate_sky(const Image& frame) {
   return sum / double(keep);
 }
 
-Image fog_glow(const Image& source_in, const RainCamera& cam, const PhaseTable& apparent, int cells, double pair_budget) {
+Image fog_glow(const Image& source_in, const RainCamera& cam, const PhaseTable& apparent, int cells, double pair_budget,
+               const ProgressFn& progress) {
+  const auto step = [&](double fraction) {  // where the caller may stop the work (its callback throws)
+    if (progress) progress(fraction, "glow");
+  };
   const int W = source_in.width, H = source_in.height;
   // Sources below 1e-6 of the brightest are left out (a lamp behind an optical depth of 20 still has
   // a positive tau e^-tau): they would only make the cells coarser.
@@ -196,6 +200,7 @@ Image fog_glow(const Image& source_in, const RainCamera& cam, const PhaseTable& 
   const int f_max = std::max(1, (std::max(W, H) + cells - 1) / cells);
   int f = f_max;
   for (int k = 1; k < f_max; ++k) {
+    step(0);
     const int kw = (W + k - 1) / k, kh = (H + k - 1) / k;
     std::vector<char> lit(std::size_t(kw) * std::size_t(kh), 0);
     for (int y = 0; y < H; ++y)
@@ -230,6 +235,7 @@ Image fog_glow(const Image& source_in, const RainCamera& cam, const PhaseTable& 
   std::vector<Vec3> g(e.size(), Vec3(0.0));
   for (std::size_t s = 0; s < e.size(); ++s) {
     if (e[s][0] <= 0 && e[s][1] <= 0 && e[s][2] <= 0) continue;
+    step(double(s) / double(e.size()));
     // The cell's own light within the cap of its solid angle: 2 pi (1 - cos) = 4 pi u^2.
     g[s] += e[s] * apparent.cumulative(std::sqrt(omega[s] / (4 * kPi)));
     const Vec3 w = e[s] * (omega[s] / (4 * kPi));
@@ -257,7 +263,10 @@ Image fog_glow(const Image& source_in, const RainCamera& cam, const PhaseTable& 
 }
 
 FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& cam, const FogSettings& s,
-                 const FogOptics& optics, std::optional<Vec3> sky_given) {
+                 const FogOptics& optics, std::optional<Vec3> sky_given, const ProgressFn& progress) {
+  const auto row = [&](double fraction) {  // once a row: where the caller may stop the work
+    if (progress) progress(fraction, "fog");
+  };
   validate(cam);
   if (frame.width != cam.width || frame.height != cam.height || frame.channels < 3)
     throw Error(fmt::format("fog: the frame is {}x{}x{}; the camera is {}x{} and needs 3 channels at least", frame.width,
@@ -268,7 +277,8 @@ FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& cam, 
   FogVeil out;
   FogStats& st = out.stats;
   // Finite input, negatives read as 0.
-  for (int y = 0; y < H; ++y)
+  for (int y = 0; y < H; ++y) {
+    row(0.1 * y / H);
     for (int x = 0; x < W; ++x)
       for (int c = 0; c < C; ++c) {
         const float v = frame.at(x, y, c);
@@ -277,6 +287,7 @@ FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& cam, 
                                   x, y, c, std::isnan(v) ? "NaN" : v > 0 ? "+inf" : "-inf"));
         if (c < 3 && v < 0) ++st.negative_values_clamped;
       }
+  }
   const auto clear = [&](int x, int y, int c) { return std::max(0.f, frame.at(x, y, c)); };
   Vec3 A;
   if (sky_given) {
@@ -300,7 +311,8 @@ FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& cam, 
   ranges.reserve(npx);
   double tsum = 0, tmin = 1, tmax = 0;
   std::size_t sky_px = 0, glow_src = 0;
-  for (int y = 0; y < H; ++y)
+  for (int y = 0; y < H; ++y) {
+    row(0.1 + 0.2 * y / H);
     for (int x = 0; x < W; ++x) {
       const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
       const double zc = depth ? double(depth->pixels[i]) : double(z[i]);
@@ -326,8 +338,9 @@ FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& cam, 
       }
       glow_src += src ? 1 : 0;
     }
+  }
   if (s.glow) {
-    out.glow = fog_glow(source, cam, optics.apparent);
+    out.glow = fog_glow(source, cam, optics.apparent, kGlowCells, kGlowPairBudget, progress);
     double gl = 0;
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) gl += luminance(out.glow.at(x, y, 0), out.glow.at(x, y, 1), out.glow.at(x, y, 2));
@@ -368,8 +381,9 @@ Image apply_fog_veil(const Image& frame, const FogVeil& veil) {
 }
 
 FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& cam, const FogSettings& s,
-                    const FogOptics& optics, std::optional<Vec3> sky_given) {
-  FogVeil veil = fog_veil(frame, depth, cam, s, optics, sky_given);
+                    const FogOptics& optics, std::optional<Vec3> sky_given, const ProgressFn& progress) {
+  FogVeil veil = fog_veil(frame, depth, cam, s, optics, sky_given, progress);
+  if (progress) progress(0.95, "fog");
   FogFrame out;
   out.stats = veil.stats;
   out.image = apply_fog_veil(frame, veil);

@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -348,12 +349,13 @@ std::vector<LensCap> place_lens_drops(const LensDropSettings& s, int width, int 
   return caps;
 }
 
-LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s) {
+LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s, const ProgressFn& progress) {
   const auto caps = place_lens_drops(s, clean.width, clean.height);
-  return render_lens_drops(clean, s, caps);
+  return render_lens_drops(clean, s, caps, progress);
 }
 
-LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s, std::span<const LensCap> caps) {
+LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s, std::span<const LensCap> caps,
+                                  const ProgressFn& progress) {
   validate(s);
   const int W = clean.width, H = clean.height, C = clean.channels;
   if (W < 1 || H < 1 || C < 1) throw Error("render_lens_drops: an empty image");
@@ -387,7 +389,10 @@ LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s,
     boxes.push_back({std::max(0, lo(px - pr, W)), std::min(W - 1, up(px + pr, W)), std::max(0, lo(py - pr, H)),
                      std::min(H - 1, up(py + pr, H))});
   }
+  std::atomic<int> rows_done{0};
   tbb::parallel_for(0, H, [&](int y) {
+    // Once a row: the caller may stop the work here (its callback throws; the loop unwinds).
+    if (progress) progress(0.9 * rows_done.fetch_add(1, std::memory_order_relaxed) / H, "drops");
     std::vector<float> value(std::size_t(C), 0.f);
     for (std::size_t n = 0; n < caps.size(); ++n) {
       const Box& b = boxes[n];
@@ -424,6 +429,7 @@ LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s,
     blur_channel(cover, 0, r, plane, nullptr);
     for (std::size_t i = 0; i < plane.size(); ++i) out.mask.pixels[i] = std::clamp(plane[i], 0.f, 1.f);
     for (int c = 0; c < C; ++c) {
+      if (progress) progress(0.9 + 0.1 * c / C, "blur");
       blur_channel(layer, c, r, plane, &out.mask.pixels);
       for (std::size_t i = 0; i < plane.size(); ++i) blurred.pixels[i * C + c] = std::max(0.f, plane[i]);
     }

@@ -245,5 +245,66 @@ TEST(PngFastReader, LeavesTheRestToLibpng) {
   EXPECT_TRUE(same_floats(extra.image.pixels, decode_image(good, "x.png").image.pixels));
 }
 
+// Data that is not colour (coverage masks: Image::non_colour) is written as linear codes with gAMA
+// 1.0 and no sRGB chunk, and every reader takes a PNG that says so as code / max: the fast reader
+// (grey, RGB) and OpenImageIO's (grey + alpha, RGBA) alike; an sRGB file, or one whose sRGB chunk
+// overrides a gAMA of 1.0, still through the curve (issue 37: a mask's 0.17 read back as 0.02).
+TEST(PngLinear, MasksReadBackAsWritten) {
+  Image alpha(64, 8, 1);
+  for (std::size_t i = 0; i < alpha.pixels.size(); ++i) alpha.pixels[i] = float(i) / float(alpha.pixels.size() - 1);
+  alpha.pixels[5] = 0.17f;
+  for (const int bits : {8, 16}) {
+    const std::string file = encode_image(coverage_for_encoding(alpha, ImageFormat::png), ImageFormat::png, {bits, 6});
+    EXPECT_EQ(file.find("sRGB"), std::string::npos);
+    EXPECT_NE(file.find(std::string("gAMA\x00\x01\x86\xa0", 8)), std::string::npos);
+    EXPECT_TRUE(png::declares_linear(file));
+    const auto h = png::plain_header(file);
+    ASSERT_TRUE(h && h->linear);
+    const DecodedImage d = decode_image(file, "mask.png");
+    EXPECT_TRUE(d.linear);
+    const double step = bits == 8 ? 255.0 : 65535.0;
+    for (std::size_t i = 0; i < alpha.pixels.size(); ++i)
+      ASSERT_NEAR(d.image.pixels[i], alpha.pixels[i], 0.5 / step + 1e-7) << bits << " bits, value " << i;
+  }
+  // Three channels (the fast reader) and a file the fast reader leaves to OpenImageIO's (more image
+  // data than the rows): the same linear reading.
+  Image data(16, 4, 3);
+  for (std::size_t i = 0; i < data.pixels.size(); ++i) data.pixels[i] = float(i % 97) / 96.0f;
+  data.non_colour = true;
+  const DecodedImage rgb = decode_image(encode_image(data, ImageFormat::png, {16, 6}), "data.png");
+  EXPECT_TRUE(rgb.linear);
+  for (std::size_t i = 0; i < data.pixels.size(); ++i)
+    ASSERT_NEAR(rgb.image.pixels[i], data.pixels[i], 0.5 / 65535 + 1e-7) << "value " << i;
+  // A colour image still goes through the curve, and says so.
+  Image colour(4, 4, 3);
+  for (std::size_t i = 0; i < colour.pixels.size(); ++i) colour.pixels[i] = float(i) / 47.0f;
+  const std::string srgb = encode_image(colour, ImageFormat::png, {16, 6});
+  EXPECT_NE(srgb.find("sRGB"), std::string::npos);
+  EXPECT_FALSE(png::declares_linear(srgb));
+  const DecodedImage back = decode_image(srgb, "colour.png");
+  EXPECT_FALSE(back.linear);
+  for (std::size_t i = 0; i < colour.pixels.size(); ++i) EXPECT_NEAR(back.image.pixels[i], colour.pixels[i], 2e-5);
+  // Files from elsewhere: gAMA 1.0 alone is linear; with an sRGB chunk (which takes precedence) or
+  // another gamma, the curve.
+  const std::string rows = std::string("\0", 1) + "\x2b\x80";  // one row of 2 grey pixels: 43, 128
+  const std::string gama1 = chunk("gAMA", be32(100000)), gama045 = chunk("gAMA", be32(45455));
+  const std::string srgb_chunk = chunk("sRGB", std::string(1, '\0'));
+  const DecodedImage lin = decode_image(png_file(2, 1, 8, 0, rows, gama1), "x.png");
+  EXPECT_TRUE(lin.linear);
+  EXPECT_FLOAT_EQ(lin.image.pixels[0], 43.0f / 255.0f);
+  const std::string too_long = png_file(2, 1, 8, 0, rows + std::string(1, '\0') + "\x01\x02", gama1);
+  std::vector<std::uint8_t> samples;
+  EXPECT_FALSE(png::read_samples(too_long, *png::plain_header(too_long), samples));  // to OpenImageIO
+  const DecodedImage oiio = decode_image(too_long, "x.png");
+  EXPECT_TRUE(oiio.linear);
+  EXPECT_FLOAT_EQ(oiio.image.pixels[0], 43.0f / 255.0f);
+  EXPECT_FLOAT_EQ(oiio.image.pixels[1], 128.0f / 255.0f);
+  for (const std::string& extra : {gama045, srgb_chunk + gama1, gama1 + srgb_chunk, std::string()}) {
+    const DecodedImage d = decode_image(png_file(2, 1, 8, 0, rows, extra), "x.png");
+    EXPECT_FALSE(d.linear);
+    EXPECT_FLOAT_EQ(d.image.pixels[0], float(color::srgb_decode(43.0f / 255.0f)));
+  }
+}
+
 }  // namespace
 }  // namespace hydrolux::io

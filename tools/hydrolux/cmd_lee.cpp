@@ -120,7 +120,8 @@ int run_lee(const LeeArgs& a) {
                               scatter::theory_name(s.theory), s.size_spread, s.wavelength_min_nm));
   }
   atmos::validate(s);
-  check_table_memory({&s}, a.size ? *a.size : fmt::format("{}x{} (the default)", s.columns, s.rows));
+  atmos::check_table_memory({&s}, a.size ? *a.size : fmt::format("{}x{} (the default)", s.columns, s.rows),
+                            atmos::SizeSyntax::cli);
   if (!a.json && a.output.empty())
     throw Error("-o is required (a .exr path, or .nc for NetCDF), unless --json prints a profile");
   if (a.json && !single) throw Error("--json prints one radius's profile: give a single --radius-um R");

@@ -127,19 +127,7 @@ nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& n
 }
 
 void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const std::string& size_text) {
-  const atmos::LeeSpec* worst = nullptr;
-  double need = 0;
-  for (const auto* sp : specs)
-    if (const double b = atmos::estimated_bytes(*sp); b > need) need = b, worst = sp;
-  const double avail = double(available_memory_bytes());
-  if (!worst || need <= avail) return;
-  // The arrays grow with columns x rows: scale both sides alike.
-  const double k = std::sqrt(std::max(0.0, avail - atmos::kLeeFixedBytes) / (need - atmos::kLeeFixedBytes));
-  throw Error(fmt::format("--size {}: the {} table needs about {} of memory and {} is available; about --size "
-                          "{:.0f}x{:.0f} would fit",
-                          size_text, atmos::table_kind_name(worst->table), format_bytes(need), format_bytes(avail),
-                          std::max(1.0, std::floor(specs.front()->columns * k)),
-                          std::max(1.0, std::floor(specs.front()->rows * k))));
+  atmos::check_table_memory(specs, size_text, atmos::SizeSyntax::cli);  // the library's one check
 }
 
 // A frame too large for the memory left is refused before the work, naming what would fit.

@@ -40,10 +40,7 @@ LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& path);
 // Returns the table's manifest entry.
 nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& name, const atmos::LeeTable& t);
 
-// Refuses, before the work, tables whose computation would not fit in the memory available
-// (atmos::estimated_bytes, the largest of `specs`, which are computed one after the other): one line
-// naming --size with `size_text` and a size that would fit, in the first spec's terms (the one
-// --size sets; the others scale with it).
+// atmos::check_table_memory in the CLI's words (--size WxH): hydrolux export's tables.
 void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const std::string& size_text);
 
 // Refuses, before the work, a hydrolux sky frame that would not fit in the memory available

@@ -217,6 +217,18 @@ double max_shape_radius_um(const LeeSpec& spec);
 inline constexpr double kLeeEncoderBytesPerPixel = 20, kLeeFixedBytes = 150e6;
 double estimated_bytes(const LeeSpec& spec);
 
+// Refuses, before the work, tables whose computation would not fit in `available` bytes of memory
+// (available_memory_bytes(), core/memory.hpp, unless a caller gives it): the largest estimated_bytes
+// of `specs`, which are computed one after the other. The one check every door makes (hydrolux lee
+// and export, hydrolux.lee): an Error of one line naming the size as the door calls it and as given
+// (`size_text`), both byte counts and a size that would fit, in the first spec's terms (the others
+// scale with it): "--size 8192x8192: the rainbow table needs about 9.2 GB of memory and 3.1 GB is
+// available; about --size 4800x4800 would fit" (SizeSyntax::cli), or "size (8192, 8192): ...;
+// about size=(4800, 4800) would fit" (SizeSyntax::python).
+enum class SizeSyntax { cli, python };
+void check_table_memory(const std::vector<const LeeSpec*>& specs, const std::string& size_text, SizeSyntax syntax,
+                        std::optional<std::uint64_t> available = std::nullopt);
+
 // The sample positions: radius_um per column, theta in degrees and its cosine per row.
 std::vector<double> column_radii_um(const LeeSpec& spec);
 std::vector<double> row_angles_deg(const LeeSpec& spec);

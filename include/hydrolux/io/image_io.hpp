@@ -3,12 +3,15 @@
 // regular files, atomic checked writes), and OpenImageIO only encodes and decodes.
 //
 // Written: .exr linear float (scene-referred), 32-bit float, zip-compressed; .png display-referred,
-// the sRGB curve applied and quantised to 8 or 16 bits. Both are deterministic: the same image gives
+// the sRGB curve applied and quantised to 8 or 16 bits, with the sRGB chunk; data that is not colour
+// (Image::non_colour: coverage masks) quantised linearly, with gAMA 1.0 and no sRGB chunk. Both are deterministic: the same image gives
 // the same bytes (no time stamp: OpenImageIO's EXR DateTime/capDate is written empty).
 // Read: PNG, OpenEXR, Radiance HDR, PNM (PBM/PGM/PPM/PFM), JPEG and TIFF, told apart by their first
-// bytes (never by probing every reader). EXR, HDR and PFM are linear; 8- and 16-bit formats are
-// taken as sRGB-encoded and decoded to linear (alpha stays linear), through a table of every code
-// holding color::srgb_decode of the code's value (the same floats as the curve, without a pow each).
+// bytes (never by probing every reader). EXR, HDR and PFM are linear, and so is a PNG that declares
+// it (gAMA 1.0 and no sRGB or iCCP chunk: what hydrolux writes for masks), read as code / max; other
+// 8- and 16-bit files are taken as sRGB-encoded and decoded to linear (alpha stays linear), through a
+// table of every code holding color::srgb_decode of the code's value (the same floats as the curve,
+// without a pow each). DecodedImage::linear says which.
 //
 // A header is never trusted: width x height x channels is checked against ImageLimits, and for
 // the formats whose compression has a known maximum ratio (PNG, PNM, HDR, JPEG) against the size
@@ -68,6 +71,10 @@ struct DecodedImage {
   // The file's channel names in the image's channel order (OpenEXR's, e.g. "Q.X"; the others' as the
   // codec names them). Kept here, not on the image, so a caller's new image never inherits them.
   std::vector<std::string> channel_names;
+  // The file holds linear values: a float format (EXR, HDR, PFM, float TIFF) or a PNG that declares
+  // linear codes (gAMA 1.0, no sRGB chunk), decoded without the sRGB curve. False: the codes were
+  // decoded through the sRGB curve.
+  bool linear = false;
 };
 
 // An image coder passed in by a caller that loads the codecs itself (the CLI's image plugin keeps
@@ -135,14 +142,16 @@ std::string tiff_structure_problem(std::string_view bytes, const ImageLimits& li
 std::string jpeg_without_metadata(std::string_view bytes);
 
 // A coverage mask (1 channel, alpha in [0, 1]) as hydrolux writes it: EXR linear, channel "Y"; PNG
-// 16-bit with codes alpha x 65535 (the PNG encoder applies the sRGB curve to a grey channel, so the
-// value is handed over through its inverse). Encode the result with PngOptions{16} for PNG.
+// with linear codes alpha x 65535 (Image::non_colour: gAMA 1.0 and no sRGB chunk, so that every
+// reader, hydrolux's own too, reads back alpha within half a code). Encode the result with
+// PngOptions{16} for PNG.
 Image coverage_for_encoding(const Image& alpha, ImageFormat format);
 
 // A depth map as camera z in metres for a width x height frame (hydrolux rain --depth, the Python
 // batch's --depth-dir): an EXR (or another linear format) holds metres in its first channel; a PNG,
-// TIFF or PNM holds 16-bit codes times `scale_m` (the decoder hands them over through the sRGB
-// curve, which round-trips to well under half a code; an 8-bit file's codes are multiples of 257),
+// TIFF or PNM holds 16-bit codes times `scale_m` (the decoder hands them over as code / max for a
+// PNG that declares linear codes, else through the sRGB curve, which round-trips to well under half
+// a code; an 8-bit file's codes are multiples of 257),
 // code 0 meaning no geometry (infinity). Another resolution with the frame's aspect is sampled at the
 // nearest pixel. Error naming `origin` for another aspect, a map smaller than 1/kMinDepthMapFraction
 // of the frame a side, or a JPEG (lossy codes are not depths).

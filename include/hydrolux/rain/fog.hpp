@@ -60,6 +60,7 @@
 
 #include "hydrolux/core/image.hpp"
 #include "hydrolux/core/params.hpp"
+#include "hydrolux/core/progress.hpp"
 #include "hydrolux/rain/rain.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 
@@ -156,8 +157,10 @@ struct FogVeil {
   Image glow;  // 3 channels, or empty
   FogStats stats;
 };
+// `progress`: called once a row of each pass and once a source cell of the glow; a callback that
+// throws (a caller's Ctrl-C) stops the work, the exception passed on. It never changes the result.
 FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& camera, const FogSettings& s,
-                 const FogOptics& optics, std::optional<Vec3> sky = std::nullopt);
+                 const FogOptics& optics, std::optional<Vec3> sky = std::nullopt, const ProgressFn& progress = {});
 
 // The frame seen through the veil: clear t + sky (1 - t) + glow per RGB value (negatives read as 0),
 // the channels beyond 3 copied. Rows in parallel; the same floats whatever the threads.
@@ -166,8 +169,9 @@ Image apply_fog_veil(const Image& frame, const FogVeil& veil);
 // Fog over `frame` (linear RGB, >= 3 channels, the camera's size). `depth`: null (the ground plane)
 // or 1 channel of camera z, m. `sky`: the airlight colour, or estimate_sky(frame). NonFinitePixel
 // for a non-finite input value; negative values read as 0. Deterministic, single-threaded.
+// `progress` as fog_veil's (a throwing callback stops the work).
 FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& camera, const FogSettings& s,
-                    const FogOptics& optics, std::optional<Vec3> sky = std::nullopt);
+                    const FogOptics& optics, std::optional<Vec3> sky = std::nullopt, const ProgressFn& progress = {});
 
 // The glow alone (3 channels) of a source radiance S (3 channels: the excess times tau t),
 // through the apparent phase table, for the camera (see above). Cells of at most `cells` pixels
@@ -178,7 +182,7 @@ FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& ca
 inline constexpr int kGlowCells = 96;
 inline constexpr double kGlowPairBudget = 3e7;
 Image fog_glow(const Image& source, const RainCamera& camera, const PhaseTable& apparent, int cells = kGlowCells,
-               double pair_budget = kGlowPairBudget);
+               double pair_budget = kGlowPairBudget, const ProgressFn& progress = {});
 
 // ---- declared parameters (hydrolux fog, hydrolux.fog) ----
 struct FogOptions {

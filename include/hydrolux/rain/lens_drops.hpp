@@ -23,6 +23,7 @@
 
 #include "hydrolux/core/image.hpp"
 #include "hydrolux/core/params.hpp"
+#include "hydrolux/core/progress.hpp"
 #include "hydrolux/core/vec.hpp"
 
 namespace hydrolux::rain {
@@ -114,9 +115,12 @@ struct LensDropsResult {
 // Renders the drops over `clean` (linear, any channel count, not modified): each sub-pixel sample
 // inside a footprint sees transmittance x the image at the traced direction (bilinear, clamped at
 // the borders; 0 under total internal reflection), the layer and its coverage are blurred by
-// disk_blur with the circle of confusion, and composited over the image.
-LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& settings);
+// disk_blur with the circle of confusion, and composited over the image. `progress` is called once
+// a row of the drops' layer and once a blurred channel, from the worker threads: a callback that
+// throws (a caller's Ctrl-C) stops the work, the exception passed on; it never changes the result.
 LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& settings,
-                                  std::span<const LensCap> caps);
+                                  const ProgressFn& progress = {});
+LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& settings,
+                                  std::span<const LensCap> caps, const ProgressFn& progress = {});
 
 }  // namespace hydrolux::rain
