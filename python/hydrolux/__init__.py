@@ -1052,10 +1052,10 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     >>> bow = hydrolux.lee(theory="airy", radius_um=500, angle_deg=(135, 145), size=(1, 11), wavelengths=8)
     >>> bow.rgb.shape   # one radius: one column
     (11, 1, 3)
-    >>> flat = hydrolux.lee(theory="airy", shape="beard-chuang", position_deg=0, radius_um=1000,
+    >>> flat = hydrolux.lee(theory="airy", shape="beard-chuang", position_deg=0, radius_um=800,
     ...                     angle_deg=(135, 145), size=(1, 11), wavelengths=8)   # the top of the bow
     >>> flat.info["drop_shape"]["name"], flat.info["drop_shape"]["axis_ratio"].round(3)
-    ('beard-chuang', array([0.926]))
+    ('beard-chuang', array([0.953]))
     """
     arguments = dict(locals())  # the call as given, for the labelled form's history
     # Each argument's type is checked in the signature's order; the declared ones go to _core by name.
@@ -1411,6 +1411,7 @@ def lens_drops(image: np.ndarray, **options: Any) -> LensDropsResult:
         if k not in _LENS_DROPS_OPTIONS:
             raise TypeError(f"unknown lens_drops option '{k}' (options: {', '.join(_LENS_DROPS_OPTIONS)})")
     d = _core.lens_drops(_array_arg(image, "image"), {k: v for k, v in options.items() if v is not None})
+    _warn_negative(d["negative_values_clamped"], "lens_drops")
     return LensDropsResult(d["image"], d["mask"])
 
 

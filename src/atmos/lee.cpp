@@ -307,22 +307,20 @@ DropShapeSpec parse_drop_shape(std::string_view text) {
   if (text.starts_with("spheroid:")) {
     const auto q = parse::number(text.substr(9));
     if (!q)
-      throw UnknownNameError(fmt::format("shape '{}': the axis ratio after 'spheroid:' is not a number", text));
-    if (!(*q > kMinAxisRatio && *q <= 1))
+      throw UnknownNameError(fmt::format("shape '{}': the axis ratio after 'spheroid:' is not a number (give Q in [{:g}, 1])",
+                                         text, kMinBowAxisRatio));
+    if (!(*q >= kMinBowAxisRatio && *q <= 1))
       throw DomainError::with_message(
-          fmt::format("shape '{}': axis_ratio = {:g} is outside (0.3, 1] (polar over equatorial axis)", text, *q),
-          "axis_ratio", *q, kMinAxisRatio, 1);
-    if (*q < kMinBowAxisRatio)
-      throw DomainError::with_message(
-          fmt::format("shape '{}': axis_ratio = {:g} is outside [{:g}, 1], the axis ratios whose primary bow the "
-                      "plane-section method describes (docs/non-spherical.md)",
+          fmt::format("shape '{}': axis_ratio = {:g} is outside [{:g}, 1], the axis ratios (polar over equatorial) "
+                      "whose bows the plane-section method describes (docs/non-spherical.md)",
                       text, *q, kMinBowAxisRatio),
           "axis_ratio", *q, kMinBowAxisRatio, 1);
     s.kind = DropShapeSpec::Kind::spheroid;
     s.axis_ratio = *q;
     return s;
   }
-  throw UnknownNameError(fmt::format("shape '{}': expected sphere, spheroid:Q (axis ratio 0.3 < Q <= 1) or beard-chuang", text));
+  throw UnknownNameError(fmt::format("shape '{}': expected sphere, spheroid:Q (axis ratio Q in [{:g}, 1]) or beard-chuang",
+                                     text, kMinBowAxisRatio));
 }
 
 std::string drop_shape_name(const DropShapeSpec& s) {

@@ -233,4 +233,62 @@ TEST(LeeShapes, Validation) {
   }
 }
 
+// Issue 37: axis ratios 0.70-0.76 were computed with exit 0 although the one-fold Airy profile fails
+// there (the hyperbolic umbilic at width / height 1.31, Q = 0.763: Marston and Trinh, Nature 312, 529,
+// 1984): at the top of the bow with the sun on the horizon the primary collapsed onto 180 degrees with
+// a 1/sin term ~1500 times a sphere's peak (Q = 0.709) and the secondary was an all-zero table
+// (Q <= 0.72). The limit is now 0.77 in every door, with one range in every message. At the limit the
+// bow is still a bow: at the top (the worst place: the section there is the drop's own flattened
+// meridian) and at the side, the primary for the sun on the horizon and at 30 degrees, the secondary
+// for the sun on the horizon,
+// each table's peak is finite, lies away from 180 degrees (the collapse) and within 5 times the
+// sphere's and above 1/20 of it (measured: the primary 3.4 times at the top, sun on the horizon; the
+// secondary there 0.14 times).
+TEST(LeeShapes, AxisRatiosBelowTheUmbilicAreRefusedAndTheLimitKeepsABow) {
+  for (const char* bad : {"spheroid:0.769", "spheroid:0.709", "spheroid:0.3", "spheroid:1.01"}) {
+    SCOPED_TRACE(bad);
+    try {
+      (void)atmos::parse_drop_shape(bad);
+      ADD_FAILURE() << "accepted";
+    } catch (const DomainError& e) {
+      EXPECT_EQ(e.quantity(), "axis_ratio");
+      EXPECT_EQ(e.lo(), 0.77);
+      EXPECT_NE(std::string(e.what()).find("outside [0.77, 1]"), std::string::npos) << e.what();
+    }
+  }
+  try {
+    (void)atmos::parse_drop_shape("spheroid:x");
+    ADD_FAILURE();
+  } catch (const UnknownNameError& e) {
+    EXPECT_NE(std::string(e.what()).find("[0.77, 1]"), std::string::npos) << e.what();
+  }
+  const auto sphere_peak = [](double a0, double a1, const char* theory) {
+    LeeSpec s = airy_profile(500, a0, a1, 901, "sphere", 0);
+    s.theory = scatter::parse_theory(theory);
+    const auto y = luminance(atmos::compute_lee_table(s));
+    return *std::max_element(y.begin(), y.end());
+  };
+  const double primary = sphere_peak(120, 180, "airy"), secondary = sphere_peak(90, 180, "airy:3");
+  for (const char* theory : {"airy", "airy:3"})
+    for (double position : {0.0, 90.0})
+      for (double sun : {0.0, 30.0}) {
+        // The secondary of flattened drops with the sun up fades at some positions for Q = 0.8 as for
+        // 0.77 (a separate question, left to the 3-D tracer's check, issue 39): the horizon sun only.
+        if (std::string(theory) == "airy:3" && sun > 0) continue;
+        SCOPED_TRACE(std::string(theory) + " position " + std::to_string(position) + " sun " + std::to_string(sun));
+        LeeSpec s = airy_profile(500, 90, 180, 901, "spheroid:0.77", position, sun);
+        s.theory = scatter::parse_theory(theory);
+        const LeeTable t = atmos::compute_lee_table(s);
+        const auto y = luminance(t);
+        const double top = *std::max_element(y.begin(), y.end());
+        const double ref = std::string(theory) == "airy" ? primary : secondary;
+        EXPECT_TRUE(std::isfinite(top));
+        EXPECT_GT(top, 0.05 * ref);  // the secondary at the top, sun on the horizon: 0.14 of a sphere's
+        EXPECT_LT(top, 5 * ref);
+        std::vector<double> angle(y.size());
+        for (std::size_t r = 0; r < y.size(); ++r) angle[r] = 90 + 90.0 * double(r) / double(y.size() - 1);
+        EXPECT_LT(peak_deg(angle, y), 176.0);
+      }
+}
+
 }  // namespace

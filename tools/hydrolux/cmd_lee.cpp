@@ -195,9 +195,10 @@ Command add_lee(CLI::App& app) {
       ->capture_default_str();
   declared("temperature_c", "temperature_c");
   sub->add_option("--shape", args->req->shape,
-                  "Drop shape: sphere, spheroid:Q (axis ratio Q = polar / equatorial in (0.3, 1], axis vertical) or "
-                  "beard-chuang (falling drops, Q from the radius); non-spherical drops need --theory airy or "
-                  "airy:3 (docs/non-spherical.md)")
+                  fmt::format("Drop shape: sphere, spheroid:Q (axis ratio Q = polar / equatorial in [{:g}, 1], axis "
+                              "vertical) or beard-chuang (falling drops, Q from the radius); non-spherical drops need "
+                              "--theory airy or airy:3 (docs/non-spherical.md)",
+                              atmos::kMinBowAxisRatio))
       ->capture_default_str();
   declared("sun_elevation_deg", "canting_deg");
   sub->add_option("--medium", args->medium, "Drop medium (hydrolux ior --list)")->capture_default_str();

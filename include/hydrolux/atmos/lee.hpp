@@ -80,12 +80,15 @@ struct DropShapeSpec {
   double axis_ratio = 1;  // spheroid only
   bool spherical() const { return kind == Kind::sphere; }
 };
-// The axis ratios a spheroid may have: (0.3, 1] is the shape's domain; the plane-section method
-// covers kMinBowAxisRatio and above (below it the primary's fold meets the hyperbolic umbilic and
-// the section loses its bow: docs/non-spherical.md).
-inline constexpr double kMinAxisRatio = 0.3, kMinBowAxisRatio = 0.7;
-// "sphere", "spheroid:Q" (0.3 < Q <= 1) or "beard-chuang". UnknownNameError for another name,
-// DomainError ("axis_ratio") for Q outside (0.3, 1] or below kMinBowAxisRatio.
+// The axis ratios a spheroid may have: [kMinBowAxisRatio, 1], the flattening whose bows the
+// plane-section method describes. Below it the primary's fold meets the hyperbolic umbilic (width /
+// height 1.31 in our 3-D trace and Marston and Trinh's, Q = 0.763), the one-fold Airy profile of the
+// section collapses onto 180 degrees at the top of the bow (its 1/sin term grows without bound: at
+// Q = 0.709, 1500 times a sphere's peak) and the secondary's section loses its ray (an all-zero table
+// at Q <= 0.72): docs/non-spherical.md.
+inline constexpr double kMinBowAxisRatio = 0.77;
+// "sphere", "spheroid:Q" (kMinBowAxisRatio <= Q <= 1) or "beard-chuang". UnknownNameError for another
+// name, DomainError ("axis_ratio") for Q outside [kMinBowAxisRatio, 1], one message for every door.
 DropShapeSpec parse_drop_shape(std::string_view text);
 std::string drop_shape_name(const DropShapeSpec& s);
 // The axis ratio of a drop of equal-volume radius radius_um (1 for spheres). For beard-chuang
@@ -202,7 +205,7 @@ void validate(const LeeSpec& spec);
 // defaults (Mie, spread 0.1, 380 nm) that is 2695 um; with no spread 6048, so kMaxRadiusUm.
 double max_radius_um(const LeeSpec& spec);
 // The largest whole radius (um) whose population keeps the method's axis ratio (kMinBowAxisRatio)
-// at its largest drop: for beard-chuang drops ~1114 um with the 10% spread; kMaxRadiusUm for other
+// at its largest drop: for beard-chuang drops ~888 um with the 10% spread; kMaxRadiusUm for other
 // shapes. validate() refuses larger columns with this bound.
 double max_shape_radius_um(const LeeSpec& spec);
 
