@@ -150,6 +150,7 @@ py::dict lens_drops(const py::array& image, const py::dict& kw) {
   d["drops"] = r.drops;
   d["coverage"] = r.coverage;
   d["blur_diameter_px"] = r.blur_diameter_px;
+  d["negative_values_clamped"] = r.negative_values_clamped;
   return d;
 }
 

@@ -408,7 +408,7 @@ def test_sky_rgb_takes_a_sequence_or_an_array_of_three():
 def test_fog_and_lens_drops_warn_of_negative_light_as_rain_does():
     img = np.full((64, 64, 3), 0.5, np.float32)
     img[:2, :, 0] = -0.25  # 128 negative red values
-    for call, job in ((lambda: h.fog(img, visibility_m=100), "fog"),):
+    for call, job in ((lambda: h.fog(img, visibility_m=100), "fog"), (lambda: h.lens_drops(img, drops=3), "lens_drops")):
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
             call()
