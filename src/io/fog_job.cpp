@@ -11,6 +11,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/frames.hpp"
+#include "hydrolux/rain/rain.hpp"
 
 namespace hydrolux::io {
 
@@ -18,6 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+void check_fog_memory(const std::string& origin, int width, int height, int channels, bool glow) {
+  rain::check_frame_memory(origin, "fog", width, height, rain::estimated_fog_bytes(width, height, channels, glow),
+                           rain::estimated_fog_bytes(0, 0, channels, glow));
+}
 
 struct Run {
   const FogJob& a;
@@ -27,10 +33,16 @@ struct Run {
   void warn(const std::string& text) const {
     if (h.warn) h.warn(text);
   }
+  // A frame; one too large for the memory left is refused from its header, before its pixels are
+  // decoded, naming what would fit.
   Image read_image(const std::string& flag, const std::string& path) const {
     const std::string bytes = read_file(path, ImageLimits{}.max_file_bytes, flag);
     const std::string origin = fmt::format("{} {}", flag, path);
-    auto decoded = h.codec.decode(bytes, origin, ImageLimits{});
+    ImageLimits limits;
+    limits.before_pixels = [&](std::int64_t width, std::int64_t height, std::int64_t channels) {
+      check_fog_memory(origin, int(width), int(height), int(channels), a.options.settings.glow);
+    };
+    auto decoded = h.codec.decode(bytes, origin, limits);
     for (const auto& w : decoded.warnings) warn(fmt::format("{}: {}", origin, w));
     return std::move(decoded.image);
   }
@@ -58,6 +70,9 @@ rain::FogOptics optics_for(const FogJob& a) {
 
 rain::FogFrame render(const Image& frame, const Image* depth, const rain::RainCamera& cam, const FogJob& a,
                       const rain::FogOptics& optics, const std::optional<Vec3>& sky, const std::string& origin) {
+  // A frame too large for the memory left is refused before the work (an array given to the library
+  // has no header read before it), naming what would fit.
+  check_fog_memory(origin, frame.width, frame.height, frame.channels, a.options.settings.glow);
   try {
     return rain::render_fog(frame, depth, cam, a.options.settings, optics, sky);
   } catch (const DomainError&) {

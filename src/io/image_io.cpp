@@ -309,6 +309,7 @@ DecodedImage decode_image(std::string_view bytes, std::string_view origin, const
     if (c > limits.max_channels) throw fail(fmt::format("{}; the limit is {} channels", claim, limits.max_channels));
     if (w * h * c > limits.max_values)
       throw fail(fmt::format("{} ({} values); the limit is {} values", claim, w * h * c, limits.max_values));
+    if (limits.before_pixels) limits.before_pixels(w, h, c);
     return claim;
   };
 

@@ -22,10 +22,25 @@ using Warn = std::function<void(const std::string&)>;
 
 static_assert(rain::LensDropsFileOptions{}.png_compression == kDefaultPngCompression, "one default for PNG files");
 
-Image read_image(const ImageCodec& codec, const std::string& flag, const std::string& path, const Warn& warn) {
+void check_memory(const rain::LensDropSettings& s, const std::string& origin, int width, int height, int channels) {
+  const double blur =
+      rain::circle_of_confusion_mm(s.focal_mm, s.f_number, s.focus_m, s.glass_distance_m) / s.sensor_width_mm * width;
+  rain::check_frame_memory(origin, "lens drops", width, height,
+                           rain::estimated_lens_drops_bytes(width, height, channels, blur),
+                           rain::estimated_lens_drops_bytes(0, 0, channels, 0));
+}
+
+// A frame; one too large for the memory left is refused from its header, before its pixels are
+// decoded, naming what would fit.
+Image read_image(const ImageCodec& codec, const rain::LensDropSettings& s, const std::string& flag,
+                 const std::string& path, const Warn& warn) {
   const std::string bytes = read_file(path, ImageLimits{}.max_file_bytes, flag);
   const std::string origin = fmt::format("{} {}", flag, path);
-  auto decoded = codec.decode(bytes, origin, ImageLimits{});
+  ImageLimits limits;
+  limits.before_pixels = [&](std::int64_t w, std::int64_t h, std::int64_t c) {
+    check_memory(s, origin, int(w), int(h), int(c));
+  };
+  auto decoded = codec.decode(bytes, origin, limits);
   for (const auto& w : decoded.warnings)
     if (warn) warn(fmt::format("{}: {}", origin, w));
   return std::move(decoded.image);
@@ -33,6 +48,7 @@ Image read_image(const ImageCodec& codec, const std::string& flag, const std::st
 
 // The library's error on a frame, said with the frame's name.
 rain::LensDropsResult render(const Image& frame, const rain::LensDropSettings& s, const std::string& origin) {
+  check_memory(s, origin, frame.width, frame.height, frame.channels);
   try {
     return rain::render_lens_drops(frame, s);
   } catch (const DomainError&) {
@@ -40,6 +56,11 @@ rain::LensDropsResult render(const Image& frame, const rain::LensDropSettings& s
   } catch (const Error& e) {
     throw Error(fmt::format("{}: {}", origin, e.what()));
   }
+}
+
+void warn_negative(const rain::LensDropsResult& r, const std::string& origin, const Warn& warn) {
+  if (r.negative_values_clamped > 0 && warn)
+    warn(fmt::format("{}: {} negative values read as 0 (light cannot be negative)", origin, r.negative_values_clamped));
 }
 
 LensDropsJobResult summary(const rain::LensDropsResult& r, std::size_t frames, Clock::time_point start) {
@@ -67,8 +88,9 @@ LensDropsJobResult run_image(const LensDropsJob& a, const ImageCodec& codec, con
     mask_format = output_image_format(*a.mask_out, "--mask-out");
     mask = &files.output("--mask-out", *a.mask_out);
   }
-  const Image frame = read_image(codec, "--image", *a.image, warn);
+  const Image frame = read_image(codec, a.settings, "--image", *a.image, warn);
   const auto r = render(frame, a.settings, "--image " + *a.image);
+  warn_negative(r, "--image " + *a.image, warn);
   if (mask)
     mask->write(codec.encode(coverage_for_encoding(r.mask, mask_format), mask_format,
                              PngOptions{16, a.files.png_compression}));
@@ -101,10 +123,11 @@ LensDropsJobResult run_folder(const LensDropsJob& a, const ImageCodec& codec, co
   for (std::size_t k = 0; k < plan.frames.size(); ++k) {
     const std::string name = plan.frames[k].string();
     try {
-      const Image frame = read_image(codec, "--input-dir", name, warn);
+      const Image frame = read_image(codec, a.settings, "--input-dir", name, warn);
       rain::LensDropSettings s = a.settings;
       s.seed = (a.settings.seed + k) % (rain::kMaxSeed + 1);
       last = render(frame, s, "--input-dir " + name);
+      warn_negative(last, "--input-dir " + name, warn);
       const fs::path& out_name = plan.outputs[k];
       const auto format = out_name.extension() == ".exr" ? ImageFormat::exr : ImageFormat::png;
       write_file(out_dir / out_name, codec.encode(last.image, format, PngOptions{8, a.files.png_compression}),

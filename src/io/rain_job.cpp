@@ -62,20 +62,27 @@ struct Run {
     return [this](const std::string& text) { warn(text); };
   }
 
-  DecodedImage decode(const std::string& bytes, const std::string& origin) const {
+  DecodedImage decode(const std::string& bytes, const std::string& origin, const ImageLimits& limits = {}) const {
     std::lock_guard lock(console);
-    return h.codec.decode(bytes, origin, ImageLimits{});
+    return h.codec.decode(bytes, origin, limits);
   }
 
-  // read_decoded's read: each warning of the codec to `sink` as "<flag> <path>: <warning>".
-  Image read_image(const std::string& flag, const std::string& path, const Warn& sink) const {
+  // read_decoded's read: each warning of the codec to `sink` as "<flag> <path>: <warning>". A frame too
+  // large for the memory left is refused from its header, before its pixels are decoded: rendering it
+  // with `with_layer` and `extra_bytes_per_pixel` (check_render_memory) must fit.
+  Image read_image(const std::string& flag, const std::string& path, const Warn& sink, bool with_layer = false,
+                   double extra_bytes_per_pixel = 0) const {
     const std::string bytes = read_file(path, ImageLimits{}.max_file_bytes, flag);
     const std::string origin = fmt::format("{} {}", flag, path);
-    auto decoded = decode(bytes, origin);
+    ImageLimits limits;
+    limits.before_pixels = [&](std::int64_t width, std::int64_t height, std::int64_t channels) {
+      rain::check_render_memory(rain::camera_for(a.options, int(width), int(height)), int(channels), with_layer, origin,
+                                extra_bytes_per_pixel);
+    };
+    auto decoded = decode(bytes, origin, limits);
     for (const auto& w : decoded.warnings) sink(fmt::format("{}: {}", origin, w));
     return std::move(decoded.image);
   }
-  Image read_image(const std::string& flag, const std::string& path) const { return read_image(flag, path, warner()); }
 
   // A depth map (depth_from_decoded), the JPEG refused before it is decoded. --depth-scale-m, if
   // given, must have a coded map (PNG, TIFF, PNM) to scale: an EXR holds metres.
@@ -194,7 +201,7 @@ RainJobResult run_image(const Run& run) {
     rain::check_render_memory(c, 3, layer.has_value(), "--size " + size);
     frame = rain::builtin_scene(c);
   } else {
-    frame = run.read_image("--image", *a.image);
+    frame = run.read_image("--image", *a.image, run.warner(), layer.has_value());
   }
   const rain::RainCamera cam = rain::camera_for(a.options, frame.width, frame.height);
   if (!builtin) rain::check_render_memory(cam, frame.channels, layer.has_value(), origin);
@@ -405,7 +412,7 @@ RainJobResult run_folder(const Run& run) {
       f.k = k;
       const Warn sink = [&f](const std::string& text) { f.warnings.push_back(text); };
       try {
-        f.frame = run.read_image("--input-dir", frames[k].string(), sink);
+        f.frame = run.read_image("--input-dir", frames[k].string(), sink, false, FramePipeline::kExtraBytesPerPixel);
         if (a.depth_dir) {
           try {
             f.depth = run.read_depth("--depth-dir", plan.depth_maps[k].string(), f.frame.width, f.frame.height, sink);

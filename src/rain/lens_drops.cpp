@@ -9,6 +9,7 @@
 // sharp background follows rain.hpp's "rainy = clear (1 - alpha) + layer" (Porter & Duff 1984).
 #include "hydrolux/rain/lens_drops.hpp"
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -47,7 +48,22 @@ void validate(const LensDropSettings& s) {
     throw DomainError("max_radius_mm", s.max_radius_mm, s.min_radius_mm, 10, "at least min_radius_mm");
   if (s.f_number > 0 && s.focus_m * 1e3 <= s.focal_mm)
     throw DomainError("focus_m", s.focus_m, s.focal_mm * 1e-3, 1e4, "beyond the focal length");
+  // The glass' circle of confusion at most the sensor's width: beyond it every drop would be spread
+  // over more than the frame (a uniform veil), and the blur's work (rows x columns x its diameter)
+  // and the glass region the drops are placed over (widened by the blur) would grow without bound.
+  // c is inversely proportional to N, so the smallest f-number that keeps it is N c / sensor width.
+  const double c = circle_of_confusion_mm(s.focal_mm, s.f_number, s.focus_m, s.glass_distance_m);
+  if (c > s.sensor_width_mm)
+    throw DomainError::with_message(
+        fmt::format("f_number = {:g}: with focus_m = {:g} and glass_distance_m = {:g} the glass' circle of confusion is "
+                    "{:.3g} mm, wider than the sensor ({:g} mm); give an f-number of at least {:.3g} (or 0, a pinhole), "
+                    "a focus nearer the glass or the glass farther away",
+                    s.f_number, s.focus_m, s.glass_distance_m, c, s.sensor_width_mm,
+                    s.f_number * c / s.sensor_width_mm * (1 + 1e-9)),
+        "f_number", s.f_number, s.f_number * c / s.sensor_width_mm, 64);
 }
+
+int light_channels(int channels) { return channels >= 3 ? 3 : 1; }
 
 double focal_px_for(const LensDropSettings& s, int width) { return s.focal_mm / s.sensor_width_mm * width; }
 
@@ -306,8 +322,11 @@ std::vector<LensCap> place_lens_drops(const LensDropSettings& s, int width, int 
   const auto n = std::size_t(wanted);
   const double contact = s.contact_angle_deg * kPi / 180;
   Rng rng(s.seed);
-  // A grid of cells 2 a1 wide: a footprint can only overlap those of its own and neighbouring cells.
-  const double cell = 2 * a1;
+  // A grid of cells at least 2 a1 wide: a footprint can only overlap those of its own and neighbouring
+  // cells. Cells are widened to about one drop each where the region is large against the drops (a
+  // wide blur margin), so that the grid's memory follows the drops' count, not the region's area:
+  // which cells hold a drop changes, which drops overlap does not.
+  const double cell = std::max(2 * a1, std::sqrt(region_area / double(std::max<std::size_t>(n, 1))));
   const int gx = std::max(1, int(std::ceil(2 * (X + margin) / cell))), gy = std::max(1, int(std::ceil(2 * (Y + margin) / cell)));
   std::vector<std::vector<std::uint32_t>> grid(std::size_t(gx) * gy);
   std::vector<LensCap> caps;
@@ -359,20 +378,25 @@ LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s,
   validate(s);
   const int W = clean.width, H = clean.height, C = clean.channels;
   if (W < 1 || H < 1 || C < 1) throw Error("render_lens_drops: an empty image");
-  for (std::size_t i = 0; i < clean.pixels.size(); ++i)
+  // The light: the first three channels (one of a grey image, or of grey and alpha); any others
+  // (alpha, depth, masks) are not light and pass through unchanged, as rain and fog leave them.
+  const int L = light_channels(C);
+  LensDropsResult out;
+  for (std::size_t i = 0; i < clean.pixels.size(); ++i) {
     if (!std::isfinite(clean.pixels[i])) {
       const std::size_t p = i / std::size_t(C);
       throw Error("pixel (" + std::to_string(p % std::size_t(W)) + ", " + std::to_string(p / std::size_t(W)) +
                   ") is not finite; give an image of finite values");
     }
+    if (clean.pixels[i] < 0 && int(i % std::size_t(C)) < L) ++out.negative_values_clamped;
+  }
   const double d = s.glass_distance_m, fpx = focal_px_for(s, W);
   const double cx = W / 2.0, cy = H / 2.0;
-  LensDropsResult out;
   out.focal_px = fpx;
   out.blur_diameter_px = blur_diameter_px(s, W);
   out.drops = caps.size();
   // The sharp layer: premultiplied light through the drops, and their coverage.
-  Image layer(W, H, C), cover(W, H, 1);
+  Image layer(W, H, L), cover(W, H, 1);
   const int S = s.samples;
   const double inv = 1.0 / (double(S) * S);
   // Each drop's pixel box; rows in parallel, the drops of a row in their order (the same sums
@@ -412,7 +436,7 @@ LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s,
             const double fx = std::clamp(cx + fpx * v.x / vz, -1.0, W + 1.0);
             const double fy = std::clamp(cy + fpx * v.y / vz, -1.0, H + 1.0);
             sample_bilinear(clean, fx, fy, value.data());
-            for (int c = 0; c < C; ++c)
+            for (int c = 0; c < L; ++c)
               layer.at(x, y, c) += float(inv * r.transmittance * std::max(0.f, value[std::size_t(c)]));
           }
     }
@@ -423,15 +447,15 @@ LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s,
   // Defocus: the layer and its coverage blurred by the circle of confusion, then composited.
   const double r = out.blur_diameter_px / 2;
   out.mask = Image(W, H, 1);
-  Image blurred(W, H, C);
+  Image blurred(W, H, L);
   if (r >= 0.5) {
     std::vector<float> plane;
     blur_channel(cover, 0, r, plane, nullptr);
     for (std::size_t i = 0; i < plane.size(); ++i) out.mask.pixels[i] = std::clamp(plane[i], 0.f, 1.f);
-    for (int c = 0; c < C; ++c) {
-      if (progress) progress(0.9 + 0.1 * c / C, "blur");
+    for (int c = 0; c < L; ++c) {
+      if (progress) progress(0.9 + 0.1 * c / L, "blur");
       blur_channel(layer, c, r, plane, &out.mask.pixels);
-      for (std::size_t i = 0; i < plane.size(); ++i) blurred.pixels[i * C + c] = std::max(0.f, plane[i]);
+      for (std::size_t i = 0; i < plane.size(); ++i) blurred.pixels[i * L + c] = std::max(0.f, plane[i]);
     }
   } else {
     out.mask.pixels = cover.pixels;
@@ -444,7 +468,13 @@ LensDropsResult render_lens_drops(const Image& clean, const LensDropSettings& s,
     const float a = out.mask.pixels[p];
     for (int c = 0; c < C; ++c) {
       const std::size_t i = p * C + c;
-      out.image.pixels[i] = a > 0 ? clean.pixels[i] * (1 - a) + blurred.pixels[i] : clean.pixels[i];
+      if (c >= L) {
+        out.image.pixels[i] = clean.pixels[i];
+        continue;
+      }
+      // Negative light reads as 0 (counted in negative_values_clamped), as rain and fog read it.
+      const float v = std::max(0.f, clean.pixels[i]);
+      out.image.pixels[i] = a > 0 ? v * (1 - a) + blurred.pixels[p * L + c] : v;
     }
   }
   return out;

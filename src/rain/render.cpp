@@ -216,10 +216,12 @@ std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channel
                                      double extra_bytes_per_pixel) {
   // Per pixel: the decoded frame and the rainy frame (4 bytes a channel each); the alpha, the
   // renderer's depth, transmittance and streak accumulators (4 + 4 + 4 + 4 + 12 bytes); the encoder's
-  // scratch; with the layer, its 16 bytes and its own encoding. The encoders' shares are fitted to the
-  // peak resident size of `hydrolux rain --image builtin` at 2000x2000 and 4000x4000 (74 bytes a pixel
-  // to a PNG, 116 with an EXR, --layer-out and --mask-out; 2026-11-25), plus the program and the drops.
-  constexpr double kEncodeBytesPerPixel = 18, kLayerBytesPerPixel = 16 + 26, kFixedBytes = 64e6;
+  // scratch; with the layer, its 16 bytes and its own encoding. An upper bound of the peak resident
+  // size of `hydrolux rain` measured at 1024^2 to 8192^2 pixels (2026-11-28, BENCHMARKS.md: 205 MB,
+  // 438 MB, 1.45 GB, 3.26 GB, 5.77 GB to a PNG, the marginal cost per pixel rising from 74 to 86
+  // bytes with the size; 2.07 GB at 4096^2 to EXR with --layer-out and --mask-out), with a margin of
+  // 5-15% above them; tests/cli/test_memory_estimates.cpp checks it against the measured peak.
+  constexpr double kEncodeBytesPerPixel = 34, kLayerBytesPerPixel = 16 + 26, kFixedBytes = 128e6;
   const double per_pixel =
       8.0 * std::max(3, input_channels) + 32 + kEncodeBytesPerPixel + (with_layer ? kLayerBytesPerPixel : 0) +
       extra_bytes_per_pixel;
@@ -400,8 +402,12 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
                                RainFrame& out) {
   const RainCamera& cam = field_.camera();
   const int W = cam.width, H = cam.height;
-  if (frame.width != W || frame.height != H || frame.channels < 3)
-    throw Error("rain: the frame's size must be the camera's, with at least 3 channels");
+  if (frame.channels < 3)
+    throw Error(fmt::format("rain: the frame has {} channel{}; rain needs colour (R, G, B: at least 3 channels)",
+                            frame.channels, frame.channels == 1 ? "" : "s"));
+  if (frame.width != W || frame.height != H)
+    throw Error(fmt::format("rain: the frame is {}x{}, the camera {}x{}: they must be the same size", frame.width,
+                            frame.height, W, H));
   const std::size_t npx = std::size_t(W) * std::size_t(H);
   const std::uint64_t negatives = check_frame_values(frame);
   // The scene depth and the unresolved rain's transmittance along each pixel's ray: once for the

@@ -282,5 +282,86 @@ TEST(LensDrops, CoverageIsMetAndRangesAreChecked) {
   EXPECT_THROW(place_lens_drops(bad, 10, 10), DomainError);
 }
 
+// Issue 37: every flag in range, but a circle of confusion of ~30 mm on a 6.17 mm sensor (focus 1 cm,
+// glass 10 m, f/0.3) widened the glass region ~40 times a side and its placement grid to ~2e8 cells
+// (5.2 GB, 12 s at 64x48). A circle wider than the sensor is refused by the settings' check, naming
+// f_number and the smallest f-number that would do; at that f-number the drops are placed.
+TEST(LensDrops, CircleOfConfusionWiderThanTheSensorIsRefused) {
+  LensDropSettings s;
+  s.focus_m = 0.01;
+  s.glass_distance_m = 10;
+  s.f_number = 0.3;
+  try {
+    (void)place_lens_drops(s, 64, 48);
+    ADD_FAILURE() << "no DomainError";
+  } catch (const DomainError& e) {
+    EXPECT_EQ(e.quantity(), "f_number");
+    EXPECT_NE(std::string(e.what()).find("wider than the sensor"), std::string::npos) << e.what();
+    // c scales as 1 / N: the smallest f-number allowed puts the circle at the sensor's width.
+    const double c = circle_of_confusion_mm(s.focal_mm, s.f_number, s.focus_m, s.glass_distance_m);
+    EXPECT_NEAR(e.lo(), s.f_number * c / s.sensor_width_mm, 1e-12);
+    s.f_number = e.lo() * 1.001;
+    EXPECT_NO_THROW((void)place_lens_drops(s, 64, 48));
+  }
+  s.f_number = 0;  // a pinhole: no blur at all
+  EXPECT_NO_THROW((void)place_lens_drops(s, 64, 48));
+}
+
+// The placement grid's cells are widened where the glass region is large against the drops (here
+// ~0.1 m cells for 4 mm drops), so its size follows the drops' count. The invariant the grid must keep,
+// checked against all pairs: no two placed footprints overlap.
+TEST(LensDrops, WideGridCellsPlaceNonOverlappingDrops) {
+  LensDropSettings s;
+  s.focus_m = 0.05;
+  s.glass_distance_m = 5;
+  s.f_number = 2;  // c = 0.4 mm: a 21 px blur at 320 px
+  s.drops = 2000;
+  const auto caps = place_lens_drops(s, 320, 240);
+  ASSERT_GT(caps.size(), 2000u);
+  for (std::size_t i = 0; i < caps.size(); ++i)
+    for (std::size_t j = i + 1; j < caps.size(); ++j) {
+      const double dx = caps[i].x - caps[j].x, dy = caps[i].y - caps[j].y, rr = caps[i].radius + caps[j].radius;
+      ASSERT_GE(dx * dx + dy * dy, rr * rr) << i << " " << j;
+    }
+}
+
+// Channels beyond the first three (alpha, depth, masks) are not light: they pass through unchanged, as
+// rain and fog leave them; the three colour channels are the same as a 3-channel image's.
+TEST(LensDrops, ChannelsBeyondTheColourPassThrough) {
+  const Image rgb = test_scene(120, 90);
+  Image five(120, 90, 5);
+  for (int y = 0; y < 90; ++y)
+    for (int x = 0; x < 120; ++x) {
+      for (int c = 0; c < 3; ++c) five.at(x, y, c) = rgb.at(x, y, c);
+      five.at(x, y, 3) = 1.f;
+      five.at(x, y, 4) = float(x % 7) * 3.f;
+    }
+  LensDropSettings s;
+  s.drops = 40;
+  s.seed = 3;
+  const auto a = render_lens_drops(rgb, s), b = render_lens_drops(five, s);
+  ASSERT_EQ(b.image.channels, 5);
+  EXPECT_EQ(a.mask.pixels, b.mask.pixels);
+  for (int y = 0; y < 90; ++y)
+    for (int x = 0; x < 120; ++x) {
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(b.image.at(x, y, c), a.image.at(x, y, c)) << x << "," << y;
+      ASSERT_EQ(b.image.at(x, y, 3), 1.f);
+      ASSERT_EQ(b.image.at(x, y, 4), float(x % 7) * 3.f);
+    }
+}
+
+// Negative light reads as 0 in the output and is counted (rain and fog do the same and warn).
+TEST(LensDrops, NegativeLightReadsAsZeroAndIsCounted) {
+  Image img = test_scene(80, 60);
+  img.at(5, 5, 0) = -0.5f;
+  img.at(70, 50, 2) = -2.f;
+  LensDropSettings s;
+  s.drops = 10;
+  const auto out = render_lens_drops(img, s);
+  EXPECT_EQ(out.negative_values_clamped, 2u);
+  for (float v : out.image.pixels) ASSERT_GE(v, 0.f);
+  EXPECT_EQ(render_lens_drops(test_scene(80, 60), s).negative_values_clamped, 0u);
+}
+
 }  // namespace
 }  // namespace hydrolux::rain

@@ -8,12 +8,14 @@
 //   spawn / finish         the same, started in the background (to signal it meanwhile)
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <cerrno>
+#include <cstdint>
 #include <csignal>
 #include <functional>
 #include <mutex>
@@ -36,6 +38,7 @@ namespace fs = std::filesystem;
 struct Result {
   int code = -1;
   std::string out, err;
+  std::uint64_t peak_rss_bytes = 0;  // the process's peak resident size (run_argv only; getrusage's maxrss)
 };
 
 inline Result run(const std::string& args) {
@@ -154,9 +157,10 @@ inline Result finish(const Process& p) {
   Result r;
   int status = 0;
   bool hung = false, lost = false;
+  rusage usage{};
   const auto start = std::chrono::steady_clock::now();
   while (true) {
-    const pid_t done = ::waitpid(p.pid, &status, WNOHANG);
+    const pid_t done = ::wait4(p.pid, &status, WNOHANG, &usage);
     if (done == p.pid) break;
     if (done < 0 && errno != EINTR) {  // not our child (ECHILD): nothing to wait for
       lost = true;
@@ -169,6 +173,7 @@ inline Result finish(const Process& p) {
     ::usleep(5000);
   }
   r.code = lost ? -1 : hung ? -2 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.peak_rss_bytes = std::uint64_t(usage.ru_maxrss) * 1024;
   const auto slurp = [](const fs::path& f) {
     std::ifstream in(f, std::ios::binary);
     std::stringstream ss;

@@ -62,6 +62,9 @@ struct ImageLimits {
   // (libjpeg's default progression) to 20 (mozjpeg); a small file with thousands is a time bomb.
   int max_jpeg_scans = 100;
   std::uint64_t max_file_bytes = kMaxInputBytes;
+  // Called with the header's width, height and channels once they are within the limits above and
+  // before any pixel is allocated; it may throw (a job refusing a frame its memory cannot hold).
+  std::function<void(std::int64_t width, std::int64_t height, std::int64_t channels)> before_pixels;
 };
 
 struct DecodedImage {

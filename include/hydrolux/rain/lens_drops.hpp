@@ -110,9 +110,12 @@ struct LensDropsResult {
   double coverage = 0;            // sharp footprint coverage of the frame (mean of the sharp mask)
   double blur_diameter_px = 0;    // the circle of confusion at the glass, pixels
   double focal_px = 0;
+  std::size_t negative_values_clamped = 0;  // negative values of the light channels, read as 0
 };
 
-// Renders the drops over `clean` (linear, any channel count, not modified): each sub-pixel sample
+// Renders the drops over `clean` (linear, any channel count, not modified; the light is its first three
+// channels, or the first of a one- or two-channel image: the others pass through unchanged, and negative
+// light reads as 0, counted in negative_values_clamped): each sub-pixel sample
 // inside a footprint sees transmittance x the image at the traced direction (bilinear, clamped at
 // the borders; 0 under total internal reflection), the layer and its coverage are blurred by
 // disk_blur with the circle of confusion, and composited over the image. `progress` is called once

@@ -308,6 +308,17 @@ std::uint64_t estimated_render_bytes(const RainCamera& camera, int input_channel
 // fit" when the estimate exceeds the memory available now (core/memory.hpp).
 void check_render_memory(const RainCamera& camera, int input_channels, bool with_layer, const std::string& what,
                          double extra_bytes_per_pixel = 0);
+// The same for the other frame jobs: fog over a frame of `channels` channels (with or without the
+// glow), and drops on the lens blurred by a disk of `blur_diameter_px`. Upper bounds of the peak
+// resident size of `hydrolux fog` / `hydrolux lens-drops` measured at 2048^2 and 4096^2 (budget.cpp),
+// checked by tests/cli/test_memory_estimates.cpp.
+std::uint64_t estimated_fog_bytes(int width, int height, int channels, bool glow, double extra_bytes_per_pixel = 0);
+std::uint64_t estimated_lens_drops_bytes(int width, int height, int channels, double blur_diameter_px);
+// Throws Error "<what>: <job> over WxH needs about X of memory and Y is available; about W'xH' would
+// fit" when `need` (bytes, of which `fixed` do not grow with the pixels) exceeds the memory available
+// now.
+void check_frame_memory(const std::string& what, const std::string& job, int width, int height, std::uint64_t need,
+                        std::uint64_t fixed);
 
 struct FogSettings;
 struct FogOptics;
