@@ -66,11 +66,14 @@ FrameFolder plan_frame_folder(const FrameFolderRequest& r) {
   if (plan.frames.empty())
     throw Error(fmt::format("--input-dir {}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)", r.input_dir));
 
-  // Each frame's output name (its own, as .exr or .png); two frames may not share one.
+  // Each frame's output name (its own, as .exr or .png); two frames may not share one. Frames of a
+  // high-dynamic-range format (EXR, Radiance HDR, PFM: float light, possibly above 1) stay floats in an
+  // EXR; the others (8/16-bit codes) become PNGs.
   std::map<fs::path, fs::path> seen;
   for (const auto& f : plan.frames) {
     fs::path name = f.filename();
-    name.replace_extension(lower_extension(f) == ".exr" ? ".exr" : ".png");
+    const std::string ext = lower_extension(f);
+    name.replace_extension(ext == ".exr" || ext == ".hdr" || ext == ".pfm" ? ".exr" : ".png");
     const auto [it, fresh] = seen.emplace(name, f.filename());
     if (!fresh)
       throw Error(fmt::format("--input-dir {}: {} and {} would both be written as {}", r.input_dir,
@@ -84,10 +87,12 @@ FrameFolder plan_frame_folder(const FrameFolderRequest& r) {
       fs::path found;
       for (const char* ext : {".exr", ".png"}) {
         const fs::path candidate = fs::path(*r.depth_dir) / (f.stem().string() + ext);
-        if (fs::exists(fs::symlink_status(candidate, ec))) {
-          found = candidate;
-          break;
-        }
+        if (!fs::exists(fs::symlink_status(candidate, ec))) continue;
+        // Two maps for one frame: which one is meant cannot be guessed.
+        if (!found.empty())
+          throw Error(fmt::format("--depth-dir {}: both {} and {} are depth maps for {}; keep one", *r.depth_dir,
+                                  found.filename().string(), candidate.filename().string(), f.filename().string()));
+        found = candidate;
       }
       if (found.empty())
         throw Error(fmt::format("--depth-dir {}: no depth map for {} ({}.exr or {}.png)", *r.depth_dir,

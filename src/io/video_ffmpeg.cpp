@@ -464,6 +464,12 @@ class Reader final : public hydrolux::io::VideoReader {
     const auto format = static_cast<AVPixelFormat>(f->format);
     if (f->width <= 0 || f->height <= 0) throw fail(fmt::format("frame {} is empty", decoded_));
     check_size(f->width, f->height);
+    // A stream whose frames change size midway: they are not stretched to the first size (a folder
+    // refuses such a frame too).
+    if (f->width != info_.width || f->height != info_.height)
+      throw fail(fmt::format("frame {} is {} x {} pixels, the video's frames {} x {}: frames that change size are "
+                             "not supported (split the video where the size changes)",
+                             decoded_ + 1, f->width, f->height, info_.width, info_.height));
     if (!sws_isSupportedInput(format))
       throw fail(fmt::format("pixel format {} cannot be converted to RGB", av_get_pix_fmt_name(format)
                                                                               ? av_get_pix_fmt_name(format)

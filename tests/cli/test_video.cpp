@@ -320,6 +320,32 @@ TEST(Video, NoFramesIsAnEmptyVideo) {
   fs::remove_all(dir);
 }
 
+// A stream whose frames change size midway (two H.264 elementary streams, 96x64 then 64x48, one after
+// the other in an MPEG-TS file): the reader refuses the first frame of the other size, naming both
+// sizes, instead of stretching it to the first (issue 37: "frame 40/20", stretched frames).
+TEST(Video, RefusesFramesThatChangeSize) {
+  const auto dir = temp_dir();
+  const auto a = dir / "a.ts", b = dir / "b.ts", both = dir / "both.ts";
+  ffmpeg("-f lavfi -i testsrc2=size=96x64:rate=25 -frames:v 6 -pix_fmt yuv420p -c:v libx264 '" + a.string() + "'");
+  ffmpeg("-f lavfi -i testsrc2=size=64x48:rate=25 -frames:v 6 -pix_fmt yuv420p -c:v libx264 '" + b.string() + "'");
+  {
+    std::ofstream out(both, std::ios::binary);
+    out << hydrolux::testing::slurp(a) << hydrolux::testing::slurp(b);
+  }
+  auto reader = open(both);
+  ASSERT_EQ(reader->info().width, 96);
+  std::vector<VideoFrame> frames;
+  VideoFrame f;
+  expect_io_error(
+      [&] {
+        while (reader->read(f)) frames.push_back(f);
+      },
+      both.string(), "64 x 48");
+  EXPECT_EQ(frames.size(), 6u);  // the first size's frames, each unstretched
+  for (const auto& g : frames) EXPECT_EQ(g.width, 96);
+  fs::remove_all(dir);
+}
+
 TEST(Video, RefusesWhatIsNotAVideo) {
   const auto dir = temp_dir();
   const auto good = dir / "good.mp4";
