@@ -210,3 +210,49 @@ TEST(RainHostile, TimeLapseVideoIsProcessed) {
 }
 
 }  // namespace
+
+namespace {
+
+// Issue 37's silent surprises in a folder run: a --depth-dir holding two maps for one frame picked one
+// silently; a float frame (.pfm, .hdr) came out as an 8-bit PNG; a one-channel image was blamed on its
+// size.
+TEST(RainHostile, AmbiguousDepthMapsFloatFramesAndGreyImagesAreSaidPlainly) {
+  const fs::path frames = frames_dir("surprises", 1);
+  const fs::path depth = dir() / "surprises_depth";
+  fs::create_directories(depth);
+  io::write_image(depth / "f_000.exr", Image(160, 90, 1));
+  fs::copy_file(frames / "f_000.png", depth / "f_000.png", fs::copy_options::overwrite_existing);
+  const fs::path out = dir() / "surprises_out";
+  auto r = run("rain -q --input-dir " + frames.string() + " --depth-dir " + depth.string() + " --output-dir " +
+               out.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("both f_000.exr and f_000.png are depth maps for f_000.png"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+
+  // A PFM frame (32-bit float light, here above 1) stays float: the output is f_001.exr.
+  {
+    const int w = 160, h = 90;
+    std::ofstream pfm(frames / "f_001.pfm", std::ios::binary);
+    pfm << "PF\n" << w << " " << h << "\n-1.0\n";
+    std::vector<float> px(std::size_t(w) * h * 3, 2.5f);
+    pfm.write(reinterpret_cast<const char*>(px.data()), std::streamsize(px.size() * sizeof(float)));
+  }
+  r = run("rain -q --rate-mmh 0 --input-dir " + frames.string() + " --output-dir " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out / "f_000.png"));
+  ASSERT_TRUE(fs::exists(out / "f_001.exr"));
+  EXPECT_FALSE(fs::exists(out / "f_001.png"));
+  const Image back = io::read_image(out / "f_001.exr");
+  EXPECT_GT(back.at(80, 45, 0), 2.0f);  // light above 1 kept, not clipped to an 8-bit code
+
+  // One channel: the message says what is missing (colour), not that the size is wrong.
+  const fs::path grey = dir() / "grey.exr";
+  io::write_image(grey, Image(160, 90, 1));
+  r = run("rain -q --image " + grey.string() + " -o " + (dir() / "grey_out.png").string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("1 channel; rain needs colour"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("size"), std::string::npos) << r.err;
+}
+
+}  // namespace
