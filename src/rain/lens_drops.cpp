@@ -54,13 +54,10 @@ void validate(const LensDropSettings& s) {
   // c is inversely proportional to N, so the smallest f-number that keeps it is N c / sensor width.
   const double c = circle_of_confusion_mm(s.focal_mm, s.f_number, s.focus_m, s.glass_distance_m);
   if (c > s.sensor_width_mm)
-    throw DomainError::with_message(
-        fmt::format("f_number = {:g}: with focus_m = {:g} and glass_distance_m = {:g} the glass' circle of confusion is "
-                    "{:.3g} mm, wider than the sensor ({:g} mm); give an f-number of at least {:.3g} (or 0, a pinhole), "
-                    "a focus nearer the glass or the glass farther away",
-                    s.f_number, s.focus_m, s.glass_distance_m, c, s.sensor_width_mm,
-                    s.f_number * c / s.sensor_width_mm * (1 + 1e-9)),
-        "f_number", s.f_number, s.f_number * c / s.sensor_width_mm, 64);
+    throw DomainError("f_number", s.f_number, s.f_number * c / s.sensor_width_mm, 64,
+                      fmt::format("at least where the glass' circle of confusion, {:.3g} mm with focus_m = {:g} and "
+                                  "glass_distance_m = {:g}, is no wider than the sensor ({:g} mm); or 0, a pinhole",
+                                  c, s.focus_m, s.glass_distance_m, s.sensor_width_mm));
 }
 
 int light_channels(int channels) { return channels >= 3 ? 3 : 1; }

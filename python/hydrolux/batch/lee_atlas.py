@@ -309,6 +309,7 @@ def make_table(out_dir: str, name: str, args: List[str], threads: int, fmt: str 
     if p.returncode != 0:
         lines = [line for line in p.stderr.strip().splitlines() if line.strip()]
         rec["error"] = clip(lines[-1], 2000) if lines else f"hydrolux lee exited with {p.returncode}"
+        rec["bad_request"] = p.returncode == 2  # the CLI's usage error: the table's options, not the machine
         return rec
     # Each file's size and content hash: a re-run and open_atlas know the files the batch wrote from any
     # other of the same size.
@@ -405,6 +406,7 @@ def run(a: argparse.Namespace, after_result=None) -> int:
     client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
     manifest = None
     failed: List[str] = []
+    bad_requests = 0  # failures that are the CLI's usage errors (exit 2): the spec asked for what cannot be
     try:
         _common.make_folder("--output-dir", out_dir)
         manifest = _common.Manifest(out_dir, "lee-atlas", {} if fmt == "exr" else {"format": fmt})
@@ -429,7 +431,9 @@ def run(a: argparse.Namespace, after_result=None) -> int:
                 failed.append(task[1])
                 progress.message(f"batch lee-atlas: {task[1]}: {type(rec).__name__}: {rec}")
             elif "error" in rec:
+                nonlocal bad_requests
                 failed.append(rec["output"])
+                bad_requests += 1 if rec.get("bad_request") else 0
                 progress.message(f"batch lee-atlas: {rec['output']}: {rec['error']}")
             else:  # recorded with its label in the sweep, for open_atlas to check against the index
                 t = by_name[rec["output"]]
@@ -450,7 +454,9 @@ def run(a: argparse.Namespace, after_result=None) -> int:
         print(_common.printable(f"batch lee-atlas: {len(tables) - len(failed)} of {len(tables)} tables in {out_dir}"
                                 + (f"; {len(failed)} failed: {', '.join(failed[:5])}" if failed else "")),
               file=sys.stderr)
-    return 1 if failed else 0
+    # As the CLI: 2 when every failure was a table's bad options (the same request refused alike in every
+    # door), 1 when any table failed for another reason.
+    return 0 if not failed else 2 if bad_requests == len(failed) else 1
 
 
 # ---- reading an atlas back ------------------------------------------------------------------------
