@@ -12,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -99,8 +100,9 @@ std::vector<double> angles_from_text(const std::string& text) {
   try {
     return parse::range_or_list(text, 0, 180, kMaxAngles);
   } catch (const Error& e) {
-    throw Error(fmt::format("angles_deg '{}': {}; expected A:B:N (N angles from A to B, N in [1, 1000000]) or a "
-                            "list 0,10,90, angles in [0, 180] deg",
+    throw Error(fmt::format("angles_deg '{}': {}; expected A:B:N (N angles from A to B, N in [2, 1000000], or "
+                            "N = 1 with A = B) or a list 0,10,90, angles in [0, 180] deg, strictly increasing or "
+                            "decreasing",
                             printable(text), e.what()));
   }
 }
@@ -149,6 +151,13 @@ py::dict mie(std::complex<double> m, py::handle x_arg, py::handle angles_arg, py
     for (py::ssize_t j = 0; j < na; ++j) {
       require_arg("angles_deg", ang.data()[j], 0, 180, "deg");
       mu[std::size_t(j)] = std::cos(deg_to_rad(ang.data()[j]));
+    }
+    // As the CLI's --angles-deg: the angles label the result's rows (and a NetCDF coordinate), so none
+    // twice and in one direction, checked here rather than at to_xarray().
+    try {
+      parse::require_strictly_monotonic(std::span<const double>(ang.data(), std::size_t(na)));
+    } catch (const Error& e) {
+      throw Error(fmt::format("angles_deg: {}", e.what()));
     }
     auto s_shape = shape;
     s_shape.push_back(na);

@@ -421,3 +421,14 @@ def test_pol_where_s11_is_zero_is_nan_with_a_warning():
         p = h.phase(500, 550, theory="airy", angles_deg=[10, 140], mueller=True)  # Airy: near the bow only
     assert len(w) == 1 and w[0].filename == __file__
     assert p.s11[0] == 0 and np.isnan(p.pol[0]) and np.isfinite(p.pol[1])
+
+
+def test_mie_angles_given_as_an_array_are_checked_as_the_cli_checks_its_text():
+    # Repeated or unsorted angles make a result whose rows (and NetCDF coordinate) are not one
+    # direction: refused at the call, as --angles-deg refuses "10,10,20", not later at to_xarray().
+    for bad in ([10, 10, 20], [0, 90, 45], np.array([180.0, 0.0, 90.0])):
+        with pytest.raises(ValueError, match=r"^angles_deg: .*strictly increasing or strictly decreasing"):
+            h.mie(1.333, 10.0, angles_deg=bad)
+    assert h.mie(1.333, 10.0, angles_deg=[180, 90, 0]).s1.shape == (3,)
+    with pytest.raises(ValueError, match=r"N in \[2, 1000000\], or N = 1 with A = B"):
+        h.mie(1.333, 10.0, angles_deg="0:180:1")
