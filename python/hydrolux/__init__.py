@@ -165,10 +165,15 @@ def _history(function: str, arguments: dict) -> str:
     return _xarray.history(_xarray.call_text(function, arguments, defaults))
 
 
-def _path(value: Any, name: str) -> str:
-    if isinstance(value, str) or (isinstance(value, os.PathLike) and isinstance(os.fspath(value), str)):
-        return os.fspath(value)
-    raise TypeError(f"{name}: expected a file path (str or pathlib.Path), got {_describe(value)}")
+def _path(value: Any, name: str) -> bytes:
+    """A file path as the file system's bytes: str, bytes or os.PathLike, so that a name that is not
+    UTF-8 (os.listdir gives it as surrogate escapes, os.fsencode back) reaches the file as the CLI's
+    would."""
+    if isinstance(value, (str, bytes)) or isinstance(value, os.PathLike):
+        path = os.fspath(value)
+        if isinstance(path, (str, bytes)):
+            return os.fsencode(path)
+    raise TypeError(f"{name}: expected a file path (str, bytes or pathlib.Path), got {_describe(value)}")
 
 
 def _array_arg(value: Any, name: str) -> np.ndarray:

@@ -113,7 +113,7 @@ _MAX_SEED = 2 ** 53  # hydrolux::rain::kMaxSeed, the CLI's --seed range
      "theta_deg: expected real numbers, got an array of shape (3,) and dtype complex128"),
     (lambda: h.lee(radius_um=(1, "x")), TypeError, "radius_um[1]: expected a number, got 'x'"),
     (lambda: h.drop_undistort(_IMG, "ab", 3), TypeError, "drop_center: expected (x, y) in pixels, got 'ab'"),
-    (lambda: h.write_image(None, _IMG), TypeError, "path: expected a file path (str or pathlib.Path), got None"),
+    (lambda: h.write_image(None, _IMG), TypeError, "path: expected a file path (str, bytes or pathlib.Path), got None"),
 ])
 def test_bad_arguments_are_named_in_one_line(call, error, message):
     with pytest.raises(error) as e:
@@ -432,3 +432,18 @@ def test_mie_angles_given_as_an_array_are_checked_as_the_cli_checks_its_text():
     assert h.mie(1.333, 10.0, angles_deg=[180, 90, 0]).s1.shape == (3,)
     with pytest.raises(ValueError, match=r"N in \[2, 1000000\], or N = 1 with A = B"):
         h.mie(1.333, 10.0, angles_deg="0:180:1")
+
+
+def test_image_paths_that_are_not_utf8_are_read_and_written(tmp_path):
+    # A folder name with byte 0xff (os.listdir gives it as a surrogate escape): write_image and
+    # read_image raised TypeError where the CLI reads and writes such paths.
+    folder = os.path.join(os.fsencode(str(tmp_path)), b"fr\xffames")
+    os.mkdir(folder)
+    img = h.builtin_scene(32, 24)
+    h.write_image(os.path.join(folder, b"a.exr"), img)  # bytes
+    listed = [os.path.join(os.fsdecode(folder), n) for n in os.listdir(os.fsdecode(folder))]  # str, escaped
+    assert len(listed) == 1
+    np.testing.assert_array_equal(h.read_image(listed[0]), img)
+    np.testing.assert_array_equal(h.read_image(os.path.join(folder, b"a.exr")), img)
+    with pytest.raises(TypeError, match="path: expected a file path"):
+        h.read_image(5)
