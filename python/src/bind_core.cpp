@@ -164,15 +164,24 @@ void bind_core(py::module_& m) {
       [](const std::string& input_dir, const std::string& output_dir, std::optional<std::string> mask_dir,
          std::optional<std::string> depth_dir) {
         const auto plan = hydrolux::io::plan_frame_folder({input_dir, output_dir, mask_dir, depth_dir});
-        const auto names = [](const std::vector<std::filesystem::path>& v) {
+        // Names as Python holds the file system's (os.fsdecode: a byte that is not UTF-8 as a surrogate
+        // escape), so that a frame named so is planned, read and written as the CLI does it.
+        const auto fs_text = [](const std::string& bytes) {
+          PyObject* o = PyUnicode_DecodeFSDefaultAndSize(bytes.data(), py::ssize_t(bytes.size()));
+          if (!o) throw py::error_already_set();
+          return py::reinterpret_steal<py::str>(o);
+        };
+        const auto names = [&](const std::vector<std::filesystem::path>& v) {
           py::list out;
-          for (const auto& p : v) out.append(p.filename().string());
+          for (const auto& p : v) out.append(fs_text(p.filename().string()));
           return out;
         };
         py::dict d;
         d["frames"] = names(plan.frames), d["outputs"] = names(plan.outputs), d["depth_maps"] = names(plan.depth_maps);
-        d["skipped"] = plan.skipped;
-        d["skipped_warning"] = plan.skipped_warning(input_dir);
+        py::list skipped;
+        for (const auto& k : plan.skipped) skipped.append(fs_text(k));
+        d["skipped"] = skipped;
+        d["skipped_warning"] = fs_text(plan.skipped_warning(input_dir));
         return d;
       },
       py::arg("input_dir"), py::arg("output_dir"), py::arg("mask_dir") = py::none(),

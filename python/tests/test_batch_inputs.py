@@ -370,18 +370,19 @@ def test_frame_folders_that_are_not_utf8_are_handled_as_the_cli_handles_them(tmp
     root = os.fsencode(tmp_path)
     src, out, masks = root + b"/fr\xffames", root + b"/o\xfeut", root + b"/m\xfd"
     os.mkdir(src)
-    for k in range(2):
-        h.write_image(str(tmp_path / "f.png"), h.builtin_scene(48, 32, pitch_deg=k))
-        os.rename(tmp_path / "f.png", src + b"/f%d.png" % k)
+    names = [b"f0.png", b"f\xff1.png"]  # a frame's own name too (the library's plan reaches Python escaped)
+    for k, n in enumerate(names):
+        h.write_image(src + b"/" + n, h.builtin_scene(48, 32, pitch_deg=k))
     argv = [job, "--input-dir", os.fsdecode(src), "--output-dir", os.fsdecode(out), "--mask-dir", os.fsdecode(masks),
             "--workers", "1", "-q", *extra]
     assert main(argv) == 0  # was 1: "internal error: TypeError: check_files(): incompatible function arguments ..."
     assert capfd.readouterr().err == ""
     cli(job, "--input-dir", os.fsdecode(src), "--output-dir", tmp_path / "cli", "--mask-dir", tmp_path / "cli-m",
         "-q", *extra)
-    for n in ("f0.png", "f1.png"):
-        assert open(out + b"/" + n.encode(), "rb").read() == (tmp_path / "cli" / n).read_bytes(), n
-        assert open(masks + b"/" + n.encode(), "rb").read() == (tmp_path / "cli-m" / n).read_bytes(), n
+    cli_out, cli_masks = os.fsencode(tmp_path / "cli"), os.fsencode(tmp_path / "cli-m")
+    for n in names:
+        assert open(out + b"/" + n, "rb").read() == open(cli_out + b"/" + n, "rb").read(), n
+        assert open(masks + b"/" + n, "rb").read() == open(cli_masks + b"/" + n, "rb").read(), n
 
 
 def test_a_lee_atlas_whose_paths_are_not_utf8_is_made_and_opened(tmp_path, capfd):

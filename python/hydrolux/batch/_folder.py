@@ -168,8 +168,6 @@ def plan_folder(input_dir: str, output_dir: str, mask_dir: Optional[str], depth_
     try:
         plan = _common.native("_core").plan_frame_folder(path(input_dir), path(output_dir), path(mask_dir),
                                                          path(depth_dir))
-    except UnicodeDecodeError:  # a name the library returns is not UTF-8, so not a Python str
-        raise UsageError(f"--input-dir {input_dir}: holds a name that is not UTF-8") from None
     except ValueError as e:
         raise UsageError(str(e) or f"--input-dir {input_dir}: refused (a path that is not UTF-8)") from None
     if plan["skipped_warning"]:
