@@ -9,6 +9,7 @@
 #include "bindings.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/rain/fog.hpp"
+#include "hydrolux/rain/rain.hpp"
 #include "params.hpp"
 
 namespace hydrolux::py_bind {
@@ -26,6 +27,8 @@ py::dict fog(const py::array& image, std::optional<py::array> depth, std::option
   if (frame.channels < 3) throw Error(fmt::format("image: {} channels; fog needs RGB (H, W, 3 or more)", frame.channels));
   if (frame.width < rain::kMinFrameSide || frame.height < rain::kMinFrameSide)
     throw Error(fmt::format("image: {}x{}; fog needs at least {} pixels a side", frame.width, frame.height, rain::kMinFrameSide));
+  // The library's memory check, as the CLI's job and the batch make it (rain.hpp).
+  rain::check_fog_memory("image", frame.width, frame.height, frame.channels, o.settings.glow);
   const rain::RainCamera cam = rain::fog_camera_for(o, frame.width, frame.height);
   std::optional<Vec3> sky;
   if (sky_rgb) {

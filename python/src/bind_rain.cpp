@@ -58,6 +58,9 @@ class PyRainRenderer {
     if (const auto name = rain::fog_setting_without_fog(o); !name.empty())
       throw Error(fmt::format("{}: sets the fog; give visibility_m or lwc_g_m3 with it", name));
     const rain::RainCamera c = rain_camera(o, width, height);
+    // The library's memory check for a frame of this size (3 colour channels, a layer possible), as the
+    // CLI's job makes it: a renderer whose frames cannot fit is refused before its field is built.
+    rain::check_render_memory(c, 3, true, fmt::format("width, height ({}, {})", width, height));
     py::gil_scoped_release release;
     try {
       renderer_ = std::make_unique<rain::RainRenderer>(rain::RainField(s, c, ground_plane));
@@ -140,6 +143,8 @@ py::dict lens_drops(const py::array& image, const py::dict& kw) {
   rain::LensDropSettings s;
   apply_kwargs(s, kw, rain::lens_drops_params());
   const Image frame = to_image(image, "image");
+  // The library's memory check, as the CLI's job and the batch make it (lens_drops.hpp).
+  rain::check_lens_drops_memory(s, "image", frame.width, frame.height, frame.channels);
   // On a thread of its own without the GIL, stopped by Ctrl-C (KeyboardInterrupt) within ~50 ms: the
   // library calls the progress callback once a row (rain/lens_drops.hpp).
   const rain::LensDropsResult r =

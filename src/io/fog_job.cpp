@@ -20,11 +20,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-void check_fog_memory(const std::string& origin, int width, int height, int channels, bool glow) {
-  rain::check_frame_memory(origin, "fog", width, height, rain::estimated_fog_bytes(width, height, channels, glow),
-                           rain::estimated_fog_bytes(0, 0, channels, glow));
-}
-
 struct Run {
   const FogJob& a;
   const FogJobHooks& h;
@@ -40,7 +35,7 @@ struct Run {
     const std::string origin = fmt::format("{} {}", flag, path);
     ImageLimits limits;
     limits.before_pixels = [&](std::int64_t width, std::int64_t height, std::int64_t channels) {
-      check_fog_memory(origin, int(width), int(height), int(channels), a.options.settings.glow);
+      rain::check_fog_memory(origin, int(width), int(height), int(channels), a.options.settings.glow);
     };
     auto decoded = h.codec.decode(bytes, origin, limits);
     for (const auto& w : decoded.warnings) warn(fmt::format("{}: {}", origin, w));
@@ -72,7 +67,7 @@ rain::FogFrame render(const Image& frame, const Image* depth, const rain::RainCa
                       const rain::FogOptics& optics, const std::optional<Vec3>& sky, const std::string& origin) {
   // A frame too large for the memory left is refused before the work (an array given to the library
   // has no header read before it), naming what would fit.
-  check_fog_memory(origin, frame.width, frame.height, frame.channels, a.options.settings.glow);
+  rain::check_fog_memory(origin, frame.width, frame.height, frame.channels, a.options.settings.glow);
   try {
     return rain::render_fog(frame, depth, cam, a.options.settings, optics, sky);
   } catch (const DomainError&) {

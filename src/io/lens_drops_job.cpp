@@ -22,14 +22,6 @@ using Warn = std::function<void(const std::string&)>;
 
 static_assert(rain::LensDropsFileOptions{}.png_compression == kDefaultPngCompression, "one default for PNG files");
 
-void check_memory(const rain::LensDropSettings& s, const std::string& origin, int width, int height, int channels) {
-  const double blur =
-      rain::circle_of_confusion_mm(s.focal_mm, s.f_number, s.focus_m, s.glass_distance_m) / s.sensor_width_mm * width;
-  rain::check_frame_memory(origin, "lens drops", width, height,
-                           rain::estimated_lens_drops_bytes(width, height, channels, blur),
-                           rain::estimated_lens_drops_bytes(0, 0, channels, 0));
-}
-
 // A frame; one too large for the memory left is refused from its header, before its pixels are
 // decoded, naming what would fit.
 Image read_image(const ImageCodec& codec, const rain::LensDropSettings& s, const std::string& flag,
@@ -38,7 +30,7 @@ Image read_image(const ImageCodec& codec, const rain::LensDropSettings& s, const
   const std::string origin = fmt::format("{} {}", flag, path);
   ImageLimits limits;
   limits.before_pixels = [&](std::int64_t w, std::int64_t h, std::int64_t c) {
-    check_memory(s, origin, int(w), int(h), int(c));
+    rain::check_lens_drops_memory(s, origin, int(w), int(h), int(c));
   };
   auto decoded = codec.decode(bytes, origin, limits);
   for (const auto& w : decoded.warnings)
@@ -48,7 +40,7 @@ Image read_image(const ImageCodec& codec, const rain::LensDropSettings& s, const
 
 // The library's error on a frame, said with the frame's name.
 rain::LensDropsResult render(const Image& frame, const rain::LensDropSettings& s, const std::string& origin) {
-  check_memory(s, origin, frame.width, frame.height, frame.channels);
+  rain::check_lens_drops_memory(s, origin, frame.width, frame.height, frame.channels);
   try {
     return rain::render_lens_drops(frame, s);
   } catch (const DomainError&) {

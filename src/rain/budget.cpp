@@ -6,6 +6,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/memory.hpp"
+#include "hydrolux/rain/lens_drops.hpp"
 #include "hydrolux/rain/rain.hpp"
 
 namespace hydrolux::rain {
@@ -55,6 +56,19 @@ std::uint64_t estimated_lens_drops_bytes(int width, int height, int channels, do
   const double prefix = 8 * (w + blur_diameter_px + 6) / w;
   const double per_pixel = 8.0 * std::max(1, channels) + 4 * light + 20 + prefix;
   return std::uint64_t(kFixedBytes + per_pixel * double(width) * double(height));
+}
+
+void check_fog_memory(const std::string& what, int width, int height, int channels, bool glow) {
+  check_frame_memory(what, "fog", width, height, estimated_fog_bytes(width, height, channels, glow),
+                     estimated_fog_bytes(0, 0, channels, glow));
+}
+
+void check_lens_drops_memory(const LensDropSettings& s, const std::string& what, int width, int height,
+                             int channels) {
+  const double blur =
+      circle_of_confusion_mm(s.focal_mm, s.f_number, s.focus_m, s.glass_distance_m) / s.sensor_width_mm * width;
+  check_frame_memory(what, "lens drops", width, height, estimated_lens_drops_bytes(width, height, channels, blur),
+                     estimated_lens_drops_bytes(0, 0, channels, 0));
 }
 
 }  // namespace hydrolux::rain

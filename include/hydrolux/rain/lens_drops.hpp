@@ -113,6 +113,12 @@ struct LensDropsResult {
   std::size_t negative_values_clamped = 0;  // negative values of the light channels, read as 0
 };
 
+// Throws Error "<what>: lens drops over WxH needs about X of memory ..." when rendering a frame of
+// width x height x channels with these settings would not fit in the memory available now
+// (rain.hpp's check_frame_memory with estimated_lens_drops_bytes): every door's check.
+void check_lens_drops_memory(const LensDropSettings& settings, const std::string& what, int width, int height,
+                             int channels);
+
 // Renders the drops over `clean` (linear, any channel count, not modified; the light is its first three
 // channels, or the first of a one- or two-channel image: the others pass through unchanged, and negative
 // light reads as 0, counted in negative_values_clamped): each sub-pixel sample

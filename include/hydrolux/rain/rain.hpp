@@ -319,6 +319,9 @@ std::uint64_t estimated_lens_drops_bytes(int width, int height, int channels, do
 // now.
 void check_frame_memory(const std::string& what, const std::string& job, int width, int height, std::uint64_t need,
                         std::uint64_t fixed);
+// check_frame_memory with fog's estimate: every door's check of a fog frame (the CLI's job from the
+// header, Python's fog() and the batch on the array).
+void check_fog_memory(const std::string& what, int width, int height, int channels, bool glow);
 
 struct FogSettings;
 struct FogOptics;
