@@ -65,9 +65,6 @@ rain::FogOptics optics_for(const FogJob& a) {
 
 rain::FogFrame render(const Image& frame, const Image* depth, const rain::RainCamera& cam, const FogJob& a,
                       const rain::FogOptics& optics, const std::optional<Vec3>& sky, const std::string& origin) {
-  // A frame too large for the memory left is refused before the work (an array given to the library
-  // has no header read before it), naming what would fit.
-  rain::check_fog_memory(origin, frame.width, frame.height, frame.channels, a.options.settings.glow);
   try {
     return rain::render_fog(frame, depth, cam, a.options.settings, optics, sky);
   } catch (const DomainError&) {

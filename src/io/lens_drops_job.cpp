@@ -40,7 +40,6 @@ Image read_image(const ImageCodec& codec, const rain::LensDropSettings& s, const
 
 // The library's error on a frame, said with the frame's name.
 rain::LensDropsResult render(const Image& frame, const rain::LensDropSettings& s, const std::string& origin) {
-  rain::check_lens_drops_memory(s, origin, frame.width, frame.height, frame.channels);
   try {
     return rain::render_lens_drops(frame, s);
   } catch (const DomainError&) {

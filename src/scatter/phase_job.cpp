@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <utility>
 
@@ -68,18 +67,8 @@ std::string PhaseJobError::worded(std::string_view name, std::string_view also_n
   std::string rest = rest_;
   if (also_) {
     // The message's own text names both fields by their library names, as whole words.
-    const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
-    for (const auto& [from, to] : {std::pair{field_name(field_), name}, std::pair{field_name(*also_), also_name}}) {
-      for (std::size_t pos = 0; (pos = rest.find(from, pos)) != std::string::npos;) {
-        const std::size_t end = pos + from.size();
-        if ((pos > 0 && word(rest[pos - 1])) || (end < rest.size() && word(rest[end]))) {
-          pos = end;
-          continue;
-        }
-        rest.replace(pos, from.size(), to);
-        pos += to.size();
-      }
-    }
+    rest = parse::replace_word(std::move(rest), field_name(field_), name);
+    rest = parse::replace_word(std::move(rest), field_name(*also_), also_name);
   }
   return std::string(name) + rest;
 }

@@ -107,3 +107,13 @@ TEST(Printable, EscapesBackslashesAndInvisibleCharacters) {
   EXPECT_EQ(printable("iso\xe2\x81\xa6late"), "iso\\xe2\\x81\\xa6late");             // U+2066
   EXPECT_EQ(printable("dash\xe2\x80\x94ok"), "dash\xe2\x80\x94ok");                   // U+2014 stays
 }
+
+// replace_word: whole words only (a library name inside a longer name or a flag is left alone), every
+// occurrence, a replacement that contains the word not read again.
+TEST(Parse, ReplaceWordTakesWholeWordsOnly) {
+  using hydrolux::parse::replace_word;
+  EXPECT_EQ(replace_word("near_m 5 is beyond near_m.", "near_m", "--near-m"), "--near-m 5 is beyond --near-m.");
+  EXPECT_EQ(replace_word("near_mm, far_near_m, --near_m", "near_m", "X"), "near_mm, far_near_m, --near_m");
+  EXPECT_EQ(replace_word("(radius_um)", "radius_um", "radius_um radius_um"), "(radius_um radius_um)");
+  EXPECT_EQ(replace_word("abc", "", "x"), "abc");
+}

@@ -9,7 +9,6 @@
 #include <unistd.h>
 
 #include <atomic>
-#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -26,6 +25,7 @@
 
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/parse.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/version.hpp"
 
@@ -165,19 +165,7 @@ namespace {
 
 // `text` with each library quantity it names as a whole word ("near_m") replaced by its flag.
 std::string with_flags(std::string text, const std::map<std::string, std::string>& flags_for_quantity) {
-  const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; };
-  for (const auto& [quantity, flag] : flags_for_quantity) {
-    std::size_t pos = 0;
-    while ((pos = text.find(quantity, pos)) != std::string::npos) {
-      const std::size_t end = pos + quantity.size();
-      if ((pos > 0 && word(text[pos - 1])) || (end < text.size() && word(text[end]))) {
-        pos = end;
-        continue;
-      }
-      text.replace(pos, quantity.size(), flag);
-      pos += flag.size();
-    }
-  }
+  for (const auto& [quantity, flag] : flags_for_quantity) text = parse::replace_word(std::move(text), quantity, flag);
   return text;
 }
 
