@@ -47,6 +47,64 @@ std::string size_problem(std::uint64_t w, std::uint64_t h, const ImageLimits& li
   return {};
 }
 
+// Little-endian 32-bit fields, as OpenEXR stores them.
+std::uint32_t le32_at(std::string_view b, std::size_t at) {
+  return std::uint32_t(static_cast<unsigned char>(b[at])) | std::uint32_t(static_cast<unsigned char>(b[at + 1])) << 8 |
+         std::uint32_t(static_cast<unsigned char>(b[at + 2])) << 16 |
+         std::uint32_t(static_cast<unsigned char>(b[at + 3])) << 24;
+}
+std::int32_t le32s_at(std::string_view b, std::size_t at) { return std::int32_t(le32_at(b, at)); }
+
+// An EXR channel list (attribute `channels`, `size` bytes at `pos`): name, pixel type (0 uint, 1
+// half, 2 float), pLinear, 3 reserved, x and y sampling; a NUL ends the list. OpenImageIO 2.4 aborts
+// on any other pixel type (an assertion left on in release builds: found by fuzz_image).
+std::string exr_channels_problem(std::string_view b, std::size_t pos, std::size_t size, const ImageLimits& limits) {
+  std::size_t at = pos, end = pos + size, count = 0;
+  while (true) {
+    if (at >= end) return "the channel list is not terminated";
+    if (b[at] == '\0') break;
+    const auto name_end = b.find('\0', at);
+    if (name_end == std::string_view::npos || name_end >= end || end - name_end - 1 < 16)
+      return "a channel entry runs past its attribute";
+    const std::size_t fields = name_end + 1;
+    const std::int32_t pixel_type = le32s_at(b, fields);
+    if (pixel_type < 0 || pixel_type > 2) return fmt::format("a channel of unknown pixel type {}", pixel_type);
+    if (le32s_at(b, fields + 8) < 1 || le32s_at(b, fields + 12) < 1) return "a channel with a sampling rate below 1";
+    at = fields + 16;
+    if (++count > std::size_t(limits.max_channels)) return fmt::format("more than {} channels", limits.max_channels);
+  }
+  if (count == 0) return "no channels";
+  return {};
+}
+
+// The tiles of a w x h part over every level: one level (mode 0); mipmap levels halving both sides
+// together (1); ripmap levels halving each side on its own (2); OpenEXR's level rounding, down or up.
+std::uint64_t exr_tile_count(std::uint64_t w, std::uint64_t h, std::uint32_t tile_x, std::uint32_t tile_y,
+                             int level_mode, int rounding) {
+  const auto level_count = [&](std::uint64_t n) {
+    int levels = 1;
+    while (n > 1) {
+      n = rounding ? (n + 1) / 2 : n / 2;
+      ++levels;
+    }
+    return levels;
+  };
+  const auto level_size = [&](std::uint64_t n, int l) {
+    for (int k = 0; k < l; ++k) n = rounding ? (n + 1) / 2 : n / 2;
+    return std::max<std::uint64_t>(n, 1);
+  };
+  const int lx = level_mode == 0 ? 1 : level_count(level_mode == 1 ? std::max(w, h) : w);
+  const int ly = level_mode == 0 ? 1 : level_mode == 1 ? lx : level_count(h);
+  std::uint64_t chunks = 0;
+  for (int i = 0; i < lx; ++i)
+    for (int j = 0; j < ly; ++j) {
+      if (level_mode == 1 && i != j) continue;
+      chunks += ceil_div(level_size(w, i), tile_x) * ceil_div(level_size(h, j), tile_y);
+    }
+  return chunks;
+}
+
+
 }  // namespace
 
 std::string_view format_name(ImageFormat f) {
@@ -167,12 +225,8 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
   // Flags in the version field (OpenEXR file layout, "Version Field").
   constexpr std::uint32_t kTiled = 0x200, kLongNames = 0x400, kNonImage = 0x800, kMultipart = 0x1000;
   if (b.size() < 8) return "the file ends inside the EXR magic number and version";
-  const auto u32 = [&](std::size_t at) {
-    return std::uint32_t(static_cast<unsigned char>(b[at])) | std::uint32_t(static_cast<unsigned char>(b[at + 1])) << 8 |
-           std::uint32_t(static_cast<unsigned char>(b[at + 2])) << 16 |
-           std::uint32_t(static_cast<unsigned char>(b[at + 3])) << 24;
-  };
-  const auto i32 = [&](std::size_t at) { return std::int32_t(u32(at)); };
+  const auto u32 = [&](std::size_t at) { return le32_at(b, at); };
+  const auto i32 = [&](std::size_t at) { return le32s_at(b, at); };
   const std::uint32_t version = u32(4);
   if ((version & 0xff) != 2) return fmt::format("EXR version {} (hydrolux reads version 2)", version & 0xff);
   if (version & kNonImage) return "deep (non-image) EXR data is not supported";
@@ -233,25 +287,7 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
       } else if (name == "chunkCount" && type == "int" && size == 4) {
         chunk_count = i32(pos);
       } else if (name == "channels" && type == "chlist") {
-        // name, pixel type (0 uint, 1 half, 2 float), pLinear, 3 reserved, x and y sampling; a
-        // NUL ends the list. OpenImageIO 2.4 aborts on any other pixel type (an assertion left on
-        // in release builds: found by fuzz_image).
-        std::size_t at = pos, end = pos + std::size_t(size), count = 0;
-        while (true) {
-          if (at >= end) return "the channel list is not terminated";
-          if (b[at] == '\0') break;
-          const auto name_end = b.find('\0', at);
-          if (name_end == std::string_view::npos || name_end >= end || end - name_end - 1 < 16)
-            return "a channel entry runs past its attribute";
-          const std::size_t fields = name_end + 1;
-          const std::int32_t pixel_type = i32(fields);
-          if (pixel_type < 0 || pixel_type > 2) return fmt::format("a channel of unknown pixel type {}", pixel_type);
-          if (i32(fields + 8) < 1 || i32(fields + 12) < 1) return "a channel with a sampling rate below 1";
-          at = fields + 16;
-          if (++count > std::size_t(limits.max_channels))
-            return fmt::format("more than {} channels", limits.max_channels);
-        }
-        if (count == 0) return "no channels";
+        if (auto e = exr_channels_problem(b, pos, std::size_t(size), limits); !e.empty()) return e;
         have_channels = true;
       } else if (name == "type" && type == "string") {
         const std::string_view t = b.substr(pos, std::size_t(size));
@@ -272,27 +308,7 @@ std::string exr_header_problem(std::string_view b, const ImageLimits& limits) {
       if (const std::string e = tile_problem(tile_x, tile_y, std::uint64_t(w), std::uint64_t(h)); !e.empty())
         return e;
       if (level_mode > 2) return fmt::format("unknown EXR level mode {}", level_mode);
-      // Tiles over every level: one level; mipmap levels halving both sides together; ripmap
-      // levels halving each side on its own (OpenEXR's level rounding, down or up).
-      const auto level_count = [&](std::uint64_t n) {
-        int levels = 1;
-        while (n > 1) {
-          n = rounding ? (n + 1) / 2 : n / 2;
-          ++levels;
-        }
-        return levels;
-      };
-      const auto level_size = [&](std::uint64_t n, int l) {
-        for (int k = 0; k < l; ++k) n = rounding ? (n + 1) / 2 : n / 2;
-        return std::max<std::uint64_t>(n, 1);
-      };
-      const int lx = level_mode == 0 ? 1 : level_count(std::uint64_t(level_mode == 1 ? std::max(w, h) : w));
-      const int ly = level_mode == 0 ? 1 : level_mode == 1 ? lx : level_count(std::uint64_t(h));
-      for (int i = 0; i < lx; ++i)
-        for (int j = 0; j < ly; ++j) {
-          if (level_mode == 1 && i != j) continue;
-          part_chunks += ceil_div(level_size(std::uint64_t(w), i), tile_x) * ceil_div(level_size(std::uint64_t(h), j), tile_y);
-        }
+      part_chunks = exr_tile_count(std::uint64_t(w), std::uint64_t(h), tile_x, tile_y, level_mode, rounding);
     } else {
       // Scan lines per chunk by compression: none, RLE, ZIPS 1; ZIP, PXR24 16; PIZ, B44(A), DWAA 32;
       // DWAB (and anything newer, counted generously) 256.

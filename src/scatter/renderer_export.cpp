@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -288,25 +289,19 @@ MediumPlan plan_medium(MediumJob job) {
   return plan;
 }
 
-MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) {
+namespace {
+
+using Report = std::function<void(double, std::string_view)>;
+
+// The extinction, scattering and absorption spectra and g over the export's wavelengths, and the bulk
+// optics at the phase wavelength (progress 0 to 0.1).
+void compute_spectra(const MediumPlan& plan, MediumOptics& out, const Report& report) {
   const MediumJob& job = plan.job;
   const MediumRequest& req = job.numbers;
-  const auto report = [&](double f, std::string_view label) {
-    if (progress) progress(std::clamp(f, 0.0, 1.0), label);
-  };
-  MediumOptics out;
-  out.drops = plan.phase.drops;
-  out.media = media_text(job);
-  out.number_per_m3 = plan.number_per_m3;
-  out.scene_unit_m = req.scene_unit_m;
-  out.phase_wavelength_nm = req.phase_wavelength_nm;
-  if (auto note = undersampled_ripple_note(plan.phase, "nodes")) out.notes.push_back(std::move(*note));
   const RadiusQuadrature& scaled = plan.spectral;
   double volume = 0;
   for (std::size_t i = 0; i < scaled.size(); ++i) volume += scaled.weight[i] * 4.0 / 3 * kPi<> * std::pow(scaled.radius_m[i], 3);
   out.lwc_g_m3 = volume * kWaterDensityGM3;
-
-  // The spectra.
   out.wavelength_nm = spectral_grid();
   for (std::size_t i = 0; i < out.wavelength_nm.size(); ++i) {
     const double nm = out.wavelength_nm[i];
@@ -319,21 +314,21 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
     out.g.push_back(b.g);
     report(0.1 * double(i + 1) / double(out.wavelength_nm.size()), "spectra");
   }
-  const SphereProblem p0 = sphere_problem(1, req.phase_wavelength_nm, *job.medium, *job.surrounding, req.temperature_c);
-  const double k0 = 2 * kPi<> * p0.n_surrounding / (req.phase_wavelength_nm * 1e-9);
-  out.at_phase_wavelength = mie_bulk_optics(p0.m, k0, scaled, req.threads);
-  // The phase's own normalisation and asymmetry parameter: over the phase's radii (so that the table
-  // integrates to 1 exactly), which may differ from the spectra's denser radii by the ripple noise.
-  const MieBulkOptics of_phase = mie_bulk_optics(p0.m, k0, plan.phase.quadrature, req.threads);
-  const double csca_sum = of_phase.scattering_per_m;
-  double weight_sum = 0;
-  for (const double w : plan.phase.quadrature.weight) weight_sum += w;
-  if (!(csca_sum > 0)) throw Error("the drops scatter no light (m = 1?): no phase function to export");
-  const PhaseEvaluator eval{plan, k0, csca_sum / weight_sum};
-  const double g_uncut = of_phase.g;
+}
 
-  // The table: levels of 2^k + 1 values (or the one size asked for), each analysed from p at its
-  // quarter points; a level's quarter points hold the previous level's, which are reused.
+// The table found: the last level analysed, its quarter points and the chosen cut.
+struct TableSearch {
+  Level level;
+  Choice best;
+  std::vector<double> q;  // p at the quarter points of `level`, mu ascending
+};
+
+// The table: levels of 2^k + 1 values (or the one size asked for), each analysed from p at its
+// quarter points; a level's quarter points hold the previous level's, which are reused (progress 0.1
+// to 1).
+TableSearch search_table(const MediumPlan& plan, const PhaseEvaluator& eval, double k0, double g_uncut,
+                         const Report& report) {
+  const MediumRequest& req = plan.job.numbers;
   const bool auto_size = !req.values;
   std::vector<int> sizes;
   if (auto_size) {
@@ -354,10 +349,8 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
   }
   const double x_eff = k0 * m3 / m2;
   const bool hopeless = auto_size && 3.3 * x_eff * x_eff > 4.0 * kAutoMaxValues;
-  std::vector<double> q;  // p at the quarter points of the current level, mu ascending
-  int q_n = 0;             // the level they belong to
-  Level level;
-  Choice best;
+  TableSearch found;
+  int q_n = 0;  // the level found.q belongs to
   double evaluated = 0, planned = 0;
   for (const int n : sizes) planned += 4.0 * (n - 1) + 1;
   if (auto_size) planned = 4.0 * (sizes.back() - 1) + 1;
@@ -370,7 +363,7 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
     std::vector<std::size_t> where;
     for (std::size_t j = 0; j < points; ++j) {
       if (q_n > 0 && (n - 1) == 2 * (q_n - 1) && j % 2 == 0) {
-        next[j] = q[j / 2];
+        next[j] = found.q[j / 2];
         continue;
       }
       todo.push_back(double(points - 1 - j) * dq);
@@ -382,48 +375,38 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
     });
     evaluated += double(todo.size());
     for (std::size_t i = 0; i < where.size(); ++i) next[where[i]] = values[i];
-    q = std::move(next);
+    found.q = std::move(next);
     q_n = n;
-    level = analyse(n, q);
+    found.level = analyse(n, found.q);
+    const Level& level = found.level;
     // The cut: the one asked for, or none if that meets the target, else the smallest allowed one
     // that does (else the best allowed one).
     if (req.forward_cut_deg) {
       const double one_minus = 1 - std::cos(deg_to_rad(*req.forward_cut_deg));
       const int m = std::min(n - 2, int(std::lround(one_minus / level.h)));
-      best = choose(level, q, m, g_uncut);
+      found.best = choose(level, found.q, m, g_uncut);
     } else {
-      best = choose(level, q, 0, g_uncut);
+      found.best = choose(level, found.q, 0, g_uncut);
       const bool last = li + 1 == sizes.size();
-      for (int m = 1; (hopeless || last) && best.error > req.max_error && m < n - 1 &&
+      for (int m = 1; (hopeless || last) && found.best.error > req.max_error && m < n - 1 &&
                       cut_angle_deg(level, m) <= kAutoMaxCutDeg;
            ++m) {
-        const Choice c = choose(level, q, m, g_uncut);
-        if (c.error < best.error) best = c;
+        const Choice c = choose(level, found.q, m, g_uncut);
+        if (c.error < found.best.error) found.best = c;
       }
     }
-    if (!auto_size || best.error <= req.max_error) break;
+    if (!auto_size || found.best.error <= req.max_error) break;
   }
+  return found;
+}
 
-  TabulatedPhase& t = out.phase;
+// pbrt-v4's Henyey-Greenstein against the same (cut) phase: Simpson on the quarter points over the
+// resolved intervals, a fine Simpson rule over the cone (where the cut phase is the flat cap).
+void compare_henyey_greenstein(const TableSearch& found, TabulatedPhase& t) {
+  const Level& level = found.level;
+  const Choice& best = found.best;
+  const std::vector<double>& q = found.q;
   const int n = level.n, resolved = n - 1 - best.m;
-  t.exact.resize(std::size_t(n));
-  t.values.resize(std::size_t(n));
-  t.normalisation = 1 / best.trapezoid;
-  for (int j = 0; j < n; ++j) {
-    t.exact[std::size_t(j)] = q[4 * std::size_t(j)];
-    t.values[std::size_t(j)] = table_value(level, q, best, j) * t.normalisation;
-  }
-  // Two phase functions are at most 2 apart in L1 (no overlap); an unresolved peak (a small table
-  // asked for) can push the estimate past that.
-  t.l1_error = std::min(2.0, best.error);
-  t.target_met = !auto_size || best.error <= req.max_error;
-  t.cut_intervals = best.m;
-  t.cut_deg = cut_angle_deg(level, best.m);
-  t.cut_fraction = best.cut_fraction;
-  t.g = best.g;
-
-  // pbrt-v4's Henyey-Greenstein against the same (cut) phase: Simpson on the quarter points over the
-  // resolved intervals, a fine Simpson rule over the cone (where the cut phase is the flat cap).
   const double kept = 1 - best.cut_fraction, two_pi = 2 * kPi<>;
   t.hg_g = std::clamp(t.g, -0.99, 0.99);
   double hg = 0;
@@ -447,8 +430,65 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
   const double forward = best.m > 0 ? best.cap / kept : q.back();
   t.hg_forward_ratio = henyey_greenstein(t.hg_g, 1) / forward;
   t.hg_backward_ratio = henyey_greenstein(t.hg_g, -1) / (q.front() / kept);
+}
+
+// The exported table from the search, with its stated error and cut.
+void fill_table(const TableSearch& found, bool target_met, TabulatedPhase& t) {
+  const Level& level = found.level;
+  const Choice& best = found.best;
+  const int n = level.n;
+  t.exact.resize(std::size_t(n));
+  t.values.resize(std::size_t(n));
+  t.normalisation = 1 / best.trapezoid;
+  for (int j = 0; j < n; ++j) {
+    t.exact[std::size_t(j)] = found.q[4 * std::size_t(j)];
+    t.values[std::size_t(j)] = table_value(level, found.q, best, j) * t.normalisation;
+  }
+  // Two phase functions are at most 2 apart in L1 (no overlap); an unresolved peak (a small table
+  // asked for) can push the estimate past that.
+  t.l1_error = std::min(2.0, best.error);
+  t.target_met = target_met;
+  t.cut_intervals = best.m;
+  t.cut_deg = cut_angle_deg(level, best.m);
+  t.cut_fraction = best.cut_fraction;
+  t.g = best.g;
+}
+
+}  // namespace
+
+MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) {
+  const MediumJob& job = plan.job;
+  const MediumRequest& req = job.numbers;
+  const Report report = [&](double f, std::string_view label) {
+    if (progress) progress(std::clamp(f, 0.0, 1.0), label);
+  };
+  MediumOptics out;
+  out.drops = plan.phase.drops;
+  out.media = media_text(job);
+  out.number_per_m3 = plan.number_per_m3;
+  out.scene_unit_m = req.scene_unit_m;
+  out.phase_wavelength_nm = req.phase_wavelength_nm;
+  if (auto note = undersampled_ripple_note(plan.phase, "nodes")) out.notes.push_back(std::move(*note));
+  compute_spectra(plan, out, report);
+
+  const SphereProblem p0 = sphere_problem(1, req.phase_wavelength_nm, *job.medium, *job.surrounding, req.temperature_c);
+  const double k0 = 2 * kPi<> * p0.n_surrounding / (req.phase_wavelength_nm * 1e-9);
+  out.at_phase_wavelength = mie_bulk_optics(p0.m, k0, plan.spectral, req.threads);
+  // The phase's own normalisation and asymmetry parameter: over the phase's radii (so that the table
+  // integrates to 1 exactly), which may differ from the spectra's denser radii by the ripple noise.
+  const MieBulkOptics of_phase = mie_bulk_optics(p0.m, k0, plan.phase.quadrature, req.threads);
+  const double csca_sum = of_phase.scattering_per_m;
+  double weight_sum = 0;
+  for (const double w : plan.phase.quadrature.weight) weight_sum += w;
+  if (!(csca_sum > 0)) throw Error("the drops scatter no light (m = 1?): no phase function to export");
+  const PhaseEvaluator eval{plan, k0, csca_sum / weight_sum};
+
+  const TableSearch found = search_table(plan, eval, k0, of_phase.g, report);
+  fill_table(found, req.values.has_value() || found.best.error <= req.max_error, out.phase);
+  compare_henyey_greenstein(found, out.phase);
 
   // The coefficients as exported: the cut light leaves the scattering (and the extinction).
+  const double kept = 1 - found.best.cut_fraction;
   for (std::size_t i = 0; i < out.wavelength_nm.size(); ++i) {
     const double s = out.scattering_per_m[i] * kept, a = out.absorption_per_m[i];
     out.sigma_s_per_m.push_back(s);
