@@ -76,20 +76,15 @@ void validate(const RainCamera& c) {
 }
 
 void validate(const RainSettings& s) {
-  rain_param("rate_mmh").check(s.rate_mmh);
-  rain_param("wind_mps").check(s.wind_mps);
-  rain_param("wind_dir_deg").check(s.wind_dir_deg);
-  rain_param("near_m").check(s.near_m);
+  // The declared ranges of the settings' own rows (params.cpp; the camera's and the fog's are checked
+  // with them), then those that follow from other values.
+  RainOptions declared;
+  declared.settings = s;
+  check_fields(rain_params(), declared);
   require_in_range("far_m", s.far_m, s.near_m * 1.001, rain_param("far_m").hi, "beyond near_m");
-  rain_param("min_radius_mm").check(s.min_radius_mm);
   require_in_range("max_radius_mm", s.max_radius_mm, s.min_radius_mm * 1.001, rain_param("max_radius_mm").hi,
                    "beyond min_radius_mm");
-  rain_param("min_alpha").check(s.min_alpha);
-  rain_param("extent_m").check(s.extent_m);
-  rain_param("backdrop_m").check(s.backdrop_m);
-  rain_param("oscillation").check(s.oscillation);
   require_in_range("refractive_index", s.refractive_index, 1.01, 3);
-  rain_param("radius_classes").check(s.radius_classes);
 }
 
 // ---- Marshall-Palmer ------------------------------------------------------------------------

@@ -44,7 +44,8 @@ const Field<MieRequest> kMie[] = {
 const Field<PhaseRequest> kPhase[] = {
     {{"nodes", "--nodes", "sizes", K::integer, "", 1, kMaxQuadratureNodes,
       "Radii in the size average (Gauss-Legendre); cloud droplets' Mie ripple needs about 8 per unit of the size "
-      "parameters covered (a note says when there are fewer than 4)"},
+      "parameters covered (a note says when there are fewer than 4)",
+      {}, kNodesOnlyWith, {}, kNodesWhy},
      HYDROLUX_PARAM_MEMBER(nodes)},
     {kTemperature, HYDROLUX_PARAM_OPTIONAL(temperature_c)},
     {kThreads, HYDROLUX_PARAM_MEMBER(threads)},
@@ -54,6 +55,11 @@ const Field<PhaseRequest> kPhase[] = {
 };
 
 }  // namespace
+
+void hold_size_states(ParamUse& use, std::string_view size_distribution) {
+  use.note("size_distribution", std::string(size_distribution));
+  if (parse_size_distribution(size_distribution).kind != SizeDistributionKind::monodisperse) use.hold("many_radii");
+}
 
 std::span<const Field<MieRequest>> mie_params() { return kMie; }
 std::span<const Field<PhaseRequest>> phase_params() { return kPhase; }

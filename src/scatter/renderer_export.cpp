@@ -12,6 +12,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "hydrolux/scatter/sphere.hpp"
 #include "hydrolux/scatter/theories.hpp"
@@ -32,7 +33,8 @@ const Field<MediumRequest> kMedium[] = {
      HYDROLUX_PARAM_OPTIONAL(lwc_g_m3)},
     {{"nodes", "--nodes", "drops", K::integer, "", 1, kMaxQuadratureNodes,
       "Radii in the size average (Gauss-Legendre); cloud droplets' Mie ripple needs about 8 per unit of the size "
-      "parameters covered (a note says when there are fewer than 4)"},
+      "parameters covered (a note says when there are fewer than 4)",
+      {}, kNodesOnlyWith, {}, kNodesWhy},
      HYDROLUX_PARAM_MEMBER(nodes)},
     {{"temperature_c", "--temperature-c", "media", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
       "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither medium does"},

@@ -242,26 +242,17 @@ void validate(const SkySettings& s) {
   const auto check = [](const char* q, double v, double lo, double hi, const char* why = "") {
     if (!(v >= lo && v <= hi)) throw DomainError(q, v, lo, hi, why);
   };
-  // The declared parameters' ranges (sky_params.cpp).
-  const auto declared = [&](const char* q, double v) { check(q, v, sky_param(q).lo, sky_param(q).hi); };
-  declared("fov_deg", s.camera.fov_deg);
-  declared("view_azimuth_deg", s.camera.azimuth_deg);
-  declared("view_elevation_deg", s.camera.elevation_deg);
+  // The declared parameters' ranges (sky_params.cpp), then the texts the doors read.
+  SkyOptions declared;
+  declared.settings = s;
+  check_fields(sky_params(), declared);
+  // An optional set to NaN reads as unset there (HYDROLUX_PARAM_OPTIONAL): refused here.
+  if (s.polarizer_deg) sky_param("polarizer_deg").check(*s.polarizer_deg);
   check("width", s.camera.width, 1, 16384);
   check("height", s.camera.height, 1, 16384);
-  declared("sun_azimuth_deg", s.sun_azimuth_deg);
-  declared("sun_elevation_deg", s.sun_elevation_deg);
-  declared("turbidity", s.turbidity);
-  declared("radius_um", s.radius_um);
-  declared("rain_rate_mmh", s.rain_rate_mmh);
   check("curtain_near_m", s.curtain_near_m, 0, 1e6);
   check("curtain_far_m", s.curtain_far_m, s.curtain_near_m, 1e6, "the far edge must not be nearer than the near one");
   for (int k = 0; k < 3; ++k) check("light_color", s.light_color[k], 0, 1e3);
-  declared("cube_face_size", s.cube_face_size);
-  declared("dome_rings", s.dome_rings);
-  declared("dome_segments", s.dome_segments);
-  if (s.polarizer_deg) declared("polarizer_deg", *s.polarizer_deg);
-  declared("sky_max_dolp", s.sky_max_dolp);
 }
 
 double estimated_bytes(const SkySettings& s) {

@@ -15,6 +15,10 @@ namespace {
 
 using K = ParamKind;
 
+// Why a parameter of one mode is refused in another ({mode=}: the run's).
+constexpr std::string_view kCubeMapWhy = "used by {mode=cube-map} only (this run is {mode=})";
+constexpr std::string_view kHalfDomeWhy = "used by {mode=half-dome} only (this run is {mode=})";
+
 
 }  // namespace
 
@@ -52,7 +56,8 @@ std::span<const Field<SkyOptions>> sky_params() {
         "Atmospheric turbidity of the sky and the sun's path (Preetham: 2 clear, 10 hazy)"},
        HYDROLUX_PARAM_MEMBER(settings.turbidity)},
       {{"environment_scale", "--environment-scale", "scene", K::real, "", 0, 1e12,
-        "Multiplier on --environment's values (needs --environment)"},
+        "Multiplier on --environment's values (needs --environment)", {}, "environment", {},
+        "scales {environment}'s values; without {environment} there is nothing to scale"},
        HYDROLUX_PARAM_MEMBER(environment_scale)},
       {{"corona", "--corona", "rain", K::flag, "", 0, 1,
         "Draw the corona and the forward light around the sun (0-90 degrees; drops of 1-50 um)"},
@@ -61,13 +66,14 @@ std::span<const Field<SkyOptions>> sky_params() {
         "Leave out the secondary bow (fades out below 134 degrees)"},
        HYDROLUX_PARAM_MEMBER(settings.secondary)},
       {{"cube_face_size", "--cube-face-size", "mode", K::integer, "", 4, 4096,
-        "Cube map face size in texels (--mode cube-map only)"},
+        "Cube map face size in texels (--mode cube-map only)", {}, "mode=cube-map", {}, kCubeMapWhy},
        HYDROLUX_PARAM_MEMBER(settings.cube_face_size)},
       {{"dome_rings", "--dome-rings", "mode", K::integer, "", 2, 4096,
-        "Half dome rings from the antisolar point to 90 degrees (--mode half-dome only)"},
+        "Half dome rings from the antisolar point to 90 degrees (--mode half-dome only)", {}, "mode=half-dome", {},
+        kHalfDomeWhy},
        HYDROLUX_PARAM_MEMBER(settings.dome_rings)},
       {{"dome_segments", "--dome-segments", "mode", K::integer, "", 3, 8192,
-        "Half dome segments around (--mode half-dome only)"},
+        "Half dome segments around (--mode half-dome only)", {}, "mode=half-dome", {}, kHalfDomeWhy},
        HYDROLUX_PARAM_MEMBER(settings.dome_segments)},
       {{"polarizer_deg", "--polarizer-deg", "camera", K::real, "deg", -180, 180,
         "A linear polariser in front of the camera: its transmission axis in the image, degrees from the horizontal "
@@ -76,7 +82,10 @@ std::span<const Field<SkyOptions>> sky_params() {
        HYDROLUX_PARAM_OPTIONAL(settings.polarizer_deg)},
       {{"sky_max_dolp", "--sky-max-dolp", "sun", K::real, "", 0, 1,
         "The sky's degree of linear polarisation 90 degrees from the sun (Rayleigh with depolarisation: 0.946 for "
-        "air's molecules alone, 0.6-0.85 measured in clear skies; used with --polarizer-deg)"},
+        "air's molecules alone, 0.6-0.85 measured in clear skies; used with --polarizer-deg)",
+        {}, "polarizer_deg|stokes", {},
+        "sets the sky's polarisation, which only a polariser or the Stokes images show (add {polarizer_deg} or "
+        "{stokes}, or omit {sky_max_dolp})"},
        HYDROLUX_PARAM_MEMBER(settings.sky_max_dolp)},
       {{"stokes", "--stokes", "camera", K::flag, "", 0, 1,
         "Write the Stokes images instead of one filter's: EXR channels R,G,B (I), Q.R,Q.G,Q.B and U.R,U.G,U.B in each "
@@ -85,7 +94,8 @@ std::span<const Field<SkyOptions>> sky_params() {
        HYDROLUX_PARAM_MEMBER(settings.stokes)},
       {{"sampling", "--sampling", "tables", K::real, "", sampling.lo, sampling.hi,
         "Sampling multiplier of the tables computed without --lut (not with --lut); the time grows as its square: "
-        "about 12 s at 1 for 500 um drops on two cores, an hour at 16"},
+        "about 12 s at 1 for 500 um drops on two cores, an hour at 16",
+        {}, {}, "lut", "sets the sampling of the tables computed without {lut}; {lut} gives the tables (omit {sampling})"},
        HYDROLUX_PARAM_MEMBER(sampling)},
   };
   return table;

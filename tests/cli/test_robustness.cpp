@@ -113,6 +113,7 @@ std::map<std::string, std::map<std::string, OptionInfo>> cli_tree() {
     auto& options = tree[path];
     for (const auto* opt : cmd.app->get_options()) {
       if (opt->get_lnames().empty() || opt->get_lnames().front() == "help") continue;
+      if (opt->get_group().empty()) continue;  // a deprecated spelling: the same option as its new one
       OptionInfo info;
       for (const auto& l : opt->get_lnames()) info.names.push_back("--" + l);
       for (const auto& s : opt->get_snames()) info.names.push_back("-" + s);

@@ -2,6 +2,7 @@
 // invariants every job's table keeps so that each door can be generated from it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <set>
@@ -113,6 +114,11 @@ TEST(Params, EveryTableIsConsistent) {
       if (!p.excludes.empty()) {
         EXPECT_TRUE(names.count(p.excludes)) << where << " excludes an unknown " << p.excludes;
       }
+      // A reason's placeholders are closed: {name} or {name=}.
+      EXPECT_EQ(std::count(p.why.begin(), p.why.end(), '{'), std::count(p.why.begin(), p.why.end(), '}')) << where;
+      if (!p.deprecated.empty()) {
+        EXPECT_FALSE(names.count(p.deprecated)) << where << ": its old name is another parameter's";
+      }
       for (const char* suffix : {"_mm", "_m", "_deg", "_s", "_um", "_nm", "_mmh", "_mps"}) {
         const std::string n(p.name), sfx(suffix);
         if (n.size() > sfx.size() && n.compare(n.size() - sfx.size(), sfx.size(), sfx) == 0) {
@@ -122,6 +128,64 @@ TEST(Params, EveryTableIsConsistent) {
     }
   }
   EXPECT_THROW(hydrolux::job_spec("no such job"), hydrolux::UnknownNameError);
+}
+
+// The usage tracker: a parameter given where its declared conditions fail is refused in one format,
+// spelled by the door; one whose condition holds, or that the job consumed, is not.
+TEST(ParamUse, ReportsGivenAndUnusedInTheDoorsSpelling) {
+  const Param nodes{"nodes", "--nodes", "sizes", ParamKind::integer, "", 1, 100, "Radii", {}, "many_radii", {},
+                    "{size_distribution=} is one radius; {nodes} sets the radii (omit {nodes})"};
+  const Param dolp{"sky_max_dolp", "--sky-max-dolp", "sun", ParamKind::real, "", 0, 1, "Degree", {},
+                   "polarizer_deg|stokes"};
+  const Param stokes{"stokes", "--stokes", "camera", ParamKind::flag, "", 0, 1, "Stokes", {}, {}, "polarizer_deg"};
+  const Param pol{"polarizer_deg", "--polarizer-deg", "camera", ParamKind::real, "deg", -180, 180, "Filter"};
+  const auto message = [](const hydrolux::ParamUse& use) {
+    try {
+      use.report_unused();
+    } catch (const hydrolux::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  hydrolux::ParamUse cli(hydrolux::Door::cli), py(hydrolux::Door::python);
+  for (auto* use : {&cli, &py}) {
+    use->give(nodes, "16");
+    use->note("size_distribution", "mono");
+  }
+  EXPECT_EQ(message(cli), "--nodes 16: --size-distribution mono is one radius; --nodes sets the radii (omit --nodes)");
+  EXPECT_EQ(message(py), "nodes=16: size_distribution=mono is one radius; nodes sets the radii (omit nodes)");
+  cli.hold("many_radii");
+  EXPECT_EQ(message(cli), "(accepted)");
+  py.consume("nodes");
+  EXPECT_EQ(message(py), "(accepted)");
+
+  hydrolux::ParamUse sky(hydrolux::Door::cli);
+  sky.give(dolp, "0.5");
+  sky.declare(pol);
+  EXPECT_EQ(message(sky), "--sky-max-dolp 0.5: used only with --polarizer-deg or --stokes (omit --sky-max-dolp)");
+  sky.give(stokes, "");
+  EXPECT_EQ(message(sky), "(accepted)");
+  sky.give(pol, "90");
+  EXPECT_EQ(message(sky), "--stokes: not with --polarizer-deg 90");
+  EXPECT_TRUE(sky.given("stokes"));
+  EXPECT_FALSE(sky.given("no_such"));
+  EXPECT_EQ(sky.spell("mode=cube-map"), "--mode cube-map");
+}
+
+// The one validation over a table: every row's range, an unset optional skipped.
+TEST(Params, CheckFieldsChecksEveryRow) {
+  hydrolux::rain::RainOptions o;
+  EXPECT_NO_THROW(hydrolux::check_fields(hydrolux::rain::rain_params(), o));
+  o.settings.wind_mps = 51;
+  try {
+    hydrolux::check_fields(hydrolux::rain::rain_params(), o);
+    FAIL() << "wind 51 m/s accepted";
+  } catch (const hydrolux::DomainError& e) {
+    EXPECT_STREQ(e.what(), "wind_mps = 51 is outside [0, 50] m/s");
+  }
+  o.settings.wind_mps = 0;
+  o.fov_deg = 171;
+  EXPECT_THROW(hydrolux::check_fields(hydrolux::rain::rain_params(), o), hydrolux::DomainError);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
+#include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/renderer_export.hpp"
 #include "params.hpp"
 #include "progress.hpp"
@@ -70,10 +71,12 @@ int run_medium(const MediumArgs& a) {
   scatter::MediumPlan plan;
   try {
     plan = scatter::plan_medium(std::move(job));
-    // One radius has nothing to average: a --nodes given (even at its default) would be ignored.
-    if (given(*a.sub, scatter::medium_param("nodes")) &&
-        scatter::parse_size_distribution(a.distribution).kind == scatter::SizeDistributionKind::monodisperse)
-      throw scatter::one_radius_nodes_error(a.r->nodes, a.distribution);
+    // A flag given where it has no effect (--nodes, even at its default, for one radius): the table's
+    // conditions, checked by the library.
+    ParamUse use(Door::cli);
+    record_given(*a.sub, scatter::medium_params(), use);
+    scatter::hold_size_states(use, a.distribution);
+    use.report_unused();
   } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
     throw Error(e.worded(flag_of(e.field()), e.also() ? flag_of(*e.also()) : std::string_view()));
   } catch (const DomainError&) {

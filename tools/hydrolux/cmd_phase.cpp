@@ -61,10 +61,12 @@ int run_phase(const PhaseArgs& a) {
     job.size_distribution = a.distribution;
     job.numbers = *a.r;
     plan = scatter::plan_phase(std::move(job));
-    // One radius has nothing to average: a --nodes given (even at its default) would be ignored.
-    if (given(*a.sub, scatter::phase_param("nodes")) &&
-        scatter::parse_size_distribution(a.distribution).kind == scatter::SizeDistributionKind::monodisperse)
-      throw scatter::one_radius_nodes_error(a.r->nodes, a.distribution);
+    // A flag given where it has no effect (--nodes, even at its default, for one radius): the table's
+    // conditions, checked by the library.
+    ParamUse use(Door::cli);
+    record_given(*a.sub, scatter::phase_params(), use);
+    scatter::hold_size_states(use, a.distribution);
+    use.report_unused();
   } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
     const std::string text(e.worded(flag_of(e.field()), e.also() ? flag_of(*e.also()) : std::string_view()));
     if (e.field() == scatter::PhaseJobError::Field::theory) throw UnknownNameError(text);

@@ -2,9 +2,13 @@
 
 namespace hydrolux::cli {
 
-CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(double)> store) {
+namespace {
+
+// The option of `flag` for the parameter (its validator, unit and default shown).
+CLI::Option* add_option_for(CLI::App& sub, const ParamInfo& info, const std::string& flag,
+                            std::function<void(double)> store) {
   const Param& p = *info.param;
-  const std::string flag(p.flag), help(p.help), unit(p.unit);
+  const std::string help(p.help), unit(p.unit);
   CLI::Option* opt = nullptr;
   switch (p.kind) {
     case ParamKind::real:
@@ -26,9 +30,32 @@ CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(
   return opt;
 }
 
-bool given(const CLI::App& sub, const Param& param) {
-  const auto* opt = sub.get_option_no_throw(std::string(param.flag));
-  return opt != nullptr && opt->count() > 0;
+}  // namespace
+
+CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(double)> store) {
+  const Param& p = *info.param;
+  CLI::Option* opt = add_option_for(sub, info, std::string(p.flag), store);
+  if (!p.deprecated.empty()) {
+    // The old spelling, for one release: it works as the new one, warns once, and is not in --help.
+    const std::string old = Param::flag_of(p.deprecated);
+    CLI::Option* alias = add_option_for(sub, info, old, [store, old, &p](double v) {
+      warn(p.deprecation_warning(old, p.flag));
+      store(v);
+    });
+    alias->group("")->excludes(opt);
+  }
+  return opt;
 }
+
+const CLI::Option* given_option(const CLI::App& sub, const Param& param) {
+  for (const std::string& flag : {std::string(param.flag), param.deprecated.empty() ? std::string() : Param::flag_of(param.deprecated)}) {
+    if (flag.empty()) continue;
+    const auto* opt = sub.get_option_no_throw(flag);
+    if (opt != nullptr && opt->count() > 0) return opt;
+  }
+  return nullptr;
+}
+
+bool given(const CLI::App& sub, const Param& param) { return given_option(sub, param) != nullptr; }
 
 }  // namespace hydrolux::cli

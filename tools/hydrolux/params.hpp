@@ -14,7 +14,8 @@
 
 namespace hydrolux::cli {
 
-// One flag for a declared parameter; `store` receives the parsed, range-checked value.
+// One flag for a declared parameter; `store` receives the parsed, range-checked value. A parameter
+// with a deprecated name also takes its old flag (hidden from --help; a warning when given).
 CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(double)> store);
 
 // Every field of `fields` as a flag on `sub`, storing into *request (kept alive by the action).
@@ -34,8 +35,24 @@ void add_params(CLI::App& sub, const std::shared_ptr<Request>& request, std::spa
     if (!f.param.excludes.empty()) options.at(f.param.name)->excludes(options.at(f.param.excludes));
 }
 
+// The option of `param` given on the command line (its flag, or its deprecated one), or nullptr.
+const CLI::Option* given_option(const CLI::App& sub, const Param& param);
 // Whether the flag of parameter `name` was given on the command line.
 bool given(const CLI::App& sub, const Param& param);
+
+// What the user gave of `fields` on `sub`, for the library's ParamUse: each flag given, with its text
+// as written (a switch: none); the others declared, so that messages can name them.
+template <class Request>
+void record_given(const CLI::App& sub, std::span<const Field<Request>> fields, ParamUse& use) {
+  for (const auto& f : fields) {
+    const CLI::Option* opt = given_option(sub, f.param);
+    if (opt == nullptr) {
+      use.declare(f.param);
+      continue;
+    }
+    use.give(f.param, f.param.kind == ParamKind::flag ? std::string() : opt->results().back());
+  }
+}
 
 // The fields from the one named `first` to the one named `last`, both included: a run of a table that
 // a command registers between its own flags, where it stands in --help.

@@ -65,6 +65,7 @@ std::string reference_markdown(const std::vector<Command>& commands) {
     md += "| flag | Python | group | unit | valid | default | what it sets |\n|---|---|---|---|---|---|---|\n";
     for (const auto* opt : cmd.app->get_options()) {
       if (opt->get_lnames().empty() && opt->get_snames().empty()) continue;
+      if (opt->get_group().empty()) continue;  // hidden: a deprecated spelling (add_param)
       if (!opt->get_lnames().empty() && opt->get_lnames().front() == "help") continue;
       std::string names;
       for (const auto& s : opt->get_snames()) names += (names.empty() ? "" : ", ") + ("`-" + s + "`");

@@ -13,6 +13,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace hydrolux {
@@ -35,6 +36,23 @@ struct Param {
   std::string_view help;  // one line, as the CLI's --help shows it
   // Another parameter this one replaces (fov_deg for focal_mm): giving both is refused.
   std::string_view excludes = {};
+  // Where the parameter has an effect, declared (ParamUse::report_unused reads them): `only_with`,
+  // one or more words between '|', of which one must hold; `not_with`, words of which none may. A
+  // word is another parameter's name (it holds when given), or a state the job declares it is in
+  // ("lut": tables given; "mode=cube-map"; "many_radii"). `why` says it in the message, with {name}
+  // spelled by the door ("--nodes", "nodes") and {name=} with its value ("--size-distribution
+  // mono"); empty: "used only with A or B" / "not with A".
+  std::string_view only_with = {};
+  std::string_view not_with = {};
+  std::string_view why = {};
+  // The name this parameter had before (one per quantity: "rate_mmh" for rain_rate_mmh), kept for one
+  // release: each door still takes it (the CLI as --rate-mmh, Python as the keyword) with one warning.
+  std::string_view deprecated = {};
+
+  // "--rate-mmh" for "rate_mmh": the flag of a name, as the CLI spells names it has no row for.
+  static std::string flag_of(std::string_view name);
+  // The warning a door prints once when the deprecated spelling `old` of this parameter is used.
+  std::string deprecation_warning(std::string_view old, std::string_view now) const;
 
   // "[0, 500] mm/h"
   std::string range_text() const;
@@ -42,6 +60,12 @@ struct Param {
   // value lies in the range; for an integer also unless it is whole.
   void check(double value) const;
 };
+
+// The door a user came through, which spells a parameter its own way in every message: the
+// library's name ("rate_mmh"), the CLI's and the batch jobs' flag ("--rate-mmh"), Python's keyword.
+enum class Door { library, cli, python };
+// `param` as `door` spells it.
+std::string_view spelled(const Param& param, Door door);
 
 // Ranges that several jobs' parameters share, stated once: a temperature before the medium's own
 // range is checked (from absolute zero to 1000 C), and the worker threads (0: every core).
@@ -97,6 +121,59 @@ std::vector<ParamInfo> describe_fields(std::span<const Field<Request>> fields) {
   for (const auto& f : fields) out.push_back({&f.param, f.get(defaults)});
   return out;
 }
+
+// Every field of `fields` in its declared range (Param::check's message), in the table's order; a
+// field without a value (NaN: an optional not given) is skipped. The one validation over a table:
+// the checks that follow from other values (far beyond near) stay with the job.
+template <class Request>
+void check_fields(std::span<const Field<Request>> fields, const Request& request) {
+  for (const auto& f : fields)
+    if (const double v = f.get(request); !std::isnan(v)) f.param.check(v);
+}
+
+// The parameters a user gave through a door, and where the job says they have an effect: pbrt-v4's
+// ParameterDictionary::ReportUnused, Mitsuba 3's error for a property no plugin queried. The door
+// records what was given (give) and the job the states it is in (hold) or the parameters it used
+// whatever the conditions (consume); report_unused refuses, in one format for every door and job
+// ("--sampling 2: used only with ..."), a parameter given whose declared conditions (Param::only_with,
+// not_with) fail. No door lists its refusals by hand.
+class ParamUse {
+ public:
+  explicit ParamUse(Door door = Door::library) : door_(door) {}
+  Door door() const { return door_; }
+  // The door: the user gave `param`, written `value` (as the message shows it).
+  void give(const Param& param, std::string value);
+  // A declared parameter that may be named in messages ({name}) though not given.
+  void declare(const Param& param);
+  // The job: a state holds (a word of only_with / not_with); `value` shows it as {state=}.
+  void hold(std::string_view state, std::string value = {});
+  // A value shown for {name=} of a text the door reads itself (--size-distribution).
+  void note(std::string_view name, std::string value);
+  // The job used the parameter: no condition refuses it.
+  void consume(std::string_view name);
+  bool given(std::string_view name) const;
+  // Whether `word` holds: a parameter given, or a state held.
+  bool holds(std::string_view word) const;
+  // Throws Error "{P} {value}: {why}" (P spelled by the door) for the first parameter given, in the
+  // order declared, whose conditions fail.
+  void report_unused() const;
+  // A parameter's name or a state as the door spells it: "--nodes", "--mode cube-map" (for
+  // "mode=cube-map"); with_value: followed by its value where one is known.
+  std::string spell(std::string_view word, bool with_value = false) const;
+
+ private:
+  struct Entry {
+    const Param* param;
+    std::string value;
+    bool given = false, consumed = false;
+  };
+  const Entry* find(std::string_view name) const;
+  Entry* find(std::string_view name);
+  std::string reason(const Entry& e, bool only_with_failed, std::string_view word) const;
+  Door door_;
+  std::vector<Entry> params_;
+  std::vector<std::pair<std::string, std::string>> states_, notes_;
+};
 
 // The field of `name` in `fields`, or nullptr.
 template <class Request>

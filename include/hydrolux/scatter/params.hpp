@@ -28,6 +28,16 @@ struct PhaseRequest {
   bool mueller = false;  // the Mueller matrix elements too
 };
 
+// Where a count of radii (the phase's and the medium's nodes) has an effect, declared on its rows: a
+// size distribution of many radii, the state hold_size_states declares.
+inline constexpr std::string_view kNodesOnlyWith = "many_radii";
+inline constexpr std::string_view kNodesWhy =
+    "{size_distribution=} is one radius, with nothing to average; {nodes} sets the radii of gamma:W, lognormal:W and "
+    "marshall-palmer:H (omit {nodes})";
+// The states of a size distribution's text (scatter::parse_size_distribution's) for `use`: its value
+// for messages and "many_radii" where it has more than one radius.
+void hold_size_states(ParamUse& use, std::string_view size_distribution);
+
 std::span<const Field<MieRequest>> mie_params();
 std::span<const Field<PhaseRequest>> phase_params();
 // A parameter by name; throws std::logic_error for a name not declared.
