@@ -2,7 +2,9 @@
 function, class and method has an ``Example``, and the Python examples of README.md and docs/python.md.
 
 - Public: a module's ``__all__``, or else the functions and classes it defines whose names do not start
-  with "_"; and the methods (not properties) of those classes whose names do not start with "_".
+  with "_"; and the methods (not properties) of those classes whose names do not start with "_". A name
+  of ``__all__`` that lives in another module (``hydrolux.mie`` in ``hydrolux.scatter``) is tested under
+  the name it is public by.
 - Doctests run with ELLIPSIS and NORMALIZE_WHITESPACE, in a temporary folder that is also
   ``tempfile``'s, so that an example's files (``tempfile.mkdtemp()``) land in pytest's tmp_path.
 - In the Markdown files: each fenced ```python block runs as a script, and each ```console or
@@ -60,11 +62,18 @@ def test_every_public_call_has_an_example():
 
 
 def _doctests():
+    """Each module's doctests, and those of each name of its __all__ that lives in another module
+    (hydrolux.mie in hydrolux.scatter), under the name it is public by (hydrolux.mie)."""
     finder = doctest.DocTestFinder(exclude_empty=True)
     found = []
     for name in MODULES:
-        found += [t for t in finder.find(importlib.import_module(name), name) if t.examples]
-    return sorted(found, key=lambda t: t.name)
+        module = importlib.import_module(name)
+        found += finder.find(module, name)
+        for n in getattr(module, "__all__", ()):
+            obj = getattr(module, n)
+            if inspect.getmodule(obj) is not module:
+                found += finder.find(obj, f"{name}.{n}")
+    return sorted((t for t in found if t.examples), key=lambda t: t.name)
 
 
 @pytest.fixture
