@@ -365,8 +365,8 @@ def test_a_manifest_that_is_not_a_lee_atlas_one_is_a_value_error(copy):
 
 @pytest.mark.parametrize("job,extra", [("lens-drops", ["--seed", "3"]), ("rain", ["--seed", "3"])])
 def test_frame_folders_that_are_not_utf8_are_handled_as_the_cli_handles_them(tmp_path, cli, capfd, job, extra):
-    # Folders named with byte 0xff (Python holds it as a surrogate escape, as in sys.argv): fog shares the
-    # lens-drops job's skeleton (_folder.py), rain has its own.
+    # Folders named with byte 0xff (Python holds it as a surrogate escape, as in sys.argv): rain, fog and
+    # lens drops share one planner (_folder.py).
     root = os.fsencode(tmp_path)
     src, out, masks = root + b"/fr\xffames", root + b"/o\xfeut", root + b"/m\xfd"
     os.mkdir(src)

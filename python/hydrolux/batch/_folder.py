@@ -1,12 +1,14 @@
-"""A per-frame effect over a folder of frames on a Dask cluster: the skeleton ``hydrolux.batch fog``
-and ``hydrolux.batch lens-drops`` share (the rain job, whose frames share one rain field in time, has
-its own in rain.py).
+"""A per-frame effect over a folder of frames on a Dask cluster: the one planner of ``hydrolux.batch
+rain``, ``fog`` and ``lens-drops``.
 
 A :class:`FrameJob` names the job's declared parameters (the library's one table), what it adds to
-the job from the sequence's first frame (fog: the sky colour), and its per-frame render. The folder
-is planned as the CLI plans it (``plan_frame_folder``), every input and output checked before any
-work, each frame written atomically and recorded in the manifest as it completes; a re-run skips
-recorded frames whose input is unchanged. The output is byte for byte the single-process CLI's.
+the job from the sequence's first frame (fog: the sky colour; rain: the field, checked), and its
+per-frame render. The folder is planned as the CLI plans it (``plan_frame_folder``), every input and
+output checked before any work, the sequence cut into chunks of consecutive frames (frame k at index
+start + k: rain's --frame-index, else 0), each frame written atomically and recorded in the manifest
+as it completes; a re-run skips recorded frames whose input, depth map and index are unchanged. A
+task whose worker dies is tried again frame by frame, so that only the culprit fails. The output is
+byte for byte the single-process CLI's.
 """
 from __future__ import annotations
 
@@ -17,12 +19,14 @@ import os
 import re
 import sys
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from . import _common
 from ._common import UsageError, printable
 
-# A frame's float RGB in and out, its mask and the encoded file: about the rain job's ~100 bytes a pixel.
+# What a task holds per pixel of its frame, measured on a worker (docs/batch.md, "Memory"): a 1080p frame
+# raised a worker's peak by 208 MB (the frame as float RGB in and out, its mask, the 8-bit copy, the
+# encoded file), ~100 bytes a pixel.
 TASK_BYTES_PER_PIXEL = 100
 
 
@@ -32,11 +36,13 @@ class FrameJob:
     job: str           # its declared parameters' job, _core.params(job)
     noun: str          # what --output-dir receives, "foggy frames"
     depth: bool        # whether it takes --depth-dir
-    # The job's entries from the options and the first readable frame (fog: its sky colour); raises
-    # ValueError naming a parameter for options the library refuses.
-    prepare: Callable[[Any, Dict[str, Any]], Dict[str, Any]]
-    # One frame: (image, depth or None, the frame's index in the sequence, the job) -> (image, mask).
-    # A module-level function: the workers receive it by reference.
+    # From the first readable frame, the options and whether a ground plane stands for depth maps: the
+    # job's entries for the manifest and the tasks (fog: its sky colour) and what the run's first line
+    # adds (rain: "; N drops in the field"); raises ValueError naming a parameter for options the
+    # library refuses (or a UsageError of the job's own words).
+    prepare: Callable[[Any, Dict[str, Any], bool], Tuple[Dict[str, Any], str]]
+    # One frame: (image, depth or None, the frame's index in the sequence, the job) -> (image, mask,
+    # stats or None). A module-level function: the workers receive it by reference.
     render: Callable[[Any, Any, int, Dict[str, Any]], tuple]
     # The options' own requirement (fog: a visibility or a liquid water content), as a UsageError.
     require: Optional[Callable[[Dict[str, Any]], None]] = None
@@ -109,31 +115,34 @@ def flag_error(e: ValueError, fj: FrameJob) -> UsageError:
     return UsageError(text)
 
 
-def _render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
-    """A task: consecutive frames [(index, input name, output name, depth map), ...], each written; one
-    record per frame, a failed one carrying "error"."""
+def render_frames(job: Dict[str, Any], frames: List[tuple], render: Optional[Callable] = None) -> List[dict]:
+    """A task: consecutive frames [(input name, output name, frame index, depth map), ...], each rendered
+    by ``render`` (else ``job["render"]``) and written; one record per frame, a failed one carrying
+    "error" while the others go on."""
     import hydrolux
 
     _core = _common.native("_core")
     _image = _common.native("_image")
+    render = render or job["render"]
     if job["threads"]:
         hydrolux.set_threads(job["threads"])
     records = []
-    for k, src, name, depth_name in frames:
-        rec: Dict[str, Any] = {"output": name, "input": src}
+    for src, name, index, depth_name in frames:
+        rec: Dict[str, Any] = {"output": name, "input": src, "frame_index": index}
         try:
             path = os.path.join(job["input_dir"], src)
             stamp = _common.file_stamp(path)
             image = _image.read(_common.fs(path))[0]
             h, w = image.shape[:2]
-            if job["one_size"] and (w, h) != (job["width"], job["height"]):
+            if job.get("one_size", True) and (w, h) != (job["width"], job["height"]):
                 raise ValueError(f"is {w}x{h}, unlike the first frame ({job['width']}x{job['height']}); "
                                  "one sequence has one size")
-            depth = None
+            depth = depth_stamp = None
             if depth_name:
+                depth_stamp = _common.file_stamp(os.path.join(job["depth_dir"], depth_name))
                 depth = _image.read_depth(_common.fs(os.path.join(job["depth_dir"], depth_name)),
                                           job["depth_scale_m"], w, h, "--depth-dir")[:, :, 0]
-            out, mask = job["render"](image, depth, k, job)
+            out, mask, stats = render(image, depth, index, job)
             fmt = "exr" if name.endswith(".exr") else "png"
             if job["mask_dir"]:
                 _core.write_file(_common.fs(os.path.join(job["mask_dir"], name)),
@@ -141,17 +150,27 @@ def _render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
             data = _image.encode(out, fmt, 8, False, job.get("png_compression"))
             _core.write_file(_common.fs(os.path.join(job["output_dir"], name)), data, "--output-dir")
             rec.update(input_size=stamp["size"], input_mtime_ns=stamp["mtime_ns"], output_size=len(data))
-        except Exception as e:
+            if stats is not None:
+                rec["stats"] = stats
+            if depth_name:
+                rec["depth"] = depth_stamp
+        except Exception as e:  # reported by name; the chunk's other frames go on
             rec["error"] = str(e)
         records.append(rec)
     return records
 
 
-def _is_done(rec, input_path: str, output_path: str) -> bool:
-    if not rec or "error" in rec:
+# ---- on the client --------------------------------------------------------------------------------
+
+def _is_done(rec: Optional[dict], frame_index: int, input_path: str, output_path: str, mask_path: Optional[str],
+             depth_path: Optional[str]) -> bool:
+    if not rec or "error" in rec or rec.get("frame_index") != frame_index:  # a frame added or removed before it
         return False
-    stamp, out = _common.file_stamp(input_path), _common.file_stamp(output_path)
-    if stamp is None or out is None:
+    if depth_path and rec.get("depth") != _common.file_stamp(depth_path):
+        return False
+    stamp = _common.file_stamp(input_path)
+    out = _common.file_stamp(output_path)
+    if stamp is None or out is None or (mask_path and _common.file_stamp(mask_path) is None):
         return False
     return (stamp["size"], stamp["mtime_ns"]) == (rec.get("input_size"), rec.get("input_mtime_ns")) and \
         out["size"] == rec.get("output_size")
@@ -211,7 +230,6 @@ def first_readable_frame(in_dir: str, frames: List[str]):
 def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
     """The job: 0 when every frame is in place, 1 when some failed, a UsageError naming the flag for bad
     input before any work."""
-    tag = f"batch {fj.name}"
     depth_dir_arg = getattr(a, "depth_dir", None) if fj.depth else None
     if a.input_dir is None:
         raise UsageError("--input-dir: give the folder of frames")
@@ -223,19 +241,38 @@ def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
     opts = _options(a, fj)
     if fj.require:
         fj.require(opts)
+    return run_folder(a, fj, opts, after_result)
 
-    plan = plan_folder(a.input_dir, a.output_dir, a.mask_dir, depth_dir_arg, tag)
+
+def run_folder(a: argparse.Namespace, fj: FrameJob, opts: Dict[str, Any], after_result=None,
+               task: Optional[Callable] = None) -> int:
+    """The frames of ``a.input_dir`` into ``a.output_dir`` (and their masks into ``a.mask_dir``) with the
+    job's options ``opts``, every input checked before the cluster starts; each task runs
+    ``task(job, frames)`` (by default :func:`render_frames`). ``a`` holds the parsed flags (the folders,
+    ``depth_scale_m`` and whether it was given, ``png_compression``, rain's ``frame_index``,
+    ``chunk_frames``) and the cluster's (``workers``, ``threads_per_worker``, ``scheduler``, ``quiet``)."""
+    tag = f"batch {fj.name}"
+    task = task or render_frames
+    depth_dir_arg = (getattr(a, "depth_dir", None) or None) if fj.depth else None
+    start = a.frame_index if any(p["name"] == "frame_index" for p in params(fj)) else None
+    plan = plan_folder(a.input_dir, a.output_dir, a.mask_dir or None, depth_dir_arg, tag)
     frames, names = plan["frames"], plan["outputs"]
-    in_dir, out_dir, mask_dir, depth_dir, depths = checked_members(a.input_dir, a.output_dir, a.mask_dir,
+    exr_depth = next((d for d in plan["depth_maps"] if depth_dir_arg and d.lower().endswith(".exr")), None)
+    if exr_depth and a.depth_scale_m_given:
+        raise UsageError(f"--depth-scale-m: scales the codes of a PNG depth map; --depth-dir "
+                         f"{os.path.abspath(depth_dir_arg)}: {exr_depth} holds metres already")
+    in_dir, out_dir, mask_dir, depth_dir, depths = checked_members(a.input_dir, a.output_dir, a.mask_dir or None,
                                                                    depth_dir_arg, plan)
-    # The sequence's size (and the job's own entries) from its first readable frame, the options
-    # checked on it.
+    # The sequence's size (and the job's own entries) from its first readable frame (an unreadable one is
+    # reported with the rest), every option checked on it before any task starts.
     first = first_readable_frame(in_dir, frames)
     size = (first.shape[1], first.shape[0])
     try:
-        extra = fj.prepare(first, opts)
+        extra, about = fj.prepare(first, opts, depth_dir is None)
     except ValueError as e:
         raise flag_error(e, fj) from None
+    # The local cluster's size within the cores and the memory (a task holds a frame's buffers), then the
+    # cluster: an unreachable scheduler leaves no output folder behind.
     a.workers, a.threads_per_worker = _common.local_cluster_size(a.workers, a.threads_per_worker,
                                                                  TASK_BYTES_PER_PIXEL * size[0] * size[1], a.scheduler)
     client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
@@ -246,27 +283,48 @@ def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
             if d:
                 _common.make_folder(flag, d)
         depth_scale = a.depth_scale_m if depth_dir else None
-        manifest = _common.Manifest(out_dir, fj.name, {"input_dir": in_dir, "mask_dir": mask_dir, "options": opts,
-                                                       "size": list(size), "depth_dir": depth_dir,
-                                                       "depth_scale_m": depth_scale, **extra})
-        todo = [(k, src, name, depths[k]) for k, (src, name) in enumerate(zip(frames, names))
-                if not _is_done(manifest.records.get(name), os.path.join(in_dir, src), os.path.join(out_dir, name))]
+        entries = {"input_dir": in_dir, "mask_dir": mask_dir, "options": opts, "size": list(size),
+                   "depth_dir": depth_dir, "depth_scale_m": depth_scale,
+                   "png_compression": getattr(a, "png_compression", None), **extra}
+        if start is not None:
+            entries["frame_index"] = start
+        manifest = _common.Manifest(out_dir, fj.name, entries)
+        if manifest.restarted and not a.quiet:
+            print(f"{tag}: {out_dir} holds a run with other parameters; every frame is redone", file=sys.stderr)
+        first_index = start or 0
+        todo = [(src, name, first_index + k, depths[k]) for k, (src, name) in enumerate(zip(frames, names))
+                if not _is_done(manifest.records.get(name), first_index + k, os.path.join(in_dir, src),
+                                os.path.join(out_dir, name), os.path.join(mask_dir, name) if mask_dir else None,
+                                os.path.join(depth_dir, depths[k]) if depth_dir else None)]
         workers = max(1, len(client.scheduler_info().get("workers", {})) or a.workers)
         chunk = a.chunk_frames or max(1, min(32, math.ceil(len(todo) / (4 * workers))))
         tasks = [todo[i:i + chunk] for i in range(0, len(todo), chunk)]
         cores = _common.usable_cores()
         job = {"input_dir": in_dir, "output_dir": out_dir, "mask_dir": mask_dir, "width": size[0], "height": size[1],
                "options": opts, "depth_dir": depth_dir, "depth_scale_m": depth_scale, "render": fj.render,
-               "one_size": fj.one_size,
-               "png_compression": getattr(a, "png_compression", None),
+               "one_size": fj.one_size, "png_compression": getattr(a, "png_compression", None),
                "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker)), **extra}
         progress = _common.Progress(tag, len(tasks), "frames", a.quiet)
+        if not a.quiet:
+            link = _common.dashboard_link(client)
+            where = a.scheduler or f"a local cluster of {a.workers} worker(s)"
+            print(f"{tag}: {len(frames)} frames ({len(frames) - len(todo)} done before), {len(tasks)} tasks of up to "
+                  f"{chunk} on {where}{about}" + (f"; dashboard {link}" if link else ""), file=sys.stderr)
+
+        retry: List[tuple] = []
+        final_round = False
+        negatives = [0, 0]  # negative input values read as 0, and the frames that had them
 
         def on_result(task, result):
             if isinstance(result, Exception):
-                for f in task[1]:
-                    failed.append(f[1])
-                progress.message(f"{tag}: {task[1][0][1]}: {type(result).__name__}: {result}")
+                # The task as a whole failed: a frame that kills its worker every time (KilledWorker), or
+                # a bystander queued on that worker. Its frames go again alone, one task at a time, so
+                # that only the culprit can fail and the others are kept.
+                if not final_round:
+                    retry.extend(task[1])
+                    return
+                failed.append(task[1][0][0])
+                progress.message(f"{tag}: {task[1][0][0]}: {type(result).__name__}: {result}")
                 return
             for rec in result:
                 if "error" in rec:
@@ -274,10 +332,26 @@ def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
                     progress.message(f"{tag}: {rec['input']}: {rec['error']}")
                 else:
                     manifest.add(rec)
+                    n = rec.get("stats", {}).get("negative_values_clamped", 0)
+                    negatives[0] += n
+                    negatives[1] += 1 if n else 0
 
-        _common.run_tasks(client, [(job, t) for t in tasks], _render_frames, on_result, progress,
-                          lambda r: 0 if isinstance(r, Exception) else len(r), after_result)
+        def count(r):
+            return 0 if isinstance(r, Exception) else len(r)
+
+        _common.run_tasks(client, [(job, t) for t in tasks], task, on_result, progress, count, after_result)
+        if retry:
+            final_round = True
+            progress.message(f"{tag}: {len(retry)} frame(s) of failed tasks, again one at a time")
+            progress = _common.Progress(f"{tag} (again)", len(retry), "frames", a.quiet)
+            for k, f in enumerate(sorted(retry)):
+                _common.run_tasks(client, [(job, [f])], task, on_result, progress, count)
+                progress.update(k + 1, k + 1)
         progress.finish()
+        if negatives[0]:
+            progress.message(f"{tag}: warning: --input-dir {a.input_dir}: {negatives[0]} negative value"
+                             f"{'s' if negatives[0] != 1 else ''} in {negatives[1]} frame(s) read as 0 (light cannot "
+                             "be negative)")
     finally:
         _common.close_client(client, cluster)
         if manifest is not None:
@@ -287,5 +361,6 @@ def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
             manifest.close()
     if not a.quiet:
         print(printable(f"{tag}: {len(frames) - len(failed)} of {len(frames)} frames in {out_dir}"
-                        + (f"; {len(failed)} failed: {', '.join(failed[:5])}" if failed else "")), file=sys.stderr)
+                        + (f"; {len(failed)} failed: {', '.join(failed[:5])}{' ...' if len(failed) > 5 else ''}"
+                           if failed else "")), file=sys.stderr)
     return 1 if failed else 0

@@ -48,18 +48,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     _folder.add_arguments(p, FOG)
 
 
-def _prepare(first, opts: Dict[str, Any]) -> Dict[str, Any]:
+def _prepare(first, opts: Dict[str, Any], ground: bool) -> tuple:
     """The sequence's sky colour, from its first readable frame (the options checked on it)."""
     import hydrolux
 
-    return {"sky_rgb": list(hydrolux.fog(first, **opts).stats["sky_rgb"])}
+    return {"sky_rgb": list(hydrolux.fog(first, **opts).stats["sky_rgb"])}, ""
 
 
 def _render(image, depth, k: int, job: Dict[str, Any]) -> tuple:
     import hydrolux
 
     r = hydrolux.fog(image, depth, job["sky_rgb"], **job["options"])
-    return r.image, r.mask
+    return r.image, r.mask, None
 
 
 def _require(opts: Dict[str, Any]) -> None:

@@ -50,12 +50,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     _folder.add_arguments(p, LENS_DROPS)
 
 
-def _prepare(first, opts: Dict[str, Any]) -> Dict[str, Any]:
+def _prepare(first, opts: Dict[str, Any], ground: bool) -> tuple:
     """The options checked on the first readable frame (the library names a bad one)."""
     import hydrolux
 
     hydrolux.lens_drops(first, **opts)
-    return {}
+    return {}, ""
 
 
 def _render(image, depth, k: int, job: Dict[str, Any]) -> tuple:
@@ -64,7 +64,7 @@ def _render(image, depth, k: int, job: Dict[str, Any]) -> tuple:
     opts = dict(job["options"])
     opts["seed"] = (int(opts.get("seed", 0)) + k) % (_MAX_SEED + 1)
     r = hydrolux.lens_drops(image, **opts)
-    return r.image, r.mask
+    return r.image, r.mask, None
 
 
 # Each frame at its own size, as hydrolux lens-drops --input-dir renders a folder of frames of several sizes.

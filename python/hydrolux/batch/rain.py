@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import functools
-import math
 import os
 import sys
 import warnings
@@ -27,11 +26,7 @@ from typing import Any, Dict, List, Optional
 
 from . import _common, _folder
 from ._common import UsageError
-
-# What a task holds per pixel of its frame, measured on a worker (docs/batch.md, "Memory"): a 1080p frame
-# raised a worker's peak by 208 MB (the frame as float RGB in and out, its mask, the 8-bit copy, the
-# encoded file), ~100 bytes a pixel.
-TASK_BYTES_PER_PIXEL = 100
+from ._folder import TASK_BYTES_PER_PIXEL  # what a task holds per pixel of its frame
 
 # The rain job's parameters are the library's declared ones (src/rain/params.cpp), read through
 # _core.params("rain") on first use: each one's flag, range, unit, default and help come from there, as
@@ -147,13 +142,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def _options(a: argparse.Namespace) -> Dict[str, Any]:
     """The renderer's options (the declared parameters but the files'), those given or defaulted."""
-    opts = {p["name"]: getattr(a, p["name"]) for p in params()
-            if p["group"] != "files" and getattr(a, p["name"], None) is not None}
-    flags = {p["name"]: p["flag"] for p in params()}
-    for p in params():
-        if p["excludes"] and p["name"] in opts and p["excludes"] in opts:
-            raise UsageError(f"{p['flag']}: give {flags[p['excludes']]} or {p['flag']}, not both")
-    return opts
+    return _folder._options(a, RAIN)
 
 
 def _flag_error(e: ValueError) -> UsageError:
@@ -207,14 +196,35 @@ def _renderer(job: Dict[str, Any], ground: bool):
 
     import hydrolux
 
-    if job["threads"]:
-        hydrolux.set_threads(job["threads"])
     key = json.dumps([job["options"], job["width"], job["height"], ground], sort_keys=True)
     renderer = _RENDERERS.get(key)
     if renderer is None:
         _RENDERERS.clear()
         renderer = _RENDERERS[key] = hydrolux.RainRenderer(job["width"], job["height"], ground, **job["options"])
     return renderer
+
+
+def _render(image, depth, index: int, job: Dict[str, Any]) -> tuple:
+    """One frame of the job's rain field: (image, mask, stats)."""
+    renderer = _renderer(job, ground=not job["depth_dir"])
+    with warnings.catch_warnings():  # negative values: counted in the stats, said once by the client
+        warnings.simplefilter("ignore", RuntimeWarning)
+        result = renderer.render(image, depth, index)
+    return result.image, result.mask, result.stats
+
+
+def _prepare(first, opts: Dict[str, Any], ground: bool) -> tuple:
+    """Every option checked, and the field's size, on the sequence's first frame."""
+    import hydrolux
+
+    try:
+        field = hydrolux.RainRenderer(first.shape[1], first.shape[0], ground, **opts).field_info()
+    except ValueError as e:
+        raise _flag_error(e) from None
+    return {}, f"; {field['drops']} drops in the field"
+
+
+RAIN = _folder.FrameJob(name="rain", job="rain", noun="rainy frames", depth=True, prepare=_prepare, render=_render)
 
 
 def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
@@ -235,60 +245,10 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
     >>> os.listdir(out)
     ['rainy0.png']
     """
-    _core = _common.native("_core")
-    _image = _common.native("_image")
-
-    renderer = _renderer(job, ground=not job["depth_dir"])
-    records = []
-    for src, name, index, depth_name in frames:
-        rec: Dict[str, Any] = {"output": name, "input": src, "frame_index": index}
-        try:
-            path = os.path.join(job["input_dir"], src)
-            stamp = _common.file_stamp(path)
-            image = _image.read(_common.fs(path))[0]
-            h, w = image.shape[:2]
-            if (w, h) != (job["width"], job["height"]):
-                raise ValueError(f"is {w}x{h}, unlike the first frame ({job['width']}x{job['height']}); "
-                                 "one sequence has one size")
-            depth = depth_stamp = None
-            if depth_name:
-                depth_stamp = _common.file_stamp(os.path.join(job["depth_dir"], depth_name))
-                depth = _image.read_depth(_common.fs(os.path.join(job["depth_dir"], depth_name)),
-                                          job["depth_scale_m"], w, h, "--depth-dir")[:, :, 0]
-            with warnings.catch_warnings():  # negative values: counted in the stats, said once by the client
-                warnings.simplefilter("ignore", RuntimeWarning)
-                result = renderer.render(image, depth, index)
-            fmt = "exr" if name.endswith(".exr") else "png"
-            if job["mask_dir"]:
-                _core.write_file(_common.fs(os.path.join(job["mask_dir"], name)),
-                                 _image.encode(result.mask, fmt, 16, True, job.get("png_compression")), "--mask-dir")
-            data = _image.encode(result.image, fmt, 8, False, job.get("png_compression"))
-            _core.write_file(_common.fs(os.path.join(job["output_dir"], name)), data, "--output-dir")
-            rec.update(input_size=stamp["size"], input_mtime_ns=stamp["mtime_ns"], output_size=len(data),
-                       stats=result.stats)
-            if depth_name:
-                rec["depth"] = depth_stamp
-        except Exception as e:  # reported by name; the chunk's other frames go on
-            rec["error"] = str(e)
-        records.append(rec)
-    return records
+    return _folder.render_frames(job, frames, _render)
 
 
 # ---- on the client --------------------------------------------------------------------------------
-
-def _is_done(rec: Optional[dict], frame_index: int, input_path: str, output_path: str, mask_path: Optional[str],
-             depth_path: Optional[str]) -> bool:
-    if not rec or "error" in rec or rec.get("frame_index") != frame_index:  # a frame added or removed before it
-        return False
-    if depth_path and rec.get("depth") != _common.file_stamp(depth_path):
-        return False
-    stamp = _common.file_stamp(input_path)
-    out = _common.file_stamp(output_path)
-    if stamp is None or out is None or (mask_path and _common.file_stamp(mask_path) is None):
-        return False
-    return (stamp["size"], stamp["mtime_ns"]) == (rec.get("input_size"), rec.get("input_mtime_ns")) and \
-        out["size"] == rec.get("output_size")
-
 
 def run(a: argparse.Namespace, after_result=None) -> int:
     """The job (``python3 -m hydrolux.batch rain``): the numbers parsed and checked, then
@@ -351,121 +311,7 @@ def run_folder(a: argparse.Namespace, after_result=None) -> int:
     >>> sorted(os.listdir(masks))   # the rain's coverage, 16-bit
     ['f0.png', 'f1.png']
     """
-    import hydrolux
-
-    opts = _options(a)
-    plan = plan_folder(a.input_dir, a.output_dir, a.mask_dir or None, a.depth_dir or None)
-    frames, names = plan["frames"], plan["outputs"]
-    depth_dir = os.path.abspath(a.depth_dir) if a.depth_dir else None
-    exr_depth = next((d for d in plan["depth_maps"] if depth_dir and d.lower().endswith(".exr")), None)
-    if a.depth_scale_m_given and exr_depth:
-        raise UsageError(f"--depth-scale-m: scales the codes of a PNG depth map; --depth-dir {depth_dir}: {exr_depth} "
-                         "holds metres already")
-    in_dir, out_dir, mask_dir, depth_dir, depths = _folder.checked_members(a.input_dir, a.output_dir,
-                                                                           a.mask_dir or None, a.depth_dir or None, plan)
-    # The sequence's size from its first readable frame (an unreadable one is reported with the rest).
-    first = _folder.first_readable_frame(in_dir, frames)
-    size = (first.shape[1], first.shape[0])
-    # Every option checked, and the field's size, before any task starts.
-    try:
-        field = hydrolux.RainRenderer(size[0], size[1], depth_dir is None, **opts).field_info()
-    except ValueError as e:
-        raise _flag_error(e) from None
-    # The local cluster's size within the cores and the memory (a task holds a frame's buffers), then the
-    # cluster: an unreachable scheduler leaves no output folder behind.
-    a.workers, a.threads_per_worker = _common.local_cluster_size(a.workers, a.threads_per_worker,
-                                                                 TASK_BYTES_PER_PIXEL * size[0] * size[1], a.scheduler)
-    client, cluster = _common.open_client(a.scheduler, a.workers, a.threads_per_worker, a.quiet)
-    manifest = None
-    failed: List[str] = []
-    try:
-        for flag, d in (("--output-dir", out_dir), ("--mask-dir", mask_dir)):
-            if d:
-                _common.make_folder(flag, d)
-        params = {"input_dir": in_dir, "mask_dir": mask_dir, "frame_index": a.frame_index, "options": opts,
-                  "size": list(size), "depth_dir": depth_dir, "depth_scale_m": a.depth_scale_m if depth_dir else None,
-                  "png_compression": a.png_compression}
-        manifest = _common.Manifest(out_dir, "rain", params)
-        if manifest.restarted and not a.quiet:
-            print(f"batch rain: {out_dir} holds a run with other parameters; every frame is redone",
-                  file=sys.stderr)
-        todo = []
-        for k, (src, name) in enumerate(zip(frames, names)):
-            if not _is_done(manifest.records.get(name), a.frame_index + k, os.path.join(in_dir, src),
-                            os.path.join(out_dir, name),
-                            os.path.join(mask_dir, name) if mask_dir else None,
-                            os.path.join(depth_dir, depths[k]) if depth_dir else None):
-                todo.append((src, name, a.frame_index + k, depths[k]))
-        skipped = len(frames) - len(todo)
-        workers = max(1, len(client.scheduler_info().get("workers", {})) or a.workers)
-        chunk = a.chunk_frames or max(1, min(32, math.ceil(len(todo) / (4 * workers))))
-        tasks = [todo[i:i + chunk] for i in range(0, len(todo), chunk)]
-        cores = _common.usable_cores()
-        job = {"input_dir": in_dir, "output_dir": out_dir, "mask_dir": mask_dir, "width": size[0],
-               "height": size[1], "options": opts, "depth_dir": depth_dir, "depth_scale_m": a.depth_scale_m,
-               "png_compression": a.png_compression,
-               "threads": 0 if a.scheduler else max(1, cores // max(1, a.workers * a.threads_per_worker))}
-        progress = _common.Progress("batch rain", len(tasks), "frames", a.quiet)
-        if not a.quiet:
-            link = _common.dashboard_link(client)
-            where = a.scheduler or f"a local cluster of {a.workers} worker(s)"
-            print(f"batch rain: {len(frames)} frames ({skipped} done before), {len(tasks)} tasks of up to {chunk} "
-                  f"on {where}; {field['drops']} drops in the field" + (f"; dashboard {link}" if link else ""),
-                  file=sys.stderr)
-
-        retry: List[tuple] = []
-        final_round = False
-        negatives = [0, 0]  # negative input values read as 0, and the frames that had them
-
-        def on_result(task, result):
-            if isinstance(result, Exception):
-                # The task as a whole failed: a frame that kills its worker every time (KilledWorker), or
-                # a bystander queued on that worker. Its frames go again alone, one task at a time, so
-                # that only the culprit can fail and the others are kept.
-                if not final_round:
-                    retry.extend(task[1])
-                    return
-                failed.append(task[1][0][0])
-                progress.message(f"batch rain: {task[1][0][0]}: {type(result).__name__}: {result}")
-                return
-            for rec in result:
-                if "error" in rec:
-                    failed.append(rec["input"])
-                    progress.message(f"batch rain: {rec['input']}: {rec['error']}")
-                else:
-                    manifest.add(rec)
-                    n = rec.get("stats", {}).get("negative_values_clamped", 0)
-                    negatives[0] += n
-                    negatives[1] += 1 if n else 0
-
-        def count(r):
-            return 0 if isinstance(r, Exception) else len(r)
-
-        _common.run_tasks(client, [(job, t) for t in tasks], render_frames, on_result, progress, count, after_result)
-        if retry:
-            final_round = True
-            progress.message(f"batch rain: {len(retry)} frame(s) of failed tasks, again one at a time")
-            progress = _common.Progress("batch rain (again)", len(retry), "frames", a.quiet)
-            for k, f in enumerate(sorted(retry)):
-                _common.run_tasks(client, [(job, [f])], render_frames, on_result, progress, count)
-                progress.update(k + 1, k + 1)
-        progress.finish()
-        if negatives[0]:
-            progress.message(f"batch rain: warning: --input-dir {a.input_dir}: {negatives[0]} negative value"
-                             f"{'s' if negatives[0] != 1 else ''} in {negatives[1]} frame(s) read as 0 (light cannot "
-                             "be negative)")
-    finally:
-        _common.close_client(client, cluster)
-        if manifest is not None:
-            for d in (out_dir, mask_dir):
-                if d:
-                    _common.remove_stale_temporaries(d, names)
-            manifest.close()
-    if not a.quiet:
-        print(_common.printable(f"batch rain: {len(frames) - len(failed)} of {len(frames)} frames in {out_dir}"
-                                + (f"; {len(failed)} failed: {', '.join(failed[:5])}{' ...' if len(failed) > 5 else ''}"
-                                   if failed else "")), file=sys.stderr)
-    return 1 if failed else 0
+    return _folder.run_folder(a, RAIN, _options(a), after_result, task=render_frames)
 
 
 # ---- video ----------------------------------------------------------------------------------------
@@ -493,6 +339,9 @@ def render_video_chunk(job: Dict[str, Any], start: int, count: int) -> Dict[str,
 
     name = f"chunk_{start:09d}.rgb"
     parts, stats = [], []
+    if job["threads"]:
+        import hydrolux
+        hydrolux.set_threads(job["threads"])
     try:  # the video's own problems (truncated, corrupt): a bad input, reported as the CLI reports it
         renderer = _renderer(job, ground=True)
         reader = _video.VideoReader(_common.fs(job["video"]), job["video_label"])
