@@ -392,68 +392,43 @@ void RainRenderer::collect_streaks(std::int64_t frame_index, std::vector<std::ve
   });
 }
 
-RainFrame RainRenderer::render(const Image& frame, const Image* depth, std::int64_t frame_index, bool with_layer) {
-  RainFrame out;
-  render_into(frame, depth, frame_index, with_layer, out);
-  return out;
+namespace {
+
+// A frame's steps (RainRenderer::render_into), each on the renderer's buffers.
+
+// The scene depth per pixel (`depth`'s camera z, 0 or non-finite as infinity; else the ground plane)
+// and the unresolved rain's transmittance along each pixel's ray.
+void scene_depth(const Image* depth, const RainField& field, std::vector<float>& scene,
+                 std::vector<float>& transmittance) {
+  const RainCamera& cam = field.camera();
+  const int W = cam.width, H = cam.height;
+  const std::size_t npx = std::size_t(W) * std::size_t(H);
+  if (depth) {
+    if (depth->width != W || depth->height != H || depth->channels < 1)
+      throw Error("rain: the depth map's size must be the frame's");
+    scene.resize(npx);
+    for (std::size_t i = 0; i < npx; ++i) {
+      const float z = depth->pixels[i * std::size_t(depth->channels)];
+      scene[i] = std::isfinite(z) && z > 0 ? z : std::numeric_limits<float>::infinity();
+    }
+  } else {
+    scene = ground_plane_depth(cam, field.settings().backdrop_m);
+  }
+  transmittance.resize(npx);
+  tbb::parallel_for(0, H, [&](int y) {
+    for (int x = 0; x < W; ++x) {
+      const std::size_t i = std::size_t(y) * W + x;
+      const double cos_axis = cam.ray(x + 0.5, y + 0.5).z;
+      transmittance[i] = float(std::exp(-field.unresolved_optical_depth(scene[i], cos_axis)));
+    }
+  });
 }
 
-void RainRenderer::render_into(const Image& frame, const Image* depth, std::int64_t frame_index, bool with_layer,
-                               RainFrame& out) {
-  const RainCamera& cam = field_.camera();
-  const int W = cam.width, H = cam.height;
-  if (frame.channels < 3)
-    throw Error(fmt::format("rain: the frame has {} channel{}; rain needs colour (R, G, B: at least 3 channels)",
-                            frame.channels, frame.channels == 1 ? "" : "s"));
-  if (frame.width != W || frame.height != H)
-    throw Error(fmt::format("rain: the frame is {}x{}, the camera {}x{}: they must be the same size", frame.width,
-                            frame.height, W, H));
-  const std::size_t npx = std::size_t(W) * std::size_t(H);
-  const std::uint64_t negatives = check_frame_values(frame);
-  // The scene depth and the unresolved rain's transmittance along each pixel's ray: once for the
-  // ground plane, per frame for a depth map.
-  if (depth || !ground_plane_ || depth_.size() != npx) {
-    if (depth) {
-      if (depth->width != W || depth->height != H || depth->channels < 1)
-        throw Error("rain: the depth map's size must be the frame's");
-      depth_.resize(npx);
-      for (std::size_t i = 0; i < npx; ++i) {
-        const float z = depth->pixels[i * std::size_t(depth->channels)];
-        depth_[i] = std::isfinite(z) && z > 0 ? z : std::numeric_limits<float>::infinity();
-      }
-    } else {
-      depth_ = ground_plane_depth(cam, field_.settings().backdrop_m);
-    }
-    ground_plane_ = depth == nullptr;
-    transmittance_.resize(npx);
-    tbb::parallel_for(0, H, [&](int y) {
-      for (int x = 0; x < W; ++x) {
-        const std::size_t i = std::size_t(y) * W + x;
-        const double cos_axis = cam.ray(x + 0.5, y + 0.5).z;
-        transmittance_[i] = float(std::exp(-field_.unresolved_optical_depth(depth_[i], cos_axis)));
-      }
-    });
-  }
-
-  // Fog: its transmittance, airlight and glow along every ray, the sky colour kept from the first frame.
-  // The drops are lit by the scene as the fog lets them see it: the drop light from the fogged frame.
-  std::optional<FogVeil> fog;
-  if (fog_optics_) {
-    fog = fog_veil(frame, depth, cam, *fog_settings_, *fog_optics_, fog_sky_);
-    if (!fog_sky_) fog_sky_ = fog->sky;
-    fog_beta_ = fog_optics_->beta_per_m;
-    light_.update(apply_fog_veil(frame, *fog));
-  } else {
-    light_.update(frame);
-  }
-  collect_streaks(frame_index, per_block_);
-  // Streak j of the frame is per_block_[b][j - first[b]]; bands list j.
-  std::vector<std::uint32_t> first(per_block_.size() + 1, 0);
-  for (std::size_t b = 0; b < per_block_.size(); ++b) first[b + 1] = first[b] + std::uint32_t(per_block_[b].size());
-  const std::uint32_t n_streaks = first.back();
-
-  // Bin the streaks by band of rows: a counting sort that copies each streak into every band it
-  // touches, in drop order, so that a band reads its streaks from contiguous memory.
+// Bins the streaks by band of rows: `offset[k]` is band k's first streak in `banded`, each streak
+// with its index in the frame (block b's streak j is first[b] + j).
+void bin_streaks(const std::vector<std::vector<Streak>>& per_block, const std::vector<std::uint32_t>& first, int H,
+                 std::vector<std::uint32_t>& offset, std::vector<Streak>& banded) {
+  // A counting sort that copies each streak into every band it touches, in drop order.
   const int bands = (H + kBandRows - 1) / kBandRows;
   auto band_range = [&](const Streak& s) {
     const float ext = s.R < 1 ? 1.f : s.R + 0.5f;
@@ -462,15 +437,14 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   };
   // Blocks in parallel: each block's count per band, then each block copies its streaks to the
   // places the counts give it (a band's streaks in drop order, whatever the threads).
-  const std::size_t nb = per_block_.size(), nbands = std::size_t(bands);
+  const std::size_t nb = per_block.size(), nbands = std::size_t(bands);
   std::vector<std::uint32_t> counts(nb * nbands, 0);  // block b, band k at b * nbands + k
   tbb::parallel_for(std::size_t(0), nb, [&](std::size_t b) {
-    for (const auto& s : per_block_[b]) {
+    for (const auto& s : per_block[b]) {
       const auto [lo, hi] = band_range(s);
       for (int k = lo; k <= hi; ++k) ++counts[b * nbands + std::size_t(k)];
     }
   });
-  auto& offset = band_offset_;
   offset.assign(nbands + 1, 0);
   for (std::size_t k = 0; k < nbands; ++k) {  // counts become each block's first place in band k
     std::uint32_t at = offset[k];
@@ -481,46 +455,59 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
     }
     offset[k + 1] = at;
   }
-  if (banded_.size() < offset.back()) banded_.resize(offset.back());  // grown, never shrunk: no refill
+  if (banded.size() < offset.back()) banded.resize(offset.back());  // grown, never shrunk: no refill
   tbb::parallel_for(std::size_t(0), nb, [&](std::size_t b) {
     std::uint32_t* fill = counts.data() + b * nbands;
-    for (std::size_t j = 0; j < per_block_[b].size(); ++j) {
-      const Streak& s = per_block_[b][j];
+    for (std::size_t j = 0; j < per_block[b].size(); ++j) {
+      const Streak& s = per_block[b][j];
       const auto [lo, hi] = band_range(s);
       for (int k = lo; k <= hi; ++k) {
-        Streak& c = banded_[fill[std::size_t(k)]++];
+        Streak& c = banded[fill[std::size_t(k)]++];
         c = s;
         c.drop = first[b] + std::uint32_t(j);  // the streak's index in the frame, for its visibility
       }
     }
   });
+}
 
-  // Per band of rows, one task: its streaks rasterised into the band's accumulators, then the band
-  // composited while they are still in cache: image = (clear T_u + airlight (1 - T_u)) T_s + streak
-  // colour (1 - T_s).
+// What the bands' compositing reads.
+struct BandInputs {
+  const Image& frame;
+  const std::vector<float>& depth;
+  const std::vector<float>& transmittance;
+  const DropLight& light;
+  const FogVeil* fog;
+  const std::optional<Vec3>& fog_sky;
+  const std::vector<std::uint32_t>& offset;
+  const std::vector<Streak>& banded;
+  bool with_layer;
+};
+
+// Per band of rows, one task: its streaks rasterised into the band's accumulators, then the band
+// composited while they are still in cache: image = (clear T_u + airlight (1 - T_u)) T_s + streak
+// colour (1 - T_s). Each row's sums to `row_sums`, each streak that reached a pixel marked `visible`.
+void composite_bands(const BandInputs& bi, std::vector<float>& accumulators, RainFrame& out,
+                     std::vector<detail::RowSums>& row_sums, std::vector<std::atomic<std::uint8_t>>& visible) {
+  const Image& frame = bi.frame;
+  const FogVeil* fog = bi.fog;
+  const bool with_layer = bi.with_layer;
+  const int W = frame.width, H = frame.height, ch = frame.channels;
+  const int bands = (H + kBandRows - 1) / kBandRows;
   const std::size_t stride = accum_stride(W), band_blocks = stride / kLanes * std::size_t(kBandRows);
-  acc_.resize(std::size_t(bands) * band_blocks * kBlock);
-  const int ch = frame.channels;
-  if (out.image.width != W || out.image.height != H || out.image.channels != ch) out.image = Image(W, H, ch);
-  out.image.channel_names = frame.channel_names;
-  if (out.alpha.width != W || out.alpha.height != H) out.alpha = Image(W, H, 1);
-  if (with_layer && (out.layer.width != W || out.layer.height != H)) out.layer = Image(W, H, 4);
-  if (!with_layer) out.layer = Image();
-  std::vector<detail::RowSums> row_sums(static_cast<std::size_t>(H));
-  std::vector<std::atomic<std::uint8_t>> visible(n_streaks);
+  accumulators.resize(std::size_t(bands) * band_blocks * kBlock);
   // RGB frames without fog: whole blocks of a row in SIMD (composite.cpp), the rest here.
   const bool simd = ch == 3 && !fog;
   tbb::parallel_for(0, bands, [&](int band) {
     const int r0 = band * kBandRows, r1 = std::min(H, r0 + kBandRows);
-    float* band_acc = acc_.data() + std::size_t(band) * band_blocks * kBlock;
+    float* band_acc = accumulators.data() + std::size_t(band) * band_blocks * kBlock;
     clear_blocks(band_acc, band_blocks);
     Accum acc{band_acc, r0, stride};
-    for (std::uint32_t m = offset[std::size_t(band)]; m < offset[std::size_t(band) + 1]; ++m) {
-      const Streak& s = banded_[m];
+    for (std::uint32_t m = bi.offset[std::size_t(band)]; m < bi.offset[std::size_t(band) + 1]; ++m) {
+      const Streak& s = bi.banded[m];
       const float ext = s.R < 1 ? 1.f : s.R + 0.5f;
       const int ya = std::max(r0, int(std::floor(std::min(s.y0, s.y1) - ext)));
       const int yb = std::min(r1, int(std::ceil(std::max(s.y0, s.y1) + ext)) + 1);
-      if (ya < yb && raster(s, ya, yb, W, depth_.data(), acc))
+      if (ya < yb && raster(s, ya, yb, W, bi.depth.data(), acc))
         visible[s.drop].store(1, std::memory_order_relaxed);
     }
 
@@ -528,13 +515,13 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
     for (int y = r0; y < r1; ++y) {
       detail::RowSums& sums = row_sums[std::size_t(y)];
       // The airlight along the row: the drop light at the row's two ends of each grid cell, lerped.
-      light_.row(y + 0.5, air_row);
+      bi.light.row(y + 0.5, air_row);
       const std::size_t row0 = std::size_t(y) * W;
       const float* in = frame.pixels.data() + row0 * std::size_t(ch);
       float* im = out.image.pixels.data() + row0 * std::size_t(ch);
       float* al = out.alpha.pixels.data() + row0;
       float* ly = with_layer ? out.layer.pixels.data() + row0 * 4 : nullptr;
-      const float* tur = transmittance_.data() + row0;
+      const float* tur = bi.transmittance.data() + row0;
       int x = 0;
       if (simd) {
         const std::size_t n = std::size_t(W) / kLanes * kLanes;
@@ -558,7 +545,7 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
           T = tu * float(fog->t[i]);
           const float wr = std::isinf(tau_f) ? 0.f : tau_u + tau_f > 0 ? tau_u / (tau_u + tau_f) : 1.f;
           for (int k = 0; k < 3; ++k)
-            air[k] = (wr * air_row[std::size_t(x) * 3 + std::size_t(k)] + (1 - wr) * float((*fog_sky_)[k])) * (1 - T) +
+            air[k] = (wr * air_row[std::size_t(x) * 3 + std::size_t(k)] + (1 - wr) * float((*bi.fog_sky)[k])) * (1 - T) +
                      (fog->glow.pixels.empty() ? 0.f : fog->glow.pixels[i * 3 + std::size_t(k)]);
         }
         // The streaks' own change is measured against the background they cover (with the veil,
@@ -590,22 +577,24 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
     }
   });
 
-  RainStats& st = out.stats;
-  st = RainStats{};
-  st.negative_values_clamped = negatives;
-  st.drops_total = field_.drop_count();
-  st.drops_in_view = n_streaks;
-  // Per block in parallel (sums per block, added in block order: the same whatever the threads).
+}
+
+// The frame's streak statistics: per block in parallel (sums per block, added in block order), the
+// rows' sums in row order: the same whatever the threads.
+void streak_stats(const std::vector<std::vector<Streak>>& per_block, const std::vector<std::uint32_t>& first,
+                  const std::vector<std::atomic<std::uint8_t>>& visible, const std::vector<detail::RowSums>& row_sums,
+                  std::size_t npx, RainStats& st) {
+  const std::uint32_t n_streaks = first.back();
   struct BlockStats {
     double width_sum = 0, luma_sum = 0, length_max = 0, width_max = 0;
     std::uint32_t visible = 0;
   };
-  std::vector<BlockStats> block_stats(per_block_.size());
+  std::vector<BlockStats> block_stats(per_block.size());
   std::vector<float> lengths(n_streaks);
-  tbb::parallel_for(std::size_t(0), per_block_.size(), [&](std::size_t b) {
+  tbb::parallel_for(std::size_t(0), per_block.size(), [&](std::size_t b) {
     BlockStats& bs = block_stats[b];
-    for (std::size_t j = 0; j < per_block_[b].size(); ++j) {
-      const Streak& s = per_block_[b][j];
+    for (std::size_t j = 0; j < per_block[b].size(); ++j) {
+      const Streak& s = per_block[b][j];
       const float dx = s.x1 - s.x0, dy = s.y1 - s.y0, len = std::sqrt(dx * dx + dy * dy);
       lengths[first[b] + j] = len;
       bs.length_max = std::max(bs.length_max, double(len));
@@ -645,6 +634,74 @@ void RainRenderer::render_into(const Image& frame, const Image* depth, std::int6
   st.streak_pixel_fraction = streak_px / double(npx);
   st.alpha_mean = total.alpha / double(npx);
   st.unresolved_transmittance_mean = total.tu / double(npx);
+}
+
+}  // namespace
+
+RainFrame RainRenderer::render(const Image& frame, const Image* depth, std::int64_t frame_index, bool with_layer) {
+  RainFrame out;
+  render_into(frame, depth, frame_index, with_layer, out);
+  return out;
+}
+
+void RainRenderer::render_into(const Image& frame, const Image* depth, std::int64_t frame_index, bool with_layer,
+                               RainFrame& out) {
+  const RainCamera& cam = field_.camera();
+  const int W = cam.width, H = cam.height;
+  if (frame.channels < 3)
+    throw Error(fmt::format("rain: the frame has {} channel{}; rain needs colour (R, G, B: at least 3 channels)",
+                            frame.channels, frame.channels == 1 ? "" : "s"));
+  if (frame.width != W || frame.height != H)
+    throw Error(fmt::format("rain: the frame is {}x{}, the camera {}x{}: they must be the same size", frame.width,
+                            frame.height, W, H));
+  const std::size_t npx = std::size_t(W) * std::size_t(H);
+  const std::uint64_t negatives = check_frame_values(frame);
+  // The scene depth and the unresolved rain's transmittance along each pixel's ray: once for the
+  // ground plane, per frame for a depth map.
+  if (depth || !ground_plane_ || depth_.size() != npx) {
+    scene_depth(depth, field_, depth_, transmittance_);
+    ground_plane_ = depth == nullptr;
+  }
+
+  // Fog: its transmittance, airlight and glow along every ray, the sky colour kept from the first frame.
+  // The drops are lit by the scene as the fog lets them see it: the drop light from the fogged frame.
+  std::optional<FogVeil> fog;
+  if (fog_optics_) {
+    fog = fog_veil(frame, depth, cam, *fog_settings_, *fog_optics_, fog_sky_);
+    if (!fog_sky_) fog_sky_ = fog->sky;
+    fog_beta_ = fog_optics_->beta_per_m;
+    light_.update(apply_fog_veil(frame, *fog));
+  } else {
+    light_.update(frame);
+  }
+  collect_streaks(frame_index, per_block_);
+  // Streak j of the frame is per_block_[b][j - first[b]]; bands list j.
+  std::vector<std::uint32_t> first(per_block_.size() + 1, 0);
+  for (std::size_t b = 0; b < per_block_.size(); ++b) first[b + 1] = first[b] + std::uint32_t(per_block_[b].size());
+  const std::uint32_t n_streaks = first.back();
+
+  // Bin the streaks by band of rows: a band reads its streaks from contiguous memory.
+  bin_streaks(per_block_, first, H, band_offset_, banded_);
+
+  // The outputs' buffers (reused when the size is the same), then the bands rasterised and composited.
+  const int ch = frame.channels;
+  if (out.image.width != W || out.image.height != H || out.image.channels != ch) out.image = Image(W, H, ch);
+  out.image.channel_names = frame.channel_names;
+  if (out.alpha.width != W || out.alpha.height != H) out.alpha = Image(W, H, 1);
+  if (with_layer && (out.layer.width != W || out.layer.height != H)) out.layer = Image(W, H, 4);
+  if (!with_layer) out.layer = Image();
+  std::vector<detail::RowSums> row_sums(static_cast<std::size_t>(H));
+  std::vector<std::atomic<std::uint8_t>> visible(n_streaks);
+  composite_bands({frame, depth_, transmittance_, light_, fog ? &*fog : nullptr, fog_sky_, band_offset_, banded_,
+                   with_layer},
+                  acc_, out, row_sums, visible);
+
+  RainStats& st = out.stats;
+  st = RainStats{};
+  st.negative_values_clamped = negatives;
+  st.drops_total = field_.drop_count();
+  st.drops_in_view = n_streaks;
+  streak_stats(per_block_, first, visible, row_sums, npx, st);
   if (fog) {
     st.fog_beta_per_m = fog->stats.beta_per_m;
     st.fog_visibility_m = fog->stats.visibility_m;
