@@ -1,4 +1,4 @@
-// libFuzzer target: a Lee table's JSON sidecar as `hydrolux sky --lut` reads it (atmos/lee_files.hpp),
+// libFuzzer target: a Lee table's JSON sidecar as `hydrolux sky --lut` reads it (io/lee_files.hpp),
 // then the compositor's checks of the table's axes (scene::bow_table) and a slice looked up across
 // the sphere. Invariants: a refused sidecar throws hydrolux::Error, nothing else; an accepted table
 // has increasing positive radii and rows inside their axis' range; a slice's values are finite.
@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
-#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/io/lee_files.hpp"
 #include "hydrolux/scene/compositor.hpp"
 
 namespace {
@@ -21,9 +21,9 @@ void check(bool ok) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace hydrolux;
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  atmos::LeeSidecarAxes axes;
+  io::LeeSidecarAxes axes;
   try {
-    axes = atmos::parse_lee_sidecar(text);
+    axes = io::parse_lee_sidecar(text);
   } catch (const Error&) {
     return 0;
   }

@@ -9,9 +9,9 @@
 
 #include "bindings.hpp"
 #include "hydrolux/atmos/lee.hpp"
-#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/color/cie.hpp"
+#include "hydrolux/io/lee_files.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/theories.hpp"
 #include "params.hpp"
@@ -93,9 +93,9 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
                             atmos::SizeSyntax::python);
   const atmos::LeeTable t = run_cancellable([&](const ProgressFn& p) { return atmos::compute_lee_table(s, p); });
   const atmos::LeeImages im = atmos::lee_images(t);
-  // The labelled form (atmos::lee_dataset, as hydrolux lee -o table.nc writes it; its history is set by
+  // The labelled form (io::lee_dataset, as hydrolux lee -o table.nc writes it; its history is set by
   // the Python layer): the table's arrays are its variables' arrays, one copy of each.
-  const py::dict dataset = dataset_dict(atmos::lee_dataset(t, im, ""));
+  const py::dict dataset = dataset_dict(io::lee_dataset(t, im, ""));
   py::dict arrays;
   for (const auto& item : dataset["variables"]) {
     const auto v = item.cast<py::tuple>();  // (name, dims, array, attrs)
@@ -110,7 +110,7 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
   d["color_space"] = std::string(color::rgb_space_name(s.rgb_space));
   d["exposure"] = im.exposure, d["white"] = im.white;
   d["evaluations"] = t.work.evaluations;
-  // The drops' shape as the JSON sidecar states it (atmos/lee_files.cpp): its name, and for
+  // The drops' shape as the JSON sidecar states it (io/lee_files.cpp): its name, and for
   // non-spherical drops the bow's point, the canting and each column's axis ratio.
   py::dict shape_info;
   shape_info["name"] = atmos::drop_shape_name(s.shape);

@@ -11,9 +11,9 @@
 #include "bindings.hpp"
 #include "hydrolux/drop/params.hpp"
 #include "hydrolux/drop/render.hpp"
-#include "hydrolux/drop/shape.hpp"
 #include "hydrolux/drop/undistort.hpp"
 #include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 #include "hydrolux/scene/environment.hpp"
 #include "params.hpp"
 
@@ -49,7 +49,7 @@ py::array_t<float> drop_render(std::optional<py::array> env, const std::string& 
                             water->info().name));
   drop::check_clearance(r, drop::ParamWords::names);
   if (shape == "beard-chuang") {
-    const auto range = drop::drop_shape_radius_range_m();
+    const auto range = scatter::drop_shape_radius_range_m();
     require_arg("radius_mm (Beard & Chuang shape)", r.radius_mm, range[0] * 1e3, range[1] * 1e3, "mm");
   }
   if (method == "model" && shape != "sphere")

@@ -18,11 +18,11 @@
 #include "hydrolux/core/memory.hpp"
 #include "hydrolux/core/parse.hpp"
 #include "hydrolux/core/vec.hpp"
-#include "hydrolux/drop/shape.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/airy.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/debye.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 #include "hydrolux/scatter/ellipse_rainbow.hpp"
 #include "hydrolux/scatter/geometric.hpp"
 #include "hydrolux/scatter/mie.hpp"
@@ -337,12 +337,12 @@ double drop_axis_ratio(const DropShapeSpec& s, double radius_um) {
     case DropShapeSpec::Kind::sphere: return 1;
     case DropShapeSpec::Kind::spheroid: return s.axis_ratio;
     case DropShapeSpec::Kind::beard_chuang: {
-      const auto range = drop::drop_shape_radius_range_m();
+      const auto range = scatter::drop_shape_radius_range_m();
       const double a = radius_um * 1e-6;
-      if (a >= range[1]) return drop::axis_ratio(drop::drop_shape(range[1]));
-      if (a >= range[0]) return drop::axis_ratio(drop::drop_shape(a));
-      // Below the table: the departure from the sphere scaled as a^2 (drop/shape.hpp).
-      static const double q0 = drop::axis_ratio(drop::drop_shape(range[0]));
+      if (a >= range[1]) return scatter::axis_ratio(scatter::drop_shape(range[1]));
+      if (a >= range[0]) return scatter::axis_ratio(scatter::drop_shape(a));
+      // Below the table: the departure from the sphere scaled as a^2 (scatter/drop_shape.hpp).
+      static const double q0 = scatter::axis_ratio(scatter::drop_shape(range[0]));
       return 1 - (1 - q0) * (a / range[0]) * (a / range[0]);
     }
   }

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "hydrolux/rain/rain.hpp"  // kMaxSeed: the largest seed every door accepts
+#include "hydrolux/core/random.hpp"  // kMaxSeed: the largest seed every door accepts
 
 namespace hydrolux::atmos {
 
@@ -41,7 +41,7 @@ const Field<LeeRequest> kLee[] = {
     {{"sampling", "--sampling", "sampling", K::real, "", 0.25, 16,
       "Multiplier on every sampling rate (wavelengths, radius grid)"},
      HYDROLUX_PARAM_MEMBER(sampling)},
-    {{"seed", "--seed", "sampling", K::integer, "", 0, double(rain::kMaxSeed), "Seed of the sampling pattern"},
+    {{"seed", "--seed", "sampling", K::integer, "", 0, double(kMaxSeed), "Seed of the sampling pattern"},
      HYDROLUX_PARAM_MEMBER(seed)},
     {{"threads", "--threads", "sampling", K::integer, "", 0, kMaxThreads, "Threads (0: every core)"}, HYDROLUX_PARAM_MEMBER(threads)},
     {{"stokes", "--stokes", "output", K::flag, "", 0, 1,

@@ -4,8 +4,8 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/render.hpp"
-#include "hydrolux/drop/shape.hpp"
 #include "hydrolux/drop/trace.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 
 namespace hydrolux::drop {
 
@@ -31,15 +31,15 @@ std::unique_ptr<DropSurface> make_drop_surface(const DropCamera& camera, DropSha
   validate(camera);
   const Vec3 centre{0, 0, camera.distance_m};
   if (shape == DropShapeKind::sphere) return std::make_unique<SphereSurface>(centre, camera.radius_m);
-  const DropShape s = drop_shape(camera.radius_m);
+  const scatter::DropShape s = scatter::drop_shape(camera.radius_m);
   // The bounding sphere: the largest r(theta) over a fine sweep. Between samples h = pi / 2000 apart
   // the maximum can exceed the sampled one by at most |r''| h^2 / 8 ~ 1e-6 r for these shapes
   // (|r''| < 10 r); the margin of 1e-4 covers that a hundredfold.
   double r_max = 0;
-  for (int k = 0; k <= 2000; ++k) r_max = std::max(r_max, shape_radius(s, kPi<> * k / 2000));
+  for (int k = 0; k <= 2000; ++k) r_max = std::max(r_max, scatter::shape_radius(s, kPi<> * k / 2000));
   return std::make_unique<StarSurface>(
-      centre, [s](const Vec3& u) { return shape_radius_toward(s, u); }, r_max * (1 + 1e-4),
-      [s](const Vec3& u) { return shape_normal_toward(s, u); });
+      centre, [s](const Vec3& u) { return scatter::shape_radius_toward(s, u); }, r_max * (1 + 1e-4),
+      [s](const Vec3& u) { return scatter::shape_normal_toward(s, u); });
 }
 
 }  // namespace hydrolux::drop

@@ -9,12 +9,12 @@
 #include "entries.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/drop/render.hpp"
-#include "hydrolux/drop/shape.hpp"
 #include "hydrolux/drop/trace.hpp"
 #include "hydrolux/drop/undistort.hpp"
 #include "hydrolux/io/image_io.hpp"
 #include "hydrolux/io/svg_plot.hpp"
 #include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 #include "hydrolux/scene/environment.hpp"
 
 namespace hydrolux::gallery::detail {
@@ -116,7 +116,7 @@ std::vector<Entry> drop_entries() {
       fmt::format("The equilibrium shape of a falling drop of 2 mm equivalent radius (Chuang & Beard 1990 cosine "
                   "series: rounded top, flattened base), traced exactly on the builtin environment. The model assumes a "
                   "sphere; at this size the real drop's axis ratio is {:.2f}.",
-                  drop::axis_ratio(drop::drop_shape(2e-3))),
+                  scatter::axis_ratio(scatter::drop_shape(2e-3))),
       [] {
         drop::DropCamera cam = renders().camera;
         cam.radius_m = 2e-3;
@@ -168,7 +168,7 @@ std::vector<Entry> drop_entries() {
                                "r = a (1 + sum c_n cos n theta), theta from the direction of fall, coefficients of "
                                "Chuang & Beard (1990) interpolated in radius. Small drops are spheres; large ones "
                                "flatten at the base and their axis ratio falls to {:.2f} at 3 mm.",
-                               drop::axis_ratio(drop::drop_shape(3e-3)))};
+                               scatter::axis_ratio(scatter::drop_shape(3e-3)))};
   shapes.render = [] {
     io::Plot p;
     p.title = "Falling drops: Beard & Chuang shapes (fall is downwards)";
@@ -181,13 +181,13 @@ std::vector<Entry> drop_entries() {
     const char* colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b"};
     int k = 0;
     for (double a_mm : {0.5, 1.0, 1.5, 2.0, 2.5, 3.0}) {
-      const auto s = drop::drop_shape(a_mm * 1e-3);
-      io::PlotSeries line{fmt::format("a = {:g} mm, axis ratio {:.2f}", a_mm, drop::axis_ratio(s)), {}, {},
+      const auto s = scatter::drop_shape(a_mm * 1e-3);
+      io::PlotSeries line{fmt::format("a = {:g} mm, axis ratio {:.2f}", a_mm, scatter::axis_ratio(s)), {}, {},
                           colours[k++], false};
       for (int i = 0; i <= 360; ++i) {
         // theta from the fall direction (down), swept once around the profile.
         const double t = kPi<> * i / 180.0;
-        const double rr = drop::shape_radius(s, t <= kPi<> ? t : 2 * kPi<> - t) * 1e3;
+        const double rr = scatter::shape_radius(s, t <= kPi<> ? t : 2 * kPi<> - t) * 1e3;
         line.x.push_back(rr * std::sin(t));
         line.y.push_back(-rr * std::cos(t));
       }

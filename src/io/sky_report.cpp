@@ -7,8 +7,8 @@
 #include <string_view>
 #include <vector>
 
-#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/core/embedded_data.hpp"
+#include "hydrolux/io/lee_files.hpp"
 #include "hydrolux/scene/compositor.hpp"
 #include "hydrolux/scene/sky_model.hpp"
 #include "hydrolux/version.hpp"
@@ -104,7 +104,7 @@ nlohmann::json write_shaped_rainbow_table(OutputDirectory& dir, const std::strin
   const atmos::LeeTable& f = t.first;
   // The Lee table sidecar's description of the radii, the rows, the spectrum and the colours (shared
   // by every layer), without what belongs to a 2-D table's images.
-  nlohmann::json j = atmos::lee_sidecar(f, atmos::lee_images(f), "", "");
+  nlohmann::json j = io::lee_sidecar(f, atmos::lee_images(f), "", "");
   for (const char* k : {"files", "png", "work", "channels"}) j.erase(k);
   j["format"] = "hydrolux-lee-table-3d";
   j["format_version"] = 1;
@@ -116,7 +116,7 @@ nlohmann::json write_shaped_rainbow_table(OutputDirectory& dir, const std::strin
   j["width"] = t.columns();
   j["height"] = t.rows();
   j["depth"] = t.positions();
-  j["position_deg"] = atmos::to_json(t.position_deg);
+  j["position_deg"] = io::to_json(t.position_deg);
   j["sun_elevation_deg"] = t.sun_elevation_deg;
   j["drop_shape"].erase("position_deg");  // one per layer: position_deg
   j["layout"]["z"] =

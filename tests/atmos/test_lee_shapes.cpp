@@ -198,14 +198,14 @@ TEST(LeeShapes, MarshallPalmerSupernumerariesOnlyAtTheTop) {
   EXPECT_LT(second(side), 0.02);
 }
 
-// The sidecar's axis ratios: Beard-Chuang's shape for each radius (drop/shape.hpp), 1 for spheres,
+// The sidecar's axis ratios: Beard-Chuang's shape for each radius (scatter/drop_shape.hpp), 1 for spheres,
 // the given one for spheroids; below the shape table's 0.5 mm the departure shrinks as a^2.
 TEST(LeeShapes, AxisRatios) {
   const auto bc = atmos::parse_drop_shape("beard-chuang");
   EXPECT_EQ(atmos::drop_axis_ratio(atmos::parse_drop_shape("sphere"), 800), 1.0);
   EXPECT_EQ(atmos::drop_axis_ratio(atmos::parse_drop_shape("spheroid:0.9"), 800), 0.9);
   const double q500 = atmos::drop_axis_ratio(bc, 500);
-  EXPECT_NEAR(q500, 0.984, 0.002);  // drop/shape.hpp: axis ratio 0.984 at 0.5 mm
+  EXPECT_NEAR(q500, 0.984, 0.002);  // scatter/drop_shape.hpp: axis ratio 0.984 at 0.5 mm
   EXPECT_NEAR(1 - atmos::drop_axis_ratio(bc, 250), (1 - q500) / 4, 1e-12);
   EXPECT_LT(atmos::drop_axis_ratio(bc, 1000), q500);
   EXPECT_EQ(atmos::drop_shape_name(bc), "beard-chuang");

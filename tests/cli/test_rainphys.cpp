@@ -9,7 +9,7 @@
 #include <string>
 
 #include "hydrolux/drop/physics.hpp"
-#include "hydrolux/drop/shape.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "support/cli.hpp"
 
@@ -45,13 +45,13 @@ TEST(Rainphys, JsonContract) {
   EXPECT_NEAR(density, 1.4443e5, 1e1);
   const auto mp = scatter::SizeDistribution::marshall_palmer(30);
   EXPECT_DOUBLE_EQ(j.at("density_per_m4").get<double>(), mp.number_density(a));
-  const auto shape = drop::drop_shape(a);
+  const auto shape = scatter::drop_shape(a);
   ASSERT_EQ(j.at("shape_coefficients").size(), 10u);
   for (int n = 1; n <= 10; ++n) EXPECT_EQ(j.at("shape_coefficients")[n - 1].get<double>(), shape.c[n]) << n;
   EXPECT_EQ(j.at("shape_coefficients")[1].get<double>(), -0.0385);  // c2 at a = 1 mm, paper convention
   EXPECT_EQ(j.at("shape_coefficients")[0].get<double>(), -0.0118);  // c1: odd, negative with theta = 0 down
   EXPECT_EQ(j.at("c0").get<double>(), -0.0134);
-  EXPECT_DOUBLE_EQ(j.at("axis_ratio").get<double>(), drop::axis_ratio(shape));
+  EXPECT_DOUBLE_EQ(j.at("axis_ratio").get<double>(), scatter::axis_ratio(shape));
   EXPECT_NEAR(j.at("axis_ratio").get<double>(), 0.9259, 1e-4);
   EXPECT_EQ(j.at("radius_mm").get<double>(), 1.0);
   EXPECT_EQ(j.at("rain_rate_mmh").get<double>(), 30.0);
@@ -85,7 +85,7 @@ TEST(Rainphys, GunnKinzerRangeAndNotes) {
   EXPECT_EQ(j.at("rain_rate_mmh").get<double>(), 5.0);
   EXPECT_DOUBLE_EQ(j.at("density_per_m4").get<double>(),
                    hydrolux::scatter::SizeDistribution::marshall_palmer(5).number_density(3.5e-3));
-  EXPECT_DOUBLE_EQ(j.at("axis_ratio").get<double>(), hydrolux::drop::axis_ratio(hydrolux::drop::drop_shape(3.5e-3)));
+  EXPECT_DOUBLE_EQ(j.at("axis_ratio").get<double>(), hydrolux::scatter::axis_ratio(hydrolux::scatter::drop_shape(3.5e-3)));
   // The table's ends are accepted.
   EXPECT_EQ(run("rainphys --radius-mm 0.5 --json").code, 0);
   EXPECT_EQ(run("rainphys --radius-mm 4.5 --rain-rate-mmh 1000 --json").code, 0);

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/io/image_io.hpp"
+#include "hydrolux/io/lee_files.hpp"
 #include "hydrolux/scene/compositor.hpp"
 #include "hydrolux/scene/sky_model.hpp"
 #include "support/cli.hpp"
@@ -67,7 +67,7 @@ TEST(ExportCli, WritesTablesSkyShadersAndManifest) {
     EXPECT_EQ(side.at("table"), name);
 
     // The Stokes Q for shaders (<name>_q.f32, the polariser) is the EXR's Q.X, Q.Y, Q.Z through the
-    // sidecar's matrix, as hydrolux sky --lut reads it (atmos::lee_bow_table), to float rounding.
+    // sidecar's matrix, as hydrolux sky --lut reads it (io::lee_bow_table), to float rounding.
     const std::string qname = std::string(name) + "_q.f32";
     EXPECT_EQ(side.at("files").at("f32_q"), qname);
     EXPECT_EQ(manifest.at("tables").at(name).at("stokes_q"), qname);
@@ -75,7 +75,7 @@ TEST(ExportCli, WritesTablesSkyShadersAndManifest) {
     ASSERT_EQ(qraw.size(), raw.size()) << name;
     std::vector<float> q(qraw.size() / 4);
     std::memcpy(q.data(), qraw.data(), qraw.size());
-    const scene::BowTable read = atmos::lee_bow_table(atmos::parse_lee_sidecar(slurp(d / (std::string(name) + ".json"))),
+    const scene::BowTable read = io::lee_bow_table(io::parse_lee_sidecar(slurp(d / (std::string(name) + ".json"))),
                                                       io::decode_image(slurp(d / (std::string(name) + ".exr")), name));
     ASSERT_TRUE(read.has_q()) << name;
     float peak = 0, qmax = 0;

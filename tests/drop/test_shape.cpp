@@ -9,9 +9,9 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/core/table.hpp"
-#include "hydrolux/drop/shape.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 
-namespace hydrolux::drop {
+namespace hydrolux::scatter {
 namespace {
 
 const Table& table() {
@@ -286,4 +286,4 @@ TEST(DropShape, SurfaceNormal) {
 }
 
 }  // namespace
-}  // namespace hydrolux::drop
+}  // namespace hydrolux::scatter

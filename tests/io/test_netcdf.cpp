@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "hydrolux/atmos/lee.hpp"
-#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/core/dataset.hpp"
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/io/lee_files.hpp"
 #include "hydrolux/io/netcdf.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/mie.hpp"
@@ -122,7 +122,7 @@ TEST(NetCdf, LeeTableRoundTripsWithItsAxesUnitsAndHistory) {
   s.columns = 5, s.rows = 7, s.wavelengths = 6, s.stokes = true;
   const atmos::LeeTable t = atmos::compute_lee_table(s);
   const atmos::LeeImages im = atmos::lee_images(t);
-  const Dataset back = nc().decode(nc().encode(atmos::lee_dataset(t, im, "the call")));
+  const Dataset back = nc().decode(nc().encode(io::lee_dataset(t, im, "the call")));
   EXPECT_EQ(back.dim_size("scattering_angle"), 7u);
   EXPECT_EQ(back.dim_size("radius"), 5u);
   EXPECT_EQ(back.dim_size("wavelength"), 6u);
@@ -205,9 +205,9 @@ TEST(NetCdf, TheSameDatasetIsTheSameBytesAtAnyTime) {
   const atmos::LeeTable t = atmos::compute_lee_table(s);
   const atmos::LeeImages im = atmos::lee_images(t);
   ::unsetenv("SOURCE_DATE_EPOCH");
-  const std::string first = nc().encode(atmos::lee_dataset(t, im, history_line("hydrolux lee --table corona")));
+  const std::string first = nc().encode(io::lee_dataset(t, im, history_line("hydrolux lee --table corona")));
   ::usleep(1100000);  // into another second
-  const std::string second = nc().encode(atmos::lee_dataset(t, im, history_line("hydrolux lee --table corona")));
+  const std::string second = nc().encode(io::lee_dataset(t, im, history_line("hydrolux lee --table corona")));
   EXPECT_EQ(first, second);
   EXPECT_EQ(history_line("x"), std::string("hydrolux ") + kVersion + ": x");
   ::setenv("SOURCE_DATE_EPOCH", "1700000000", 1);

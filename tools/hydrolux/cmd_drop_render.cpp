@@ -10,8 +10,8 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/params.hpp"
 #include "hydrolux/drop/render.hpp"
-#include "hydrolux/drop/shape.hpp"
 #include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 #include "hydrolux/scene/environment.hpp"
 #include "image_plugin.hpp"
 #include "params.hpp"
@@ -52,7 +52,7 @@ int run_render(const RenderArgs& a) {
   check_temperature_flag(r.temperature_c, {water.get()});
   drop::check_clearance(r, drop::ParamWords::flags);
   if (r.shape == drop::DropShapeKind::beard_chuang) {
-    const auto range = drop::drop_shape_radius_range_m();
+    const auto range = scatter::drop_shape_radius_range_m();
     if (r.radius_mm < range[0] * 1e3 || r.radius_mm > range[1] * 1e3)
       throw Error(fmt::format("--radius-mm {:g} is outside the valid range [{:g}, {:g}] mm of the Beard & Chuang shape",
                               r.radius_mm, range[0] * 1e3, range[1] * 1e3));

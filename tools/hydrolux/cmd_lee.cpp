@@ -11,10 +11,10 @@
 
 #include "common.hpp"
 #include "hydrolux/atmos/lee.hpp"
-#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/parse.hpp"
+#include "hydrolux/io/lee_files.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "image_plugin.hpp"
 #include "lee_files.hpp"
@@ -139,7 +139,7 @@ int run_lee(const LeeArgs& a) {
   const atmos::LeeImages im = atmos::lee_images(t);
 
   if (a.json) {
-    std::cout << atmos::lee_profile_json(t).dump() << '\n';
+    std::cout << io::lee_profile_json(t).dump() << '\n';
     std::cout.flush();
     if (!std::cout) throw IoFailure(fmt::format("cannot write to standard output: {}", std::strerror(errno)));
   }

@@ -13,7 +13,7 @@
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/physics.hpp"
-#include "hydrolux/drop/shape.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 
 namespace hydrolux::cli {
@@ -53,17 +53,17 @@ int run_rainphys(const RainphysArgs& a) {
   const double number = mp.number_concentration();
   const double spacing = std::cbrt(1.0 / number);
 
-  drop::DropShape shape;
+  scatter::DropShape shape;
   try {
-    shape = drop::drop_shape(radius_m);
+    shape = scatter::drop_shape(radius_m);
   } catch (const DomainError& e) {  // the validator's range is the table's; kept for safety
     throw Error(fmt::format("--radius-mm {:g} is outside the valid range [{:g}, {:g}] mm of {}", a.radius_mm,
                             e.lo() * 1e3, e.hi() * 1e3, e.context()));
   }
   const std::vector<double> c1_10(shape.c.begin() + 1, shape.c.end());
-  const double ratio = drop::axis_ratio(shape);
-  const double height_mm = drop::vertical_extent_m(shape) * 1e3;
-  const double width_mm = drop::horizontal_extent_m(shape) * 1e3;
+  const double ratio = scatter::axis_ratio(shape);
+  const double height_mm = scatter::vertical_extent_m(shape) * 1e3;
+  const double width_mm = scatter::horizontal_extent_m(shape) * 1e3;
 
   if (a.json) {
     nlohmann::ordered_json j;

@@ -19,8 +19,8 @@
 
 namespace hydrolux::cli {
 
-atmos::LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im) {
-  return atmos::encode_lee_files(t, im, image_api().encode_image);
+io::LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im) {
+  return io::encode_lee_files(t, im, image_api().encode_image);
 }
 
 void set_wavelengths_flag(atmos::LeeSpec& s, const std::string& w) {
@@ -70,13 +70,13 @@ LeeOutputs declare_lee_outputs(io::FileSet& files, const std::string& exr_path) 
 
 void LeeOutputs::write(const atmos::LeeTable& t, const atmos::LeeImages& im) const {
   if (netcdf) {
-    netcdf->write(io::netcdf_api().encode(atmos::lee_dataset(t, im, history_line(command_line()))));
+    netcdf->write(io::netcdf_api().encode(io::lee_dataset(t, im, history_line(command_line()))));
     return;
   }
-  const atmos::LeeFileBytes bytes = encode_lee_files(t, im);
+  const io::LeeFileBytes bytes = encode_lee_files(t, im);
   exr.file->write(bytes.exr);
   png.file->write(bytes.png);
-  sidecar->write(atmos::lee_sidecar(t, im, std::filesystem::path(exr_path).filename().string(),
+  sidecar->write(io::lee_sidecar(t, im, std::filesystem::path(exr_path).filename().string(),
                                     std::filesystem::path(png_path).filename().string())
                      .dump(1) +
                  "\n");
@@ -89,8 +89,8 @@ std::string LeeOutputs::describe() const {
 
 nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& name, const atmos::LeeTable& t) {
   const atmos::LeeImages im = atmos::lee_images(t);
-  const atmos::LeeFileBytes bytes = encode_lee_files(t, im);
-  nlohmann::json side = atmos::lee_sidecar(t, im, name + ".exr", name + ".png");
+  const io::LeeFileBytes bytes = encode_lee_files(t, im);
+  nlohmann::json side = io::lee_sidecar(t, im, name + ".exr", name + ".png");
   side["files"]["f32"] = name + ".f32";
   side["f32_layout"] =
       "little-endian float32, rows x columns x 3 (R, G, B as in the EXR), row-major: value (row j, column i, "
@@ -164,16 +164,16 @@ scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_pat
   };
   if (io::lower_extension(p) != ".exr") throw bad("expected a .exr file");
   const std::string text = io::read_file(json_path, std::uint64_t(64) << 20, flag + " (its .json sidecar)");
-  atmos::LeeSidecarAxes axes;
+  io::LeeSidecarAxes axes;
   try {
-    axes = atmos::parse_lee_sidecar(text);
+    axes = io::parse_lee_sidecar(text);
   } catch (const Error& e) {
     throw bad(fmt::format("its sidecar {}: {}", printable(json_path), e.what()));
   }
   // The content decides, not the name: a PNG renamed .exr decodes to display values in [0, 1].
   const io::DecodedImage decoded = read_input_decoded(flag, exr_path);
   try {
-    return atmos::lee_bow_table(std::move(axes), decoded);
+    return io::lee_bow_table(std::move(axes), decoded);
   } catch (const Error& e) {
     throw bad(e.what());
   }

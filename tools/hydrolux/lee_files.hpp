@@ -1,5 +1,5 @@
 #pragma once
-// The CLI's side of the Lee tables (the files' format itself is hydrolux/atmos/lee_files.hpp): the
+// The CLI's side of the Lee tables (the files' format itself is hydrolux/io/lee_files.hpp): the
 // files encoded through the image plugin and written where hydrolux lee and export put them, the
 // memory checks that name --size, and tables read back from disk for `hydrolux sky --lut`.
 #include <string>
@@ -7,14 +7,14 @@
 
 #include "common.hpp"
 #include "hydrolux/atmos/lee.hpp"
-#include "hydrolux/atmos/lee_files.hpp"
 #include "hydrolux/io/files.hpp"
+#include "hydrolux/io/lee_files.hpp"
 #include "hydrolux/scene/compositor.hpp"
 
 namespace hydrolux::cli {
 
-// atmos::encode_lee_files with the image plugin's encoder.
-atmos::LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im);
+// io::encode_lee_files with the image plugin's encoder.
+io::LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im);
 
 // hydrolux lee's --wavelengths-nm "A:B" or "A:B:N" set on `spec` (the range, and N samples when
 // given); Error naming the flag otherwise.
@@ -22,7 +22,7 @@ void set_wavelengths_flag(atmos::LeeSpec& spec, const std::string& text);
 
 // hydrolux lee's files: -o's .exr and the .png and .json beside it, reserved in `files` before the
 // work (the image plugin is loaded then too) and written after it.
-// With a .nc path instead: the one NetCDF-4 file of atmos::lee_dataset (its history the command
+// With a .nc path instead: the one NetCDF-4 file of io::lee_dataset (its history the command
 // line), through the NetCDF plugin (loaded then too).
 struct LeeOutputs {
   std::string exr_path, png_path, json_path;
@@ -49,7 +49,7 @@ void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const s
 void check_sky_memory(const scene::SkySettings& s, const std::string& size_text);
 
 // A table read back for the compositor: `exr_path` and the sidecar beside it (same name, .json),
-// through atmos::parse_lee_sidecar and atmos::lee_bow_table. Errors name `flag`, the file and what is
+// through io::parse_lee_sidecar and io::lee_bow_table. Errors name `flag`, the file and what is
 // wrong with it.
 scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_path);
 

@@ -72,7 +72,7 @@ inline constexpr double kMinRadiusUm = 0.1, kMaxRadiusUm = 5000;
 
 // The drops' shape (docs/non-spherical.md): spheres (the default), oblate spheroids of one axis
 // ratio (polar / equatorial; symmetry axis vertical), or Beard & Chuang's falling drops, whose
-// axis ratio follows their radius (drop/shape.hpp; below its smallest radius, 0.5 mm, the
+// axis ratio follows their radius (scatter/drop_shape.hpp; below its smallest radius, 0.5 mm, the
 // departure from the sphere is scaled as a^2, the trend of its coefficients).
 struct DropShapeSpec {
   enum class Kind { sphere, spheroid, beard_chuang };

@@ -1,7 +1,7 @@
 #pragma once
 // A labelled dataset: named dimensions, variables over them with their attributes, and global
 // attributes (NetCDF's data model, as CF describes it and xarray holds it). A table's labelled form
-// is built once as a Dataset (atmos::lee_dataset, io::mie_dataset); the NetCDF writer
+// is built once as a Dataset (io::lee_dataset, io::mie_dataset); the NetCDF writer
 // (io/netcdf.hpp) and the Python package's to_xarray() both take it from there, so a file and an
 // xarray.Dataset of the same table hold the same names, units and attributes.
 #include <cstddef>

@@ -7,6 +7,10 @@
 
 namespace hydrolux {
 
+// The largest seed every door accepts (CLI --seed, Python seed=, the batch jobs): 2^53, so that a
+// seed survives a round trip through JSON and double-precision numbers exactly.
+inline constexpr std::uint64_t kMaxSeed = std::uint64_t(1) << 53;
+
 class Rng {
  public:
   explicit Rng(std::uint64_t seed) : engine_(seed) {}

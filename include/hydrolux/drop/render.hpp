@@ -98,7 +98,7 @@ Image render_exact(const DropCamera& camera, const scene::Environment& env, cons
                    const DropSurface& surface, const RenderOptions& options, const TraceOptions& trace);
 
 // The drop at the camera's position as the tracer's surface: a sphere, or Beard & Chuang's shape
-// for its radius (shape.hpp; radii 0.5-4.5 mm) falling along -y.
+// for its radius (scatter/drop_shape.hpp; radii 0.5-4.5 mm) falling along -y.
 enum class DropShapeKind { sphere, beard_chuang };
 std::unique_ptr<DropSurface> make_drop_surface(const DropCamera& camera, DropShapeKind shape);
 

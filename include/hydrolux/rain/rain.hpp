@@ -48,6 +48,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/image.hpp"
+#include "hydrolux/core/random.hpp"
 #include "hydrolux/core/vec.hpp"
 
 namespace hydrolux::rain {
@@ -110,9 +111,8 @@ struct RainSettings {
   int radius_classes = 24;       // log-spaced radius classes
 };
 
-// The largest seed every door accepts (CLI --seed, Python seed=, the batch jobs): 2^53, so that a
-// seed survives a round trip through JSON and double-precision numbers exactly.
-inline constexpr std::uint64_t kMaxSeed = std::uint64_t(1) << 53;
+// The largest seed every door accepts (core/random.hpp).
+using hydrolux::kMaxSeed;
 
 // DomainError naming the setting ("rate_mmh", "near_m", ...) for a value outside its range.
 void validate(const RainSettings& settings);

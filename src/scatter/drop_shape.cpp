@@ -1,4 +1,4 @@
-#include "hydrolux/drop/shape.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include "hydrolux/core/table.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 
-namespace hydrolux::drop {
+namespace hydrolux::scatter {
 
 namespace {
 
@@ -177,4 +177,4 @@ Vec3 shape_normal_toward(const DropShape& s, const Vec3& unit_dir) {
   return glm::normalize(n);
 }
 
-}  // namespace hydrolux::drop
+}  // namespace hydrolux::scatter

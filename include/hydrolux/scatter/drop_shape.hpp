@@ -33,7 +33,7 @@
 
 #include "hydrolux/core/vec.hpp"
 
-namespace hydrolux::drop {
+namespace hydrolux::scatter {
 
 inline constexpr int kShapeTerms = 11;  // c_0 .. c_10
 
@@ -72,4 +72,4 @@ double shape_radius_toward(const DropShape& s, const Vec3& unit_dir);
 // The outward unit normal of the surface at the point along unit_dir (same frame).
 Vec3 shape_normal_toward(const DropShape& s, const Vec3& unit_dir);
 
-}  // namespace hydrolux::drop
+}  // namespace hydrolux::scatter

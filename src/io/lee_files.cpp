@@ -1,5 +1,5 @@
-// The files of a Lee table: see hydrolux/atmos/lee_files.hpp.
-#include "hydrolux/atmos/lee_files.hpp"
+// The files of a Lee table: see hydrolux/io/lee_files.hpp.
+#include "hydrolux/io/lee_files.hpp"
 
 #include <fmt/format.h>
 
@@ -12,7 +12,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/version.hpp"
 
-namespace hydrolux::atmos {
+namespace hydrolux::io {
 
 nlohmann::json to_json(const std::vector<double>& v) {
   nlohmann::json a = nlohmann::json::array();
@@ -23,22 +23,22 @@ nlohmann::json to_json(const std::vector<double>& v) {
 namespace {
 
 // The drops' shape and, for non-spherical drops, the bow's point and each column's axis ratio.
-nlohmann::json drop_shape_json(const LeeTable& t) {
+nlohmann::json drop_shape_json(const atmos::LeeTable& t) {
   const auto& s = t.spec;
-  nlohmann::json j{{"name", drop_shape_name(s.shape)}};
+  nlohmann::json j{{"name", atmos::drop_shape_name(s.shape)}};
   if (s.shape.spherical()) return j;
   j["method"] = "Airy theory of the plane section (docs/non-spherical.md)";
   j["sun_elevation_deg"] = s.sun_elevation_deg;
   j["position_deg"] = s.position_deg;
   j["canting_deg"] = s.canting_deg;
   nlohmann::json q = nlohmann::json::array();
-  for (double r : t.radius_um) q.push_back(drop_axis_ratio(s.shape, r));
+  for (double r : t.radius_um) q.push_back(atmos::drop_axis_ratio(s.shape, r));
   j["axis_ratio"] = q;
   j["axis_ratio_of"] = "the drop of each column's radius_um (polar over equatorial axis)";
   return j;
 }
 
-// The Stokes Q's basis and sign (LeeTable::q_xyz).
+// The Stokes Q's basis and sign (atmos::LeeTable::q_xyz).
 nlohmann::json stokes_json() {
   return {{"basis", "the scattering plane (sun, drop, observer): Q = (|S1|^2 - |S2|^2) / 2 in the normalisation of "
                     "I = (|S1|^2 + |S2|^2) / 2, S1 perpendicular and S2 parallel to that plane (Bohren & Huffman); "
@@ -51,7 +51,7 @@ nlohmann::json stokes_json() {
 
 }  // namespace
 
-nlohmann::json lee_profile_json(const LeeTable& t) {
+nlohmann::json lee_profile_json(const atmos::LeeTable& t) {
   nlohmann::json j;
   j["radius_um"] = t.radius_um.front();
   j["theory"] = scatter::theory_name(t.spec.theory);
@@ -84,7 +84,7 @@ nlohmann::json lee_profile_json(const LeeTable& t) {
   return j;
 }
 
-nlohmann::json lee_sidecar(const LeeTable& t, const LeeImages& im, const std::string& exr_name,
+nlohmann::json lee_sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im, const std::string& exr_name,
                            const std::string& png_name) {
   const auto& s = t.spec;
   nlohmann::json j;
@@ -169,7 +169,7 @@ nlohmann::json lee_sidecar(const LeeTable& t, const LeeImages& im, const std::st
   return j;
 }
 
-Dataset lee_dataset(const LeeTable& t, const LeeImages& im, std::string_view history) {
+Dataset lee_dataset(const atmos::LeeTable& t, const atmos::LeeImages& im, std::string_view history) {
   const auto& s = t.spec;
   const std::size_t rows = std::size_t(t.rows()), cols = std::size_t(t.columns()), n = rows * cols;
   Dataset ds;
@@ -199,7 +199,7 @@ Dataset lee_dataset(const LeeTable& t, const LeeImages& im, std::string_view his
       .text("long_name", "cosine of the scattering angle");
   if (!s.shape.spherical()) {
     std::vector<double> q;
-    for (double r : t.radius_um) q.push_back(drop_axis_ratio(s.shape, r));
+    for (double r : t.radius_um) q.push_back(atmos::drop_axis_ratio(s.shape, r));
     ds.add("axis_ratio", {radius}, std::move(q))
         .attrs.text("units", "1")
         .text("long_name", "drop axis ratio (polar over equatorial) of each radius");
@@ -255,7 +255,7 @@ Dataset lee_dataset(const LeeTable& t, const LeeImages& im, std::string_view his
 
   auto& a = ds.attrs;
   a.text("Conventions", "CF-1.8")
-      .text("title", fmt::format("hydrolux {} table ({} theory)", table_kind_name(s.table), scatter::theory_name(s.theory)))
+      .text("title", fmt::format("hydrolux {} table ({} theory)", atmos::table_kind_name(s.table), scatter::theory_name(s.theory)))
       .text("source", fmt::format("hydrolux {}", kVersion))
       .text("history", std::string(history))
       .text("references", "Lee, R. L., Jr. (1998): Mie theory, Airy theory, and the natural rainbow. Applied Optics "
@@ -264,10 +264,10 @@ Dataset lee_dataset(const LeeTable& t, const LeeImages& im, std::string_view his
                        "unit projected-area optical depth of the drops (L = E_sun tau_geo T; tau_geo = path x sum pi "
                        "a^2 n(a), = tau_ext / 2 for drops much larger than the wavelength), averaged over the size "
                        "distribution, the sun's disk and the spectrum; each sample averaged over its row's cell")
-      .text("table", table_kind_name(s.table))
+      .text("table", atmos::table_kind_name(s.table))
       .text("theory", scatter::theory_name(s.theory))
-      .text("angle_axis", angle_axis_name(s.axis))
-      .text("radius_scale", radius_scale_name(s.radius_scale))
+      .text("angle_axis", atmos::angle_axis_name(s.axis))
+      .text("radius_scale", atmos::radius_scale_name(s.radius_scale))
       .text("color_space", color::rgb_space_name(s.rgb_space))
       .text("sun", s.sun.name())
       .number("sun_disk_diameter_deg", s.sun_disk_deg)
@@ -277,7 +277,7 @@ Dataset lee_dataset(const LeeTable& t, const LeeImages& im, std::string_view his
       .text("drop_medium", s.drop_medium)
       .text("surrounding_medium", s.surrounding_medium);
   if (s.temperature_c) a.number("temperature_c", *s.temperature_c);
-  a.text("drop_shape", drop_shape_name(s.shape));
+  a.text("drop_shape", atmos::drop_shape_name(s.shape));
   if (!s.shape.spherical())
     a.number("sun_elevation_deg", s.sun_elevation_deg)
         .number("position_deg", s.position_deg)
@@ -291,7 +291,7 @@ Dataset lee_dataset(const LeeTable& t, const LeeImages& im, std::string_view his
   return ds;
 }
 
-LeeFileBytes encode_lee_files(const LeeTable& t, const LeeImages& im, const LeeImageEncoder& encode) {
+LeeFileBytes encode_lee_files(const atmos::LeeTable& t, const atmos::LeeImages& im, const LeeImageEncoder& encode) {
   static_assert(std::endian::native == std::endian::little, "the .f32 tables are little-endian");
   LeeFileBytes out;
   Image lin(t.columns(), t.rows(), t.spec.stokes ? 9 : 6);
@@ -404,4 +404,4 @@ scene::BowTable lee_bow_table(LeeSidecarAxes axes, const io::DecodedImage& decod
                           std::move(q_rgb));
 }
 
-}  // namespace hydrolux::atmos
+}  // namespace hydrolux::io
