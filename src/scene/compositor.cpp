@@ -255,6 +255,29 @@ void validate(const SkySettings& s) {
   for (int k = 0; k < 3; ++k) check("light_color", s.light_color[k], 0, 1e3);
 }
 
+void check_polarization(const SkySettings& s, bool rainbow_q, bool corona_q, std::string_view Param::*words) {
+  const std::string stokes(sky_param("stokes").*words);
+  const auto polarizer = [&] {
+    return fmt::format("{} {:g}", sky_param("polarizer_deg").*words, s.polarizer_deg.value_or(0));
+  };
+  if (s.stokes && s.polarizer_deg)
+    throw Error(fmt::format("{}: the Stokes images are the light before any filter: ask for them or for a polariser "
+                            "({}), not both",
+                            stokes, polarizer()));
+  if (s.stokes && s.blend != Blend::physical)
+    throw Error(fmt::format("{}: the Stokes images need the physical blend (the whitepaper's is not linear in the light)",
+                            stokes));
+  if (!s.polarizer_deg && !s.stokes) return;
+  const auto needs_q = [&](std::string_view table) {
+    return Error(fmt::format("{}: {} the {}'s Stokes Q, and its table has none (compute it with stokes on: hydrolux "
+                             "lee --stokes, or hydrolux export)",
+                             s.stokes ? stokes : polarizer(), s.stokes ? "the Stokes images need" : "a polariser needs",
+                             table));
+  };
+  if (!rainbow_q) throw needs_q("rainbow");
+  if (s.corona && !corona_q) throw needs_q("corona");
+}
+
 double estimated_bytes(const SkySettings& s) {
   const double pixels = double(s.camera.width) * double(s.camera.height);
   const double cube = s.mode == BowMode::cube_map ? double(s.cube_face_size) * s.cube_face_size : 0;
@@ -336,21 +359,11 @@ SkyCompositor::SkyCompositor(const SkySettings& settings, RainbowSlices rainbow,
     }
     by_position_ = std::move(slices);
   }
-  if (s_.stokes && s_.polarizer_deg)
-    throw Error("the Stokes images are the light before any filter: ask for them or for a polariser, not both");
-  if (s_.stokes && s_.blend != Blend::physical)
-    throw Error("the Stokes images need the physical blend (the whitepaper's is not linear in the light)");
-  if (s_.polarizer_deg || s_.stokes) {
-    const bool rainbow_q = by_position_.empty() ? (rainbow_.empty() || rainbow_.has_q())
-                                                 : std::all_of(by_position_.begin(), by_position_.end(),
-                                                               [](const BowSlice& b) { return b.has_q(); });
-    if (!rainbow_q)
-      throw Error("a polariser needs the rainbow's Stokes Q, and its table has none (compute it with stokes on: "
-                  "hydrolux lee --stokes, or hydrolux export)");
-    if (s_.corona && !corona_.empty() && !corona_.has_q())
-      throw Error("a polariser needs the corona's Stokes Q, and its table has none (compute it with stokes on: "
-                  "hydrolux lee --stokes, or hydrolux export)");
-  }
+  check_polarization(s_,
+                     by_position_.empty() ? (rainbow_.empty() || rainbow_.has_q())
+                                          : std::all_of(by_position_.begin(), by_position_.end(),
+                                                        [](const BowSlice& b) { return b.has_q(); }),
+                     corona_.empty() || corona_.has_q());
   const Param& scale = sky_param("environment_scale");  // the declared range (sky_params.cpp)
   if (!(environment_scale >= scale.lo && std::isfinite(environment_scale)))
     throw DomainError("environment_scale", environment_scale, scale.lo, scale.hi);

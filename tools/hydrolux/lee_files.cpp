@@ -12,7 +12,6 @@
 
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
-#include "hydrolux/core/memory.hpp"
 #include "hydrolux/core/parse.hpp"
 #include "hydrolux/io/netcdf.hpp"
 #include "image_plugin.hpp"
@@ -128,86 +127,6 @@ nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& n
 
 void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const std::string& size_text) {
   atmos::check_table_memory(specs, size_text, atmos::SizeSyntax::cli);  // the library's one check
-}
-
-// A frame too large for the memory left is refused before the work, naming what would fit.
-void check_sky_memory(const scene::SkySettings& s, const std::string& size_text) {
-  const double need = scene::estimated_bytes(s), avail = double(available_memory_bytes());
-  if (need <= avail) return;
-  const double cube = s.mode == scene::BowMode::cube_map
-                          ? scene::kSkyBytesPerCubeTexel * double(s.cube_face_size) * s.cube_face_size
-                          : 0;
-  const double frame = need - cube - scene::kSkyFixedBytes;
-  const double room = avail - scene::kSkyFixedBytes;
-  if (cube > frame) {
-    const double fits = std::floor(std::sqrt(std::max(0.0, room - frame) / scene::kSkyBytesPerCubeTexel));
-    throw Error(fmt::format("--cube-face-size {}: the frame and its cube map need about {} of memory and {} is "
-                            "available; faces of at most {:g} texels fit",
-                            s.cube_face_size, format_bytes(need), format_bytes(avail), std::max(0.0, fits)));
-  }
-  const double pixels = double(s.camera.width) * s.camera.height;
-  const double fit_pixels = std::max(0.0, room - cube) / scene::kSkyBytesPerPixel;
-  const double k = std::sqrt(fit_pixels / pixels);
-  throw Error(fmt::format("--size {}: the frame needs about {} of memory and {} is available; at most about {:.0f} "
-                          "megapixels fit (--size {:.0f}x{:.0f} at this aspect)",
-                          size_text, format_bytes(need), format_bytes(avail), fit_pixels / 1e6,
-                          std::floor(s.camera.width * k), std::floor(s.camera.height * k)));
-}
-
-scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_path) {
-  const std::filesystem::path p(exr_path);
-  const std::string json_path = std::filesystem::path(p).replace_extension(".json").string();
-  const auto bad = [&](const std::string& what) {
-    return Error(fmt::format("{} {}: {} (a table written by hydrolux lee or hydrolux export, with its .json sidecar "
-                             "beside it)",
-                             flag, printable(exr_path), what));
-  };
-  if (io::lower_extension(p) != ".exr") throw bad("expected a .exr file");
-  const std::string text = io::read_file(json_path, std::uint64_t(64) << 20, flag + " (its .json sidecar)");
-  io::LeeSidecarAxes axes;
-  try {
-    axes = io::parse_lee_sidecar(text);
-  } catch (const Error& e) {
-    throw bad(fmt::format("its sidecar {}: {}", printable(json_path), e.what()));
-  }
-  // The content decides, not the name: a PNG renamed .exr decodes to display values in [0, 1].
-  const io::DecodedImage decoded = read_input_decoded(flag, exr_path);
-  try {
-    return io::lee_bow_table(std::move(axes), decoded);
-  } catch (const Error& e) {
-    throw bad(e.what());
-  }
-}
-
-SkySlices read_sky_luts(const std::vector<std::string>& luts, double radius_um, bool corona) {
-  SkySlices out;
-  bool have_rainbow = false;
-  for (const auto& l : luts) {
-    const scene::BowTable t = read_lee_lut("--lut", l);
-    const double lo = t.radius_um.front(), hi = t.radius_um.back();
-    if (t.kind == atmos::LeeTableKind::rainbow) {
-      if (have_rainbow) throw Error(fmt::format("--lut {}: a second rainbow table (give one per kind)", printable(l)));
-      if (radius_um < lo * 0.999 || radius_um > hi * 1.001)
-        throw Error(fmt::format("--radius-um {:g}: outside the radii of --lut {} [{:g}, {:g}] um", radius_um,
-                                printable(l), lo, hi));
-      out.rainbow = scene::slice_at_radius(t, radius_um);
-      have_rainbow = true;
-    } else if (t.kind == atmos::LeeTableKind::corona) {
-      if (!out.corona.empty())
-        throw Error(fmt::format("--lut {}: a second corona table (give one per kind)", printable(l)));
-      out.corona = scene::slice_at_radius(t, radius_um, /*outside_is_empty=*/true);
-    } else {
-      throw Error(fmt::format("--lut {}: a {} table; the scene takes a rainbow table and optionally a corona table",
-                              printable(l), atmos::table_kind_name(t.kind)));
-    }
-  }
-  if (!have_rainbow)
-    throw Error("--lut: no rainbow table among the tables given (hydrolux lee --table rainbow, or hydrolux export)");
-  if (corona && out.corona.empty())
-    throw Error(fmt::format("--corona: no corona table among --lut covers --radius-um {:g}, so nothing would be drawn "
-                            "(give one: hydrolux lee --table corona, or hydrolux export; or omit --corona)",
-                            radius_um));
-  return out;
 }
 
 }  // namespace hydrolux::cli

@@ -1,7 +1,7 @@
 #pragma once
 // The CLI's side of the Lee tables (the files' format itself is hydrolux/io/lee_files.hpp): the
-// files encoded through the image plugin and written where hydrolux lee and export put them, the
-// memory checks that name --size, and tables read back from disk for `hydrolux sky --lut`.
+// files encoded through the image plugin and written where hydrolux lee and export put them, and the
+// memory check that names --size (hydrolux sky reads tables back through io/sky_job.hpp).
 #include <string>
 #include <vector>
 
@@ -42,24 +42,5 @@ nlohmann::json write_engine_table(io::OutputDirectory& dir, const std::string& n
 
 // atmos::check_table_memory in the CLI's words (--size WxH): hydrolux export's tables.
 void check_table_memory(const std::vector<const atmos::LeeSpec*>& specs, const std::string& size_text);
-
-// Refuses, before the work, a hydrolux sky frame that would not fit in the memory available
-// (scene::estimated_bytes): one line naming --cube-face-size when the cube map is most of it, else
-// --size with `size_text`, and what would fit.
-void check_sky_memory(const scene::SkySettings& s, const std::string& size_text);
-
-// A table read back for the compositor: `exr_path` and the sidecar beside it (same name, .json),
-// through io::parse_lee_sidecar and io::lee_bow_table. Errors name `flag`, the file and what is
-// wrong with it.
-scene::BowTable read_lee_lut(const std::string& flag, const std::string& exr_path);
-
-// The scene's tables from hydrolux sky's --lut files, read one by one in the order given (each
-// checked before the next is read): one rainbow table whose radii cover `radius_um` and optionally
-// a corona table, each sliced at that radius (the corona's empty outside its radii). Errors name
-// --lut, --radius-um and, when `corona` is on and no corona table covers the radius, --corona.
-struct SkySlices {
-  scene::BowSlice rainbow, corona;
-};
-SkySlices read_sky_luts(const std::vector<std::string>& luts, double radius_um, bool corona);
 
 }  // namespace hydrolux::cli

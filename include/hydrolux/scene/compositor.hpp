@@ -12,6 +12,7 @@
 
 #include "hydrolux/atmos/lee.hpp"
 #include "hydrolux/core/image.hpp"
+#include "hydrolux/core/params.hpp"
 #include "hydrolux/core/vec.hpp"
 #include "hydrolux/scene/environment.hpp"
 #include "hydrolux/scene/sky_model.hpp"
@@ -160,6 +161,16 @@ struct SkySettings {
 };
 // Throws DomainError naming the setting ("fov_deg", "rain_rate_mmh", ...).
 void validate(const SkySettings& s);
+
+// The one check of a polarised request, which every door makes (the compositor itself, hydrolux
+// sky's job, hydrolux.sky): the Stokes images and a polariser not both; the Stokes images with the
+// physical blend only; and with either, the tables' Stokes Q: `rainbow_q` whether every rainbow slice
+// carries it, `corona_q` whether the corona, when drawn, does (true for tables still to be computed
+// with it). Throws Error in the compositor's words, naming the parameter as the door spells it:
+// `words` is &Param::flag for the CLI ("--stokes", "--polarizer-deg 10"), &Param::name for the
+// library and Python ("stokes", "polarizer_deg 10").
+void check_polarization(const SkySettings& s, bool rainbow_q = true, bool corona_q = true,
+                        std::string_view Param::*words = &Param::name);
 
 // The peak memory, in bytes, of rendering `s` into a frame and writing it out (hydrolux sky), so
 // that a frame too large for the machine is refused before the work. Measured, not guessed: the

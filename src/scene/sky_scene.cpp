@@ -1,0 +1,136 @@
+#include "hydrolux/scene/sky_scene.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/memory.hpp"
+#include "hydrolux/scene/bow_tables.hpp"
+
+namespace hydrolux::scene {
+
+std::string sky_word(std::string_view name, std::string_view Param::*words) {
+  if (const auto* f = find_field(sky_params(), name)) return std::string(f->param.*words);
+  if (name == "lut" && words != &Param::flag) return "hydrolux sky --lut";  // tables from files: the CLI's only
+  if (words != &Param::flag) return std::string(name);
+  std::string flag = "--" + std::string(name);
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return flag;
+}
+
+void check_sky_request(const SkyOptions& o, const atmos::DropShapeSpec& shape, bool tables_given,
+                       std::string_view Param::*words) {
+  const SkySettings& s = o.settings;
+  const auto word = [&](std::string_view name) { return sky_word(name, words); };
+  if (!shape.spherical()) {
+    // Non-spherical drops: their bow, which changes along its arc, is computed here for the scene's
+    // sun at kShapePositions position angles (Airy theory of the plane section).
+    if (tables_given)
+      throw Error(fmt::format("{} {}: non-spherical drops' bow changes along its arc and is computed here at {} "
+                              "position angles, while {} tables hold one bow for all of it (omit {} or {})",
+                              word("shape"), o.shape, kShapePositions, word("lut"), word("lut"), word("shape")));
+    if (s.sun_elevation_deg > max_shape_sun_elevation_deg())
+      throw Error(fmt::format("{} {}: non-spherical drops' bow is computed for a sun at most {:g} degrees up "
+                              "({} {:g}; the bow is below the horizon anyway)",
+                              word("shape"), o.shape, max_shape_sun_elevation_deg(), word("sun_elevation_deg"),
+                              s.sun_elevation_deg));
+    check_shape_radius(shape, s.radius_um);
+  }
+  // The tables computed here are Mie's, whose size parameter limit caps the radius; given tables
+  // (e.g. geometric optics up to 5000 um) cover what they cover.
+  if (shape.spherical() && !tables_given && s.radius_um > max_sky_radius_um())
+    throw Error(fmt::format("{} {:g} is outside the valid range [{:g}, {:g}] um of the tables computed without {} "
+                            "(Mie's size parameter limit at 380 nm); give tables that cover it with {}",
+                            word("radius_um"), s.radius_um, atmos::kMinRadiusUm, max_sky_radius_um(), word("lut"),
+                            word("lut")));
+  check_polarization(s, true, true, words);
+  if (s.corona && !tables_given && s.radius_um > kCoronaMaxRadiusUm)
+    throw Error(fmt::format("{}: drops of {:g} um ({}) put their corona within 0.2 degrees of the sun, where nothing "
+                            "is drawn; coronas come from cloud droplets of 1-{:g} um (try {} 10) or omit {}",
+                            word("corona"), s.radius_um, word("radius_um"), kCoronaMaxRadiusUm, word("radius_um"),
+                            word("corona")));
+}
+
+void refuse_unused_sky_params(const SkyOptions& o, const std::function<bool(std::string_view)>& given,
+                              bool tables_given, bool environment_given, std::string_view Param::*words) {
+  const SkySettings& s = o.settings;
+  const auto word = [&](std::string_view name) { return sky_word(name, words); };
+  const auto refuse_unless = [&](std::string_view name, bool used, const std::string& why) {
+    if (used || !given(name)) return;
+    const Field<SkyOptions>& f = *find_field(sky_params(), name);
+    throw Error(fmt::format("{} {:g}: {}", f.param.*words, f.get(o), why));
+  };
+  refuse_unless("sampling", !tables_given,
+                fmt::format("sets the sampling of the tables computed without {}; {} gives the tables (omit {})",
+                            word("lut"), word("lut"), word("sampling")));
+  refuse_unless("sky_max_dolp", s.polarizer_deg.has_value() || s.stokes,
+                fmt::format("sets the sky's polarisation, which only a polariser or the Stokes images show (add {} "
+                            "or {}, or omit {})",
+                            word("polarizer_deg"), word("stokes"), word("sky_max_dolp")));
+  refuse_unless("environment_scale", environment_given,
+                fmt::format("scales {}'s values; without {} there is nothing to scale", word("environment"),
+                            word("environment")));
+  for (const auto& [name, mode] : {std::pair{"cube_face_size", BowMode::cube_map},
+                                   {"dome_rings", BowMode::half_dome},
+                                   {"dome_segments", BowMode::half_dome}})
+    refuse_unless(name, s.mode == mode,
+                  fmt::format("used by {} {} only (this run is {} {})", word("mode"), bow_mode_name(mode), word("mode"),
+                              bow_mode_name(s.mode)));
+}
+
+void check_sky_memory(const SkySettings& s, std::string_view size_text, std::string_view Param::*words,
+                      double available) {
+  const double need = estimated_bytes(s), avail = available >= 0 ? available : double(available_memory_bytes());
+  if (need <= avail) return;
+  const double cube =
+      s.mode == BowMode::cube_map ? kSkyBytesPerCubeTexel * double(s.cube_face_size) * s.cube_face_size : 0;
+  const double frame = need - cube - kSkyFixedBytes;
+  const double room = avail - kSkyFixedBytes;
+  if (cube > frame) {
+    const double fits = std::floor(std::sqrt(std::max(0.0, room - frame) / kSkyBytesPerCubeTexel));
+    throw Error(fmt::format("{} {}: the frame and its cube map need about {} of memory and {} is available; faces of "
+                            "at most {:g} texels fit",
+                            sky_word("cube_face_size", words), s.cube_face_size, format_bytes(need),
+                            format_bytes(avail), std::max(0.0, fits)));
+  }
+  const double pixels = double(s.camera.width) * s.camera.height;
+  const double fit_pixels = std::max(0.0, room - cube) / kSkyBytesPerPixel;
+  const double k = std::sqrt(fit_pixels / pixels);
+  const double w = std::floor(s.camera.width * k), h = std::floor(s.camera.height * k);
+  const bool cli = words == &Param::flag;
+  throw Error(fmt::format("{} {}: the frame needs about {} of memory and {} is available; at most about {:.0f} "
+                          "megapixels fit ({} at this aspect)",
+                          sky_word("size", words), size_text, format_bytes(need), format_bytes(avail), fit_pixels / 1e6,
+                          cli ? fmt::format("--size {:.0f}x{:.0f}", w, h) : fmt::format("size=({:.0f}, {:.0f})", w, h)));
+}
+
+SkyTables compute_sky_tables(const SkyOptions& o, const atmos::DropShapeSpec& shape, const ProgressFn& progress) {
+  const SkySettings& s = o.settings;
+  const bool need_corona = s.corona && s.radius_um <= kCoronaMaxRadiusUm;
+  const int jobs = need_corona ? 2 : 1;
+  int done = 0;
+  const auto sub = [&](double f, std::string_view label) {
+    if (progress) progress((done + f) / jobs, label);
+  };
+  // With a polariser the tables carry the Stokes Q (1.04x the time of I alone, BENCHMARKS.md).
+  const bool polarized = s.polarizer_deg.has_value() || s.stokes;
+  const auto spec = [&](atmos::LeeTableKind kind) {
+    atmos::LeeSpec p = sky_profile_spec(kind, s.radius_um, o.sampling);
+    p.stokes = polarized;
+    return p;
+  };
+  SkyTables t;
+  if (!shape.spherical())
+    t.rainbow = compute_shaped_rainbow(shape, s.radius_um, o.sampling, s.sun_elevation_deg, s.secondary, sub,
+                                       polarized);
+  else
+    t.rainbow = compute_bow_slice(spec(atmos::LeeTableKind::rainbow), sub);
+  ++done;
+  if (need_corona) t.corona = compute_bow_slice(spec(atmos::LeeTableKind::corona), sub);
+  return t;
+}
+
+}  // namespace hydrolux::scene
