@@ -5,6 +5,8 @@
 #include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/params.hpp"
+#include "hydrolux/drop/physics_params.hpp"
+#include "hydrolux/optics/params.hpp"
 #include "hydrolux/rain/fog.hpp"
 #include "hydrolux/rain/lens_drops.hpp"
 #include "hydrolux/rain/params.hpp"
@@ -38,6 +40,14 @@ const std::vector<JobSpec>& job_specs() {
       fog.python = "hydrolux.fog";
       v.push_back(std::move(fog));
     }
+    v.push_back({"fresnel", "hydrolux fresnel", "Fresnel reflectance and transmittance of one plane interface",
+                 describe_fields(optics::fresnel_params())});
+    v.push_back({"ior", "hydrolux ior", "A medium's refractive index n + ik at a wavelength",
+                 describe_fields(optics::ior_params())});
+    v.push_back({"drop_profile", "hydrolux drop profile", "Garg & Nayar's radiance profile across a drop's image",
+                 describe_fields(drop::drop_profile_params())});
+    v.push_back({"rainphys", "hydrolux rainphys", "A rain drop's terminal velocity, Marshall-Palmer density and shape",
+                 describe_fields(drop::rainphys_params())});
     v.push_back({"drop_render", "hydrolux drop render", "A rain drop's picture from an environment (Garg & Nayar Figure 8)",
                  describe_fields(drop::drop_render_params()), "hydrolux.drop_render"});
     v.push_back({"mie", "hydrolux mie", "Lorenz-Mie scattering by one sphere", describe_fields(scatter::mie_params())});

@@ -88,7 +88,8 @@ TEST(Rainphys, GunnKinzerRangeAndNotes) {
   EXPECT_DOUBLE_EQ(j.at("axis_ratio").get<double>(), hydrolux::scatter::axis_ratio(hydrolux::scatter::drop_shape(3.5e-3)));
   // The table's ends are accepted.
   EXPECT_EQ(run("rainphys --radius-mm 0.5 --json").code, 0);
-  EXPECT_EQ(run("rainphys --radius-mm 4.5 --rain-rate-mmh 1000 --json").code, 0);
+  // The rain rate's one upper limit, the rain's and the sky's (kMaxRainRateMmh).
+  EXPECT_EQ(run("rainphys --radius-mm 4.5 --rain-rate-mmh 500 --json").code, 0);
 }
 
 // The text form: the same numbers with units; the help states the density convention.
@@ -117,7 +118,7 @@ TEST(Rainphys, BadInputIsOneLineAndExitCodeTwo) {
       {"rainphys --radius-mm 0.49", "--radius-mm"},
       {"rainphys --rain-rate-mmh 0", "--rain-rate-mmh"},
       {"rainphys --rain-rate-mmh -3", "--rain-rate-mmh"},
-      {"rainphys --rain-rate-mmh 1001", "--rain-rate-mmh"},
+      {"rainphys --rain-rate-mmh 501", "--rain-rate-mmh"},
       {"rainphys --rain-rate-mmh x", "--rain-rate-mmh"},
       {"rainphys --bogus 1", "--bogus"},
   };
@@ -125,7 +126,7 @@ TEST(Rainphys, BadInputIsOneLineAndExitCodeTwo) {
   // The value and the valid range are in the message.
   const auto r = run("rainphys --radius-mm 5");
   EXPECT_NE(r.err.find("[0.5, 4.5] mm"), std::string::npos) << r.err;
-  EXPECT_NE(run("rainphys --rain-rate-mmh 0").err.find("[0.01, 1000] mm/h"), std::string::npos);
+  EXPECT_NE(run("rainphys --rain-rate-mmh 0").err.find("[0.01, 500] mm/h"), std::string::npos);
 }
 
 }  // namespace

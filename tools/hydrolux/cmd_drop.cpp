@@ -7,19 +7,22 @@
 
 #include "common.hpp"
 #include "hydrolux/drop/model.hpp"
+#include "hydrolux/drop/physics_params.hpp"
+#include "params.hpp"
 
 namespace hydrolux::cli {
 
 namespace {
+// The numbers are drop/physics_params.hpp's; the output's form is this command's.
 struct ProfileArgs {
-  double mu = 1.333;
-  int samples = 101;
+  std::shared_ptr<drop::DropProfileRequest> r = std::make_shared<drop::DropProfileRequest>();
   bool json = false;
 };
 
-int run_profile(const ProfileArgs& a) {
+int run_profile(const ProfileArgs& args) {
+  const drop::DropProfileRequest& a = *args.r;
   const auto f = drop::radiance_profile(a.mu, a.samples, 2);
-  if (a.json) {
+  if (args.json) {
     nlohmann::ordered_json j;
     j["rho"] = f.rho;
     j["refraction"] = f.refraction;
@@ -54,15 +57,11 @@ Command add_drop_profile(CLI::App& drop) {
       "Figure 4 of Garg & Nayar: the radiance of the refracted, reflected and internally reflected "
       "paths across the drop's image (rho = 0 centre to 1 rim) for a uniform environment Le = 1, "
       "drop on the optical axis; and the drop's field of view.");
-  sub->add_option("--mu", args->mu, "Refractive index of the drop relative to the air")
-      ->check(number_in(1.0001, 10))
-      ->capture_default_str();
-  sub->add_option("--samples", args->samples, "Number of rho values from 0 to 1")
-      ->transform(integer_in(2, 1000000))
-      ->capture_default_str();
+  Command cmd{sub, [args] { return run_profile(*args); }, {}};
+  add_params(*sub, args->r, drop::drop_profile_params(), cmd.flags_for_quantity);
   sub->add_flag("--json", args->json,
                 "Print one JSON object: rho, refraction, reflection, internal1, internal2 (arrays), fov_deg");
-  return {sub, [args] { return run_profile(*args); }, {{"mu", "--mu"}, {"samples", "--samples"}}};
+  return cmd;
 }
 
 }  // namespace hydrolux::cli

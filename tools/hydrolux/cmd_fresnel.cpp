@@ -10,20 +10,22 @@
 #include "common.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/optics/fresnel.hpp"
+#include "hydrolux/optics/params.hpp"
+#include "params.hpp"
 
 namespace hydrolux::cli {
 
 namespace {
+// The numbers are optics/params.hpp's; the output's form is this command's.
 struct FresnelArgs {
-  double n1 = 1.0;
-  double n2 = 1.333;
-  double k2 = 0.0;
-  double theta_deg = 0.0;
+  std::shared_ptr<optics::FresnelRequest> r = std::make_shared<optics::FresnelRequest>();
   bool json = false;
 };
 
-int run_fresnel(const FresnelArgs& a) {
-  const double theta = deg_to_rad(a.theta_deg);
+int run_fresnel(const FresnelArgs& args) {
+  const optics::FresnelRequest& a = *args.r;
+  const double theta_deg = a.theta_deg.value();  // a required flag
+  const double theta = deg_to_rad(theta_deg);
   const double cos_i = std::cos(theta);
   nlohmann::ordered_json j;
   if (a.k2 > 0) {  // absorbing medium: no propagating transmitted beam
@@ -36,7 +38,7 @@ int run_fresnel(const FresnelArgs& a) {
                                : nlohmann::ordered_json(rad_to_deg(safe_acos(f.cos_t)))},
          {"rs", f.R_s}, {"rp", f.R_p}, {"r", f.R}, {"t", f.T}, {"tir", f.tir}};
   }
-  if (a.json) {
+  if (args.json) {
     std::cout << j.dump() << "\n";
     return 0;
   }
@@ -44,7 +46,7 @@ int run_fresnel(const FresnelArgs& a) {
     return v.is_null() ? std::string("-") : fmt::format("{:.8g}", v.get<double>());
   };
   fmt::print("interface   n1 = {:g} -> n2 = {:g}{}  at theta_i = {:g} deg\n", a.n1, a.n2,
-             a.k2 > 0 ? fmt::format(" + {:g}i", a.k2) : "", a.theta_deg);
+             a.k2 > 0 ? fmt::format(" + {:g}i", a.k2) : "", theta_deg);
   fmt::print("theta_t     {} deg{}\n", num(j["theta_t_deg"]),
              j["tir"].get<bool>() ? " (total internal reflection)"
                                   : (a.k2 > 0 ? " (absorbing medium: no refracted beam)" : ""));
@@ -64,27 +66,13 @@ Command add_fresnel(CLI::App& app) {
       "Fresnel reflectance and transmittance of a plane interface from a transparent medium (n1) "
       "into a dielectric (n2) or an absorbing medium (n2 + i k2). Exact equations, unpolarised "
       "R = (R_s + R_p) / 2, T = 1 - R for dielectrics.");
-  // Indices from 1e-3 (below any known material's, epsilon-near-zero films included) to 1e3: within
-  // this range every quantity is computed to full precision (tests/optics/test_fresnel.cpp); far
-  // below it, n^2 underflows and the results go wrong.
-  sub->add_option("--n1", args->n1, "Refractive index of the incident medium (real)")
-      ->check(number_in(1e-3, 1000))
-      ->capture_default_str();
-  sub->add_option("--n2", args->n2, "Real part of the second medium's refractive index")
-      ->check(number_in(1e-3, 1000))
-      ->capture_default_str();
-  sub->add_option("--k2", args->k2,
-                  "Imaginary part (extinction coefficient) of the second medium's index; > 0 makes "
-                  "it a conductor (no transmitted beam)")
-      ->check(number_in(0, 1000))
-      ->capture_default_str();
-  sub->add_option("--theta-deg", args->theta_deg, "Angle of incidence from the normal, degrees")
-      ->required()
-      ->check(number_in(0, 90, "deg"));
+  Command cmd{sub, [args] { return run_fresnel(*args); }, {}};
+  add_params(*sub, args->r, optics::fresnel_params(), cmd.flags_for_quantity);
+  sub->get_option(std::string(optics::fresnel_params().back().param.flag))->required();
   sub->add_flag("--json", args->json,
                 "Print one JSON object: theta_t_deg, rs, rp, r, t, tir (theta_t_deg and t are null "
                 "for a conductor; theta_t_deg is null under total internal reflection)");
-  return {sub, [args] { return run_fresnel(*args); }, {}};
+  return cmd;
 }
 
 }  // namespace hydrolux::cli

@@ -10,6 +10,8 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/params.hpp"
 #include "hydrolux/optics/media.hpp"
+#include "hydrolux/optics/params.hpp"
+#include "params.hpp"
 
 namespace hydrolux::cli {
 
@@ -17,7 +19,7 @@ namespace {
 struct IorArgs {
   std::string medium;
   double wavelength_nm = 0;
-  std::optional<double> temperature_c;
+  std::shared_ptr<optics::IorRequest> r = std::make_shared<optics::IorRequest>();  // the declared numbers
   bool json = false;
   bool list = false;
 };
@@ -64,25 +66,25 @@ int run_ior(const IorArgs& a) {
     throw UnknownNameError(fmt::format("--medium: {}", e.what()));
   }
   const auto& info = medium->info();
-  if (a.temperature_c && !info.temperature_dependent &&
-      *a.temperature_c != info.default_temperature_c)
+  if (a.r->temperature_c && !info.temperature_dependent &&
+      *a.r->temperature_c != info.default_temperature_c)
     throw Error(fmt::format(
         "--temperature-c {:g}: {} has no temperature model (its data are at {:g} C); omit the flag",
-        *a.temperature_c, info.name, info.default_temperature_c));
-  const auto idx = medium->index(a.wavelength_nm, a.temperature_c);
+        *a.r->temperature_c, info.name, info.default_temperature_c));
+  const auto idx = medium->index(a.wavelength_nm, a.r->temperature_c);
   if (a.json) {
     nlohmann::ordered_json j = {{"medium", info.name},
                         {"wavelength_nm", a.wavelength_nm},
                         {"n", idx.real()},
                         {"k", idx.imag()}};
     if (info.temperature_dependent)
-      j["temperature_c"] = a.temperature_c.value_or(info.default_temperature_c);
+      j["temperature_c"] = a.r->temperature_c.value_or(info.default_temperature_c);
     std::cout << j.dump() << "\n";
     return 0;
   }
   fmt::print("{} at {:g} nm", info.name, a.wavelength_nm);
   if (info.temperature_dependent)
-    fmt::print(", {:g} C", a.temperature_c.value_or(info.default_temperature_c));
+    fmt::print(", {:g} C", a.r->temperature_c.value_or(info.default_temperature_c));
   fmt::print(": n = {:.8g}, k = {:.6g}\n", idx.real(), idx.imag());
   fmt::print("source: {}\n", info.source);
   return 0;
@@ -97,16 +99,12 @@ Command add_ior(CLI::App& app) {
                   "Medium name (see --list), or const:<n>[+<k>i] for a constant index");
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")
       ->check(positive_number(1e6, "nm"));
-  sub->add_option("--temperature-c", args->temperature_c,
-                  "Temperature, Celsius (temperature-dependent media only; water: 0 to 100, "
-                  "default 20)")
-      ->check(number_in(kMinTemperatureC, kMaxTemperatureC, "C"));
+  Command cmd{sub, [args] { return run_ior(*args); }, {{"wavelength_nm", "--wavelength-nm"}}};
+  add_params(*sub, args->r, optics::ior_params(), cmd.flags_for_quantity);
   sub->add_flag("--json", args->json,
                 "Print one JSON object: medium, wavelength_nm, n, k (and temperature_c for water)");
   sub->add_flag("--list", args->list, "List the media with their valid ranges and sources");
-  return {sub,
-          [args] { return run_ior(*args); },
-          {{"wavelength_nm", "--wavelength-nm"}, {"temperature_c", "--temperature-c"}}};
+  return cmd;
 }
 
 }  // namespace hydrolux::cli

@@ -13,15 +13,17 @@
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/physics.hpp"
+#include "hydrolux/drop/physics_params.hpp"
 #include "hydrolux/scatter/drop_shape.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
+#include "params.hpp"
 
 namespace hydrolux::cli {
 
 namespace {
+// The numbers are drop/physics_params.hpp's; the output's form is this command's.
 struct RainphysArgs {
-  double radius_mm = 1.0;
-  double rain_rate_mmh = 30.0;
+  std::shared_ptr<drop::RainphysRequest> r = std::make_shared<drop::RainphysRequest>();
   bool json = false;
 };
 
@@ -29,7 +31,8 @@ struct RainphysArgs {
 // measurements (drop/physics.hpp; pinned in tests/drop/test_physics.cpp).
 constexpr double kFitValidMaxRadiusMm = 2.5;
 
-int run_rainphys(const RainphysArgs& a) {
+int run_rainphys(const RainphysArgs& args) {
+  const drop::RainphysRequest& a = *args.r;
   const double radius_m = a.radius_mm / 1e3;
   std::vector<std::string> notes;
 
@@ -65,7 +68,7 @@ int run_rainphys(const RainphysArgs& a) {
   const double height_mm = scatter::vertical_extent_m(shape) * 1e3;
   const double width_mm = scatter::horizontal_extent_m(shape) * 1e3;
 
-  if (a.json) {
+  if (args.json) {
     nlohmann::ordered_json j;
     j["terminal_velocity_mps"] = v_fit;
     j["terminal_velocity_gunn_kinzer_mps"] = v_gk ? nlohmann::ordered_json(*v_gk) : nlohmann::ordered_json(nullptr);
@@ -118,21 +121,14 @@ Command add_rainphys(CLI::App& app) {
       "in mm/h, as in the paper. It keeps Marshall & Palmer's N0 = 8e6 m^-4, which they defined per metre "
       "of DIAMETER, with the radius: a strict per-radius density is twice this (and so is the number "
       "density). number_density_per_m3 = N0 / Lambda counts all drops; mean_spacing_m = n^(-1/3).");
-  sub->add_option("--radius-mm", args->radius_mm,
-                  "Equivalent-volume radius of the drop, millimetres (the shape table's range)")
-      ->check(number_in(0.5, 4.5, "mm"))
-      ->capture_default_str();
-  sub->add_option("--rain-rate-mmh", args->rain_rate_mmh, "Rain rate h, millimetres per hour")
-      ->check(number_in(0.01, 1000, "mm/h"))
-      ->capture_default_str();
+  Command cmd{sub, [args] { return run_rainphys(*args); }, {{"rain_rate_mm_per_h", "--rain-rate-mmh"}}};
+  add_params(*sub, args->r, drop::rainphys_params(), cmd.flags_for_quantity);
   sub->add_flag("--json", args->json,
                 "Print one JSON object: terminal_velocity_mps, terminal_velocity_gunn_kinzer_mps (null outside "
                 "Gunn & Kinzer's radii, 0.039-2.9 mm), density_per_m4, shape_coefficients ([c1..c10]), "
                 "axis_ratio, c0, radius_mm, rain_rate_mmh, number_density_per_m3, mean_spacing_m, "
                 "lambda_per_m, height_mm, width_mm, notes (array of strings)");
-  return {sub,
-          [args] { return run_rainphys(*args); },
-          {{"rain_rate_mm_per_h", "--rain-rate-mmh"}}};
+  return cmd;
 }
 
 }  // namespace hydrolux::cli
