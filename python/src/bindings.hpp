@@ -24,6 +24,7 @@ void bind_atmos(py::module_& m);    // bind_atmos.cpp: lee
 void bind_drop(py::module_& m);     // bind_drop.cpp: drop_render, drop_undistort
 void bind_rain(py::module_& m);     // bind_rain.cpp: RainRenderer, builtin_scene
 void bind_fog(py::module_& m);      // bind_fog.cpp: fog
+void bind_scene(py::module_& m);    // bind_scene.cpp: sky
 
 // A medium by name (optics::find_medium), its errors naming the argument `arg` (bind_optics.cpp).
 std::shared_ptr<const optics::Medium> medium_arg(const char* arg, const std::string& name);

@@ -16,5 +16,6 @@ PYBIND11_MODULE(_core, m) {
   bind_drop(m);
   bind_rain(m);
   bind_fog(m);
+  bind_scene(m);
   bind_core(m);
 }

@@ -1,0 +1,126 @@
+// hydrolux._core: a rainbow scene (scene/sky_scene.hpp, scene/compositor.hpp) rendered into an
+// array, with the declared parameters (hydrolux sky's flags) as keywords: hydrolux.sky.
+#include <fmt/format.h>
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "bindings.hpp"
+#include "hydrolux/atmos/lee.hpp"
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/scene/compositor.hpp"
+#include "hydrolux/scene/environment.hpp"
+#include "hydrolux/scene/sky_params.hpp"
+#include "hydrolux/scene/sky_scene.hpp"
+#include "params.hpp"
+
+namespace hydrolux::py_bind {
+
+namespace {
+
+// The settings the undeclared arguments give, each checked in its own name (the CLI's --size,
+// --curtain-distance-m, --light-color, --blend and --mode, with their ranges).
+void set_texts(scene::SkySettings& s, const std::pair<py::object, py::object>& size,
+               const std::pair<double, double>& curtain_m, const std::array<double, 3>& light_color,
+               const std::string& blend, const std::string& mode) {
+  s.camera.width = int(whole_arg(size.first, "size[0] (width)", 1, 16384, "px"));
+  s.camera.height = int(whole_arg(size.second, "size[1] (height)", 1, 16384, "px"));
+  const auto [near, far] = curtain_m;
+  if (!(near >= 0) || !(far >= near) || !(far <= 1e6))
+    throw Error(fmt::format("curtain_distance_m ({:g}, {:g}): expected (NEAR, FAR) in metres, 0 <= NEAR <= FAR <= 1e6",
+                            near, far));
+  s.curtain_near_m = near, s.curtain_far_m = far;
+  for (double c : light_color)
+    if (!(c >= 0 && c <= 1000))
+      throw Error(fmt::format("light_color ({:g}, {:g}, {:g}): expected three linear multipliers in [0, 1000]",
+                              light_color[0], light_color[1], light_color[2]));
+  s.light_color = {light_color[0], light_color[1], light_color[2]};
+  if (blend != "physical" && blend != "whitepaper")
+    throw Error(fmt::format("blend '{}': expected physical or whitepaper", blend));
+  s.blend = blend == "whitepaper" ? scene::Blend::whitepaper : scene::Blend::physical;
+  if (mode != "per-pixel" && mode != "cube-map" && mode != "half-dome")
+    throw Error(fmt::format("mode '{}': expected per-pixel, cube-map or half-dome", mode));
+  s.mode = mode == "cube-map"    ? scene::BowMode::cube_map
+           : mode == "half-dome" ? scene::BowMode::half_dome
+                                 : scene::BowMode::per_pixel;
+}
+
+// hydrolux sky's frame as arrays: the radiance (cd/m^2; the Stokes images' 9 channels with stokes)
+// and the display values its PNG holds (tone-mapped, linear; none with stokes), with the numbers its
+// summary states. The checks are the job's (scene/sky_scene.hpp), in the keywords' names.
+py::dict sky(const std::pair<py::object, py::object>& size, const std::string& shape_name, const std::string& blend,
+             const std::string& mode, const std::pair<double, double>& curtain_m,
+             const std::array<double, 3>& light_color, std::optional<py::array> environment,
+             std::optional<py::array> moisture, const py::dict& options) {
+  scene::SkyOptions o;
+  apply_kwargs(o, options, scene::sky_params());
+  o.shape = shape_name;
+  scene::SkySettings& s = o.settings;
+  set_texts(s, size, curtain_m, light_color, blend, mode);
+  scene::validate(s);
+  const atmos::DropShapeSpec shape = atmos::parse_drop_shape(o.shape);  // "shape 'egg': expected sphere, ..."
+  scene::check_sky_request(o, shape, /*tables_given=*/false, &Param::name);
+  const auto given = [&](std::string_view name) {
+    const std::string key(name);
+    return options.contains(key) && !options[key.c_str()].is_none();
+  };
+  scene::refuse_unused_sky_params(o, given, false, environment.has_value(), &Param::name);
+  scene::check_sky_memory(s, fmt::format("({}, {})", s.camera.width, s.camera.height), &Param::name);
+  std::shared_ptr<const scene::Environment> env;
+  if (environment) {
+    try {
+      env = std::make_shared<scene::EquirectEnvironment>(to_image(*environment, "environment"));
+    } catch (const DomainError&) {
+      throw;
+    } catch (const Error& e) {
+      throw Error(fmt::format("environment: {}", e.what()));
+    }
+  }
+  std::optional<Image> mask;
+  if (moisture) mask = to_image(*moisture, "moisture");
+  // On a thread of its own without the GIL, stopped by Ctrl-C within ~50 ms (the tables' work calls
+  // the progress callback as it goes).
+  struct Frame {
+    Image radiance, display;
+    double l_ref = 0, sun_lux = 0, optical_depth = 0;
+    int positions = 1;
+  };
+  const Frame f = run_cancellable([&](const ProgressFn& progress) {
+    scene::SkyTables t = scene::compute_sky_tables(o, shape, progress);
+    const scene::SkyCompositor comp(s, std::move(t.rainbow), std::move(t.corona), env, o.environment_scale);
+    Frame r;
+    r.radiance = comp.render(mask ? &*mask : nullptr);
+    // The PNG's exposure (hydrolux sky): a polariser passes half of unpolarised light, for which a
+    // camera opens up one stop.
+    r.l_ref = comp.sun_sky().l_ref * (s.polarizer_deg ? 0.5 : 1.0);
+    if (!s.stokes) r.display = scene::tone_map(r.radiance, r.l_ref);
+    r.sun_lux = comp.sun_sky().sun_illuminance_lux;
+    r.optical_depth = comp.beta_geo_per_m() * (s.curtain_far_m - s.curtain_near_m);
+    r.positions = comp.rainbow_positions();
+    return r;
+  });
+  py::dict d;
+  d["image"] = to_array(f.radiance);
+  d["display"] = s.stokes ? py::object(py::none()) : py::object(to_array(f.display));
+  py::dict st;
+  st["l_ref"] = f.l_ref;
+  st["sun_illuminance_lux"] = f.sun_lux;
+  st["optical_depth"] = f.optical_depth;
+  st["shape"] = atmos::drop_shape_name(shape);
+  st["positions"] = f.positions;
+  d["stats"] = st;
+  return d;
+}
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+  m.def("sky", &sky, py::arg("size"), py::arg("shape"), py::arg("blend"), py::arg("mode"),
+        py::arg("curtain_distance_m"), py::arg("light_color"), py::arg("environment"), py::arg("moisture"),
+        py::arg("options"));
+}
+
+}  // namespace hydrolux::py_bind
