@@ -102,7 +102,7 @@ std::string ParamUse::spell(std::string_view word, bool with_value) const {
     const Entry* e = find(name);
     const std::string n = e ? std::string(spelled(*e->param, door_))
                             : door_ == Door::cli ? Param::flag_of(name) : std::string(name);
-    return fmt::format("{}{}{}", n, door_ == Door::python ? "=" : " ", value);
+    return fmt::format("{} {}", n, value);
   }
   std::string value;
   std::string out;
@@ -116,7 +116,7 @@ std::string ParamUse::spell(std::string_view word, bool with_value) const {
     if (name == word) value = v;
   for (const auto& [name, v] : states_)
     if (name == word && !v.empty()) value = v;
-  if (with_value && !value.empty()) out += (door_ == Door::python ? "=" : " ") + value;
+  if (with_value && !value.empty()) out += " " + value;
   return out;
 }
 

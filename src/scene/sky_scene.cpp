@@ -56,29 +56,22 @@ void check_sky_request(const SkyOptions& o, const atmos::DropShapeSpec& shape, b
 
 void refuse_unused_sky_params(const SkyOptions& o, const std::function<bool(std::string_view)>& given,
                               bool tables_given, bool environment_given, std::string_view Param::*words) {
-  const SkySettings& s = o.settings;
-  const auto word = [&](std::string_view name) { return sky_word(name, words); };
-  const auto refuse_unless = [&](std::string_view name, bool used, const std::string& why) {
-    if (used || !given(name)) return;
-    const Field<SkyOptions>& f = *find_field(sky_params(), name);
-    throw Error(fmt::format("{} {:g}: {}", f.param.*words, f.get(o), why));
-  };
-  refuse_unless("sampling", !tables_given,
-                fmt::format("sets the sampling of the tables computed without {}; {} gives the tables (omit {})",
-                            word("lut"), word("lut"), word("sampling")));
-  refuse_unless("sky_max_dolp", s.polarizer_deg.has_value() || s.stokes,
-                fmt::format("sets the sky's polarisation, which only a polariser or the Stokes images show (add {} "
-                            "or {}, or omit {})",
-                            word("polarizer_deg"), word("stokes"), word("sky_max_dolp")));
-  refuse_unless("environment_scale", environment_given,
-                fmt::format("scales {}'s values; without {} there is nothing to scale", word("environment"),
-                            word("environment")));
-  for (const auto& [name, mode] : {std::pair{"cube_face_size", BowMode::cube_map},
-                                   {"dome_rings", BowMode::half_dome},
-                                   {"dome_segments", BowMode::half_dome}})
-    refuse_unless(name, s.mode == mode,
-                  fmt::format("used by {} {} only (this run is {} {})", word("mode"), bow_mode_name(mode), word("mode"),
-                              bow_mode_name(s.mode)));
+  // The rows' declared conditions (sky_params.cpp: only_with, why), checked by the library's usage
+  // tracker in the door's spelling; a switch given off is as good as not given.
+  ParamUse use(words == &Param::flag ? Door::cli : Door::python);
+  for (const auto& f : sky_params()) {
+    const double v = f.get(o);
+    if (given(f.param.name) && (f.param.kind != ParamKind::flag || v != 0))
+      use.give(f.param, f.param.kind == ParamKind::flag ? std::string() : fmt::format("{:g}", v));
+    else
+      use.declare(f.param);
+  }
+  if (tables_given) use.hold("lut");
+  if (environment_given) use.hold("environment");
+  const std::string mode(bow_mode_name(o.settings.mode));
+  use.hold("mode=" + mode);
+  use.note("mode", mode);
+  use.report_unused();
 }
 
 void check_sky_memory(const SkySettings& s, std::string_view size_text, std::string_view Param::*words,

@@ -153,7 +153,7 @@ TEST(ParamUse, ReportsGivenAndUnusedInTheDoorsSpelling) {
     use->note("size_distribution", "mono");
   }
   EXPECT_EQ(message(cli), "--nodes 16: --size-distribution mono is one radius; --nodes sets the radii (omit --nodes)");
-  EXPECT_EQ(message(py), "nodes=16: size_distribution=mono is one radius; nodes sets the radii (omit nodes)");
+  EXPECT_EQ(message(py), "nodes 16: size_distribution mono is one radius; nodes sets the radii (omit nodes)");
   cli.hold("many_radii");
   EXPECT_EQ(message(cli), "(accepted)");
   py.consume("nodes");
