@@ -64,10 +64,11 @@ void check_fog_memory(const std::string& what, int width, int height, int channe
 }
 
 void check_lens_drops_memory(const LensDropSettings& s, const std::string& what, int width, int height,
-                             int channels) {
+                             int channels, double extra_bytes_per_pixel) {
   const double blur =
       circle_of_confusion_mm(s.focal_mm, s.f_number, s.focus_m, s.glass_distance_m) / s.sensor_width_mm * width;
-  check_frame_memory(what, "lens drops", width, height, estimated_lens_drops_bytes(width, height, channels, blur),
+  const auto extra = std::uint64_t(extra_bytes_per_pixel * double(width) * double(height));
+  check_frame_memory(what, "lens drops", width, height, estimated_lens_drops_bytes(width, height, channels, blur) + extra,
                      estimated_lens_drops_bytes(0, 0, channels, 0));
 }
 

@@ -1,4 +1,4 @@
-// hydrolux fog: fog, haze or mist over a photograph or a folder of frames (rain/fog.hpp;
+// hydrolux fog: fog, haze or mist over a photograph, a folder of frames or a video (rain/fog.hpp;
 // docs/fog.md). The options are declared in rain/fog.hpp, the run over files is io/fog_job.hpp's:
 // this file registers the flags, calls the job and reports.
 #include <fmt/format.h>
@@ -7,9 +7,10 @@
 #include <string>
 
 #include "common.hpp"
+#include "frame_hooks.hpp"
 #include "hydrolux/io/fog_job.hpp"
 #include "hydrolux/rain/fog.hpp"
-#include "image_plugin.hpp"
+#include "hydrolux/rain/params.hpp"
 #include "params.hpp"
 #include "progress.hpp"
 
@@ -25,16 +26,9 @@ struct FogArgs {
 int run_fog(FogArgs& a, const CLI::App& sub) {
   io::FogJob& job = *a.job;
   job.depth_scale_given = given(sub, rain::fog_param("depth_scale_m"));
+  job.crf_given = given(sub, rain::rain_param("crf"));
   ProgressBar bar("fog", a.quiet);
-  io::FogJobHooks hooks;
-  hooks.codec = image_codec();
-  hooks.warn = [&bar](const std::string& text) {
-    bar.clear();
-    warn(text);
-  };
-  hooks.progress = [&bar](double f, std::string_view label) { bar.update(f, label); };
-  hooks.finish_progress = [&bar] { bar.finish(); };
-  const io::FogJobResult r = io::run_fog_job(job, hooks);
+  const io::FogJobResult r = io::run_fog_job(job, frame_hooks(bar));
   if (!a.quiet) fmt::print(stderr, "{}\n", io::fog_summary(r));
   return report_left_out(r.left_out, r.frames_total);
 }
@@ -45,13 +39,15 @@ Command add_fog(CLI::App& app) {
   auto a = std::make_shared<FogArgs>();
   auto* sub = app.add_subcommand(
       "fog",
-      "Fog, haze or mist over a photograph or a folder of frames: extinction from a visibility (Koschmieder, 3.912 / V) "
+      "Fog, haze or mist over a photograph, a folder of frames or a video: extinction from a visibility (Koschmieder, 3.912 / V) "
       "or from Lorenz-Mie over the droplets for a liquid water content; transmittance exp(-beta d) per pixel from "
       "--depth (else a ground plane), airlight of the sky's colour, and the forward-scattered glow around lights "
       "(docs/fog.md).");
   sub->add_option("--image", a->job->image, "Input photograph (PNG, JPEG, EXR, TIFF, ...)");
   sub->add_option("--input-dir", a->job->input_dir, "A folder of frames in name order (one sky colour, from the first)");
-  sub->add_option("-o,--output", a->job->output, "Output image for --image: .png or .exr");
+  sub->add_option("--video", a->job->video,
+                  "Input video (MP4, MOV, MKV, ...); frame rate and count are kept, one sky colour from the first frame");
+  sub->add_option("-o,--output", a->job->output, "Output: .png/.exr with --image, .mp4/.mov/.mkv with --video");
   sub->add_option("--output-dir", a->job->output_dir, "Output folder for --input-dir (created; never the input folder)");
   sub->add_option("--depth", a->job->depth,
                   "Depth map for --image: camera z in metres (EXR), or a 16-bit PNG times --depth-scale-m; 0/inf = sky");
@@ -63,6 +59,8 @@ Command add_fog(CLI::App& app) {
   Command cmd{sub, {}, {}};
   add_params(*sub, std::shared_ptr<rain::FogOptions>(a->job, &a->job->options), rain::fog_params(), cmd.flags_for_quantity);
   add_params(*sub, std::shared_ptr<rain::FogFileOptions>(a->job, &a->job->files), rain::fog_file_params(),
+             cmd.flags_for_quantity);
+  add_params(*sub, std::shared_ptr<io::VideoFileOptions>(a->job, &a->job->video_files), io::video_file_params(),
              cmd.flags_for_quantity);
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
   cmd.run = [a, sub] { return run_fog(*a, *sub); };

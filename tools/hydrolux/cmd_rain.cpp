@@ -7,10 +7,10 @@
 #include <string>
 
 #include "common.hpp"
+#include "frame_hooks.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/rain_job.hpp"
 #include "hydrolux/rain/params.hpp"
-#include "image_plugin.hpp"
 #include "params.hpp"
 #include "progress.hpp"
 
@@ -28,13 +28,7 @@ int run_rain(RainArgs& a, const CLI::App& sub) {
   job.crf_given = given(sub, rain::rain_param("crf"));
   job.depth_scale_given = given(sub, rain::rain_param("depth_scale_m"));
   ProgressBar bar("rain", a.quiet);
-  io::RainJobHooks hooks;
-  hooks.codec = image_codec();  // the plugin loads on first use: a video run never loads OpenImageIO
-  hooks.warn = [](const std::string& text) { warn(text); };
-  hooks.progress = [&bar](double f, std::string_view label) { bar.update(f, label); };
-  hooks.clear_progress = [&bar] { bar.clear(); };
-  hooks.finish_progress = [&bar] { bar.finish(); };
-  const io::RainJobResult r = io::run_rain_job(job, hooks);
+  const io::RainJobResult r = io::run_rain_job(job, frame_hooks(bar));
   if (!a.quiet) fmt::print(stderr, "{}\n", io::rain_summary(r));
   return report_left_out(r.left_out, r.frames_total);
 }

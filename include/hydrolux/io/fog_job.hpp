@@ -1,44 +1,35 @@
 #pragma once
-// A fog run over files, as `hydrolux fog` makes it: one photograph or a folder of frames, with the
-// optional mask (the fog's coverage 1 - t) and statistics. Every file is declared before any work
-// (io/files.hpp), as rain_job.hpp's runs do.
-#include <functional>
+// A fog run over files, as `hydrolux fog` makes it: one photograph, a folder of frames or a video,
+// with the optional mask (the fog's coverage 1 - t) and statistics. Fog is an effect of the frame
+// driver (frame_driver.hpp), which owns the modes, the files and the left-out policy, as for rain.
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
+#include "hydrolux/io/frame_driver.hpp"
 #include "hydrolux/io/image_io.hpp"
 #include "hydrolux/rain/fog.hpp"
 
 namespace hydrolux::io {
 
-struct FogJob {
-  std::optional<std::string> image, input_dir;  // exactly one
-  std::optional<std::string> depth, depth_dir;
-  std::optional<std::string> output, output_dir, mask_out, mask_dir, stats_json;
+// The paths as the CLI's flags name them (no --layer-out: fog has no layer of its own).
+struct FogJob : FramePaths {
   rain::FogOptions options;
   rain::FogFileOptions files;
-  bool depth_scale_given = false;
+  VideoFileOptions video_files;  // --crf, for --video's output
+  bool depth_scale_given = false, crf_given = false;
 };
 
-struct FogJobHooks {
-  ImageCodec codec;
-  std::function<void(const std::string&)> warn;
-  std::function<void(double, std::string_view)> progress;
-  std::function<void()> finish_progress;
-};
+using FogJobHooks = FrameHooks;
 
-struct FogJobResult {
-  std::size_t frames = 0, frames_total = 0;
-  std::vector<std::string> left_out;
+struct FogJobResult : FrameRunResult {
   rain::FogOptics optics;
-  rain::FogStats last;
-  double seconds = 0;
+  rain::FogStats last;  // the last frame's
 };
 
 // Error (bad input, before anything is written, or a folder's first frame), IoError, IoFailure as
-// io/files.hpp says. A folder's sky colour is estimated from its first frame and kept for all.
+// io/files.hpp says. A folder's or a video's sky colour is estimated from its first frame and kept
+// for all; a video's frames lie on the ground plane (depth maps are for --image and --input-dir).
 FogJobResult run_fog_job(const FogJob& job, const FogJobHooks& hooks);
 std::string fog_summary(const FogJobResult& result);
 

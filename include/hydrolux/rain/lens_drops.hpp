@@ -116,8 +116,9 @@ struct LensDropsResult {
 // Throws Error "<what>: lens drops over WxH needs about X of memory ..." when rendering a frame of
 // width x height x channels with these settings would not fit in the memory available now
 // (rain.hpp's check_frame_memory with estimated_lens_drops_bytes): every door's check.
+// `extra_bytes_per_pixel`: what a door holds besides (a pipeline's frames in flight).
 void check_lens_drops_memory(const LensDropSettings& settings, const std::string& what, int width, int height,
-                             int channels);
+                             int channels, double extra_bytes_per_pixel = 0);
 
 // Renders the drops over `clean` (linear, any channel count, not modified; the light is its first three
 // channels, or the first of a one- or two-channel image: the others pass through unchanged, and negative
