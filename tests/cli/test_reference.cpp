@@ -3,11 +3,14 @@
 // (HYDROLUX_WRITE_REFERENCE=1) writes it anew.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
 #include "common.hpp"
+#include "hydrolux/core/params.hpp"
 #include "hydrolux/io/files.hpp"
+#include "params.hpp"
 #include "support/cli.hpp"
 
 namespace {
@@ -23,6 +26,36 @@ TEST(Reference, DocsReferenceIsCurrent) {
   }
   EXPECT_EQ(hydrolux::testing::slurp(path), generated)
       << path << " is not current: run `make reference` and commit it";
+}
+
+// A parameter's deprecated name (Param::deprecated, kept for one release): its old flag still sets it,
+// through the same range check, with one warning naming the new flag; it is hidden from --help and
+// from the reference, and giving both spellings is refused.
+TEST(Reference, DeprecatedFlagWorksWithOneWarningAndIsHidden) {
+  static const hydrolux::Param p{"rain_rate_mmh", "--rain-rate-mmh", "rain", hydrolux::ParamKind::real, "mm/h", 0, 500,
+                                 "Rain rate", {}, {}, {}, {}, "rate_mmh"};
+  const hydrolux::ParamInfo info{&p, 25};
+  double got = -1;
+  CLI::App app;
+  hydrolux::cli::add_param(app, info, [&](double v) { got = v; });
+  ::testing::internal::CaptureStderr();
+  app.parse("--rate-mmh 7", false);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(got, 7);
+  EXPECT_NE(err.find("--rate-mmh is deprecated"), std::string::npos) << err;
+  EXPECT_NE(err.find("give --rain-rate-mmh"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_TRUE(hydrolux::cli::given(app, p));
+  EXPECT_EQ(app.help().find("--rate-mmh"), std::string::npos) << app.help();
+
+  CLI::App out_of_range;
+  hydrolux::cli::add_param(out_of_range, info, [](double) {});
+  EXPECT_THROW(out_of_range.parse("--rate-mmh 600", false), CLI::ValidationError);
+  CLI::App both;
+  hydrolux::cli::add_param(both, info, [](double) {});
+  ::testing::internal::CaptureStderr();
+  EXPECT_THROW(both.parse("--rate-mmh 1 --rain-rate-mmh 2", false), CLI::ExcludesError);
+  (void)::testing::internal::GetCapturedStderr();
 }
 
 }  // namespace
