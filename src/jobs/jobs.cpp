@@ -59,7 +59,7 @@ const std::vector<JobSpec>& job_specs() {
     v.push_back({"lee", "hydrolux lee", "A Lee diagram, corona or glory table, computed spectrally",
                  describe_fields(atmos::lee_params()), "hydrolux.lee"});
     v.push_back({"sky", "hydrolux sky", "A rainbow in a daylight scene, per pixel on the CPU",
-                 describe_fields(scene::sky_params())});
+                 describe_fields(scene::sky_params()), "hydrolux.sky"});
     v.push_back({"export", "hydrolux export", "Engine assets for rainbows: Lee tables, sky parameters and shaders",
                  describe_fields(scene::export_params())});
     return v;
