@@ -49,26 +49,12 @@ def test_unknown_keyword_is_a_type_error(clean):
         hydrolux.lens_drops(clean, rate_mmh=3)
 
 
-def test_batch_lens_drops_matches_the_cli(tmp_path, cli):
+def test_batch_lens_drops_matches_the_cli(tmp_path, batch_matches_cli):
     """python3 -m hydrolux.batch lens-drops writes the CLI's bytes (frame k with seed + k), in chunks."""
     from hydrolux.batch.__main__ import main
 
-    frames = tmp_path / "frames"
-    frames.mkdir()
-    base = hydrolux.builtin_scene(64, 48)
-    for k in range(3):
-        hydrolux.write_image(str(frames / f"f{k}.png"), base * (1 + 0.3 * k))
-    cli("lens-drops", "-q", "--input-dir", frames, "--output-dir", tmp_path / "cli", "--mask-dir",
-        tmp_path / "cli_masks", "--seed", 41, "--drops", 20)
-    assert main(["lens-drops", "--input-dir", str(frames), "--output-dir", str(tmp_path / "batch"), "--mask-dir",
-                 str(tmp_path / "batch_masks"), "--seed", "41", "--drops", "20", "--workers", "1",
-                 "--chunk-frames", "2", "-q"]) == 0
-    for k in range(3):
-        assert (tmp_path / "cli" / f"f{k}.png").read_bytes() == (tmp_path / "batch" / f"f{k}.png").read_bytes()
-        assert (tmp_path / "cli_masks" / f"f{k}.png").read_bytes() == \
-            (tmp_path / "batch_masks" / f"f{k}.png").read_bytes()
-    # Each frame its own drops.
-    assert (tmp_path / "batch" / "f0.png").read_bytes() != (tmp_path / "batch" / "f1.png").read_bytes()
-    assert main(["lens-drops", "--input-dir", str(frames), "--output-dir", str(tmp_path / "x"),
+    out = batch_matches_cli("lens-drops", "--seed", 41, "--drops", 20)
+    assert (out / "f0.png").read_bytes() != (out / "f1.png").read_bytes()  # each frame its own drops
+    assert main(["lens-drops", "--input-dir", str(tmp_path / "frames"), "--output-dir", str(tmp_path / "x"),
                  "--contact-angle-deg", "200", "-q"]) == 2
     assert not (tmp_path / "x").exists()
