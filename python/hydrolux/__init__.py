@@ -21,6 +21,7 @@ from __future__ import annotations
 #   optics   fresnel, media, refractive_index                 scatter  mie, phase, SizeDistribution, ...
 #   atmos    lee, LeeTable                                    drop     drop_render, drop_undistort
 #   rain     rain, RainRenderer, fog, lens_drops, ...         io       read_image, write_image
+#   scene    sky
 #   _args    the argument checks and the declared options' machinery they all share
 # (hydrolux.rain is the function; its module is sys.modules["hydrolux.rain"], as `from hydrolux.rain import`
 # and pickles find it.)
@@ -36,6 +37,7 @@ from hydrolux.scatter import (BulkOptics, MieResult, PhaseResult, RendererMedium
                               mie_terms, phase, renderer_medium, sphere)
 # A SizeDistribution pickled while the package was one file names hydrolux._remake_distribution: it still loads.
 from hydrolux.scatter import _remake_distribution  # noqa: F401
+from hydrolux.scene import sky
 
 __version__: str = _core.__version__
 __all__ = [
