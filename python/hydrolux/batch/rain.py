@@ -254,22 +254,16 @@ def run(a: argparse.Namespace, after_result=None) -> int:
     """The job (``python3 -m hydrolux.batch rain``): the numbers parsed and checked, then
     :func:`run_folder` or :func:`run_video`; 0 when every output is in place, 1 when some failed.
 
-    Example (a local cluster of one worker):
+    Example (the mode checked before any work; :func:`run_folder` shows a run):
 
-    >>> import argparse, hydrolux, os, tempfile
+    >>> import argparse
     >>> from hydrolux.batch import rain
-    >>> frames = tempfile.mkdtemp()
-    >>> for k in range(2):
-    ...     hydrolux.write_image(os.path.join(frames, f"f{k}.png"), hydrolux.builtin_scene(64, 48))
     >>> p = argparse.ArgumentParser()
     >>> rain.add_arguments(p)
-    >>> out = os.path.join(tempfile.mkdtemp(), "rainy")
-    >>> a = p.parse_args(["--input-dir", frames, "--output-dir", out, "--seed", "4", "--wind-mps", "3"])
-    >>> a.workers, a.threads_per_worker, a.scheduler, a.quiet = 1, None, None, True   # the cluster's options
-    >>> rain.run(a)
-    0
-    >>> sorted(os.listdir(out))
-    ['f0.png', 'f1.png', 'hydrolux-manifest.jsonl', ...]
+    >>> rain.run(p.parse_args(["--input-dir", "frames", "--video", "street.mp4"]))
+    Traceback (most recent call last):
+    ...
+    hydrolux.batch._common.UsageError: give exactly one of --input-dir and --video
     """
     if (a.input_dir is None) == (getattr(a, "video", None) is None):
         raise UsageError("give exactly one of --input-dir and --video")
