@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "common.hpp"
+#include "drop_flags.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/scatter/params.hpp"
@@ -24,26 +25,13 @@ namespace {
 
 struct MediumArgs {
   std::shared_ptr<scatter::MediumRequest> r = std::make_shared<scatter::MediumRequest>();
-  std::optional<double> radius_um;
-  std::string distribution = "mono";
-  std::string medium = "water", surrounding = "air";
+  DropFlags drops;
   std::optional<std::string> format;
   std::string name{scatter::kDefaultMediumName};
   std::string output;
   bool quiet = false;
   const CLI::App* sub = nullptr;  // which flags were given: refused where they have no effect
 };
-
-// The flag of each of the job's fields, for its errors.
-std::string_view flag_of(scatter::PhaseJobError::Field field) {
-  switch (field) {
-    case scatter::PhaseJobError::Field::theory: return "--theory";  // medium has none: not raised
-    case scatter::PhaseJobError::Field::size_distribution: return "--size-distribution";
-    case scatter::PhaseJobError::Field::radius_um: return "--radius-um";
-    case scatter::PhaseJobError::Field::nodes: return "--nodes";
-  }
-  return "?";
-}
 
 int run_medium(const MediumArgs& a) {
   // The file first: its format (from --format or the extension), then reserved before any work.
@@ -62,11 +50,7 @@ int run_medium(const MediumArgs& a) {
                               format == scatter::RendererFormat::mitsuba3 ? ".xml" : ".pbrt"));
   }
   scatter::MediumJob job;
-  job.medium = medium_flag("--medium", a.medium);
-  job.surrounding = medium_flag("--surrounding", a.surrounding);
-  check_temperature_flag(a.r->temperature_c, {job.medium.get(), job.surrounding.get()});
-  job.radius_um = a.radius_um;
-  job.size_distribution = a.distribution;
+  fill_drops(job, a.drops, a.r->temperature_c);
   job.numbers = *a.r;
   scatter::MediumPlan plan;
   try {
@@ -75,10 +59,10 @@ int run_medium(const MediumArgs& a) {
     // conditions, checked by the library.
     ParamUse use(Door::cli);
     record_given(*a.sub, scatter::medium_params(), use);
-    scatter::hold_size_states(use, a.distribution);
+    scatter::hold_size_states(use, a.drops.distribution);
     use.report_unused();
   } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
-    throw Error(e.worded(flag_of(e.field()), e.also() ? flag_of(*e.also()) : std::string_view()));
+    throw Error(worded_with_flags(e));
   } catch (const DomainError&) {
     throw;  // worded by the command's map of quantities to flags
   } catch (const Error& e) {
@@ -127,23 +111,11 @@ Command add_medium(CLI::App& app) {
   args->sub = sub;
   Command cmd{sub,
               [args] { return run_medium(*args); },
-              {{"x", "--radius-um (size parameter x)"},
-               {"m_real", "--medium/--surrounding (relative index, real part)"},
-               {"m_imag", "--medium/--surrounding (relative index, imaginary part)"},
-               {"r_max_m", "--radius-um (largest radius of the distribution, m)"},
-               {"r_min_m", "--radius-um (smallest radius of the distribution, m)"},
-               {"radius_um", "--radius-um"},
-               {"radius_m", "--radius-um (m)"},
+              {{"radius_m", "--radius-um (m)"},
                {"wavelength_nm", "--medium/--surrounding (their data's wavelengths)"}}};
-  sub->add_option("--radius-um", args->radius_um, "Drop radius (the mean radius with gamma or lognormal), micrometres")
-      ->check(positive_number(1e6, "um"));
-  sub->add_option("--size-distribution", args->distribution,
-                  "mono, gamma:W or lognormal:W (relative width W in [0.0001, 1] around --radius-um), or "
-                  "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um, its own count: no --radius-um, "
-                  "--number-per-cm3 or --lwc-g-m3)")
-      ->capture_default_str();
-  sub->add_option("--medium", args->medium, "Drop medium (see hydrolux ior --list)")->capture_default_str();
-  sub->add_option("--surrounding", args->surrounding, "Surrounding medium")->capture_default_str();
+  add_drop_size_flags(*sub, args->drops, ", its own count: no --radius-um, --number-per-cm3 or --lwc-g-m3",
+                      cmd.flags_for_quantity);
+  add_media_flags(*sub, args->drops);
   add_params(*sub, args->r, scatter::medium_params(), cmd.flags_for_quantity);
   sub->add_option("--format", args->format, "mitsuba3 or pbrt-v4 (default: from the extension of -o)")
       ->check(CLI::IsMember({"mitsuba3", "pbrt-v4"}));

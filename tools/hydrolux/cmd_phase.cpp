@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "common.hpp"
+#include "drop_flags.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/phase_job.hpp"
@@ -23,26 +24,13 @@ namespace {
 struct PhaseArgs {
   std::shared_ptr<scatter::PhaseRequest> r = std::make_shared<scatter::PhaseRequest>();
   std::string theory = "mie";
-  std::optional<double> radius_um;
+  DropFlags drops;
   double wavelength_nm = 0;
-  std::string distribution = "mono";
-  std::string medium = "water", surrounding = "air";
   std::string angles = "0:180:181";
   bool csv = false;
   bool quiet = false;
   const CLI::App* sub = nullptr;  // which flags were given: refused where they have no effect
 };
-
-// The flag of each of the job's fields, for its errors.
-std::string_view flag_of(scatter::PhaseJobError::Field field) {
-  switch (field) {
-    case scatter::PhaseJobError::Field::theory: return "--theory";
-    case scatter::PhaseJobError::Field::size_distribution: return "--size-distribution";
-    case scatter::PhaseJobError::Field::radius_um: return "--radius-um";
-    case scatter::PhaseJobError::Field::nodes: return "--nodes";
-  }
-  return "?";
-}
 
 int run_phase(const PhaseArgs& a) {
   scatter::PhaseJob job;
@@ -51,24 +39,20 @@ int run_phase(const PhaseArgs& a) {
     // The flags in the order they have always been checked: the theory, then this door's own texts
     // in its words (the media, the temperature for them, the angles), then the rest of the job.
     (void)scatter::phase_theory(a.theory);
-    job.medium = medium_flag("--medium", a.medium);
-    job.surrounding = medium_flag("--surrounding", a.surrounding);
-    check_temperature_flag(a.r->temperature_c, {job.medium.get(), job.surrounding.get()});
+    fill_drops(job, a.drops, a.r->temperature_c);
     job.angles_deg = parse_angles_deg(a.angles, "--angles-deg");
     job.theory = a.theory;
-    job.radius_um = a.radius_um;
     job.wavelength_nm = a.wavelength_nm;
-    job.size_distribution = a.distribution;
     job.numbers = *a.r;
     plan = scatter::plan_phase(std::move(job));
     // A flag given where it has no effect (--nodes, even at its default, for one radius): the table's
     // conditions, checked by the library.
     ParamUse use(Door::cli);
     record_given(*a.sub, scatter::phase_params(), use);
-    scatter::hold_size_states(use, a.distribution);
+    scatter::hold_size_states(use, a.drops.distribution);
     use.report_unused();
   } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
-    const std::string text(e.worded(flag_of(e.field()), e.also() ? flag_of(*e.also()) : std::string_view()));
+    const std::string text = worded_with_flags(e);
     if (e.field() == scatter::PhaseJobError::Field::theory) throw UnknownNameError(text);
     throw Error(text);
   }
@@ -119,13 +103,7 @@ Command add_phase(CLI::App& app) {
   args->sub = sub;
   Command cmd{sub,
               [args] { return run_phase(*args); },
-              {{"x", "--radius-um (size parameter x)"},
-               {"m_real", "--medium/--surrounding (relative index, real part)"},
-               {"m_imag", "--medium/--surrounding (relative index, imaginary part)"},
-               {"r_max_m", "--radius-um (largest radius of the distribution, m)"},
-               {"r_min_m", "--radius-um (smallest radius of the distribution, m)"},
-               {"radius_um", "--radius-um"},
-               {"wavelength_nm", "--wavelength-nm"},
+              {{"wavelength_nm", "--wavelength-nm"},
                {"temperature_c", "--temperature-c"},
                {"p", "--theory (order P)"}}};
   // The declared parameters (nodes; temperature_c; threads; mueller) among this command's own.
@@ -138,19 +116,12 @@ Command add_phase(CLI::App& app) {
                   "secondary), airy (primary rainbow; airy:P for order P), geometric (rays of orders "
                   "0-3 with interference; geometric:P for orders 0..P)")
       ->capture_default_str();
-  sub->add_option("--radius-um", args->radius_um,
-                  "Drop radius (the mean radius with gamma or lognormal), micrometres")
-      ->check(positive_number(1e6, "um"));
-  sub->add_option("--size-distribution", args->distribution,
-                  "mono, gamma:W or lognormal:W (relative width W in [0.0001, 1] around --radius-um), or "
-                  "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um: no --radius-um)")
-      ->capture_default_str();
+  add_drop_size_flags(*sub, args->drops, ": no --radius-um", cmd.flags_for_quantity);
   declared(0);  // --nodes
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")
       ->required()
       ->check(positive_number(1e6, "nm"));
-  sub->add_option("--medium", args->medium, "Drop medium (see hydrolux ior --list)")->capture_default_str();
-  sub->add_option("--surrounding", args->surrounding, "Surrounding medium")->capture_default_str();
+  add_media_flags(*sub, args->drops);
   declared(1);  // --temperature-c
   sub->add_option("--angles-deg", args->angles,
                   "Scattering angles, degrees (0 = forward): A:B:N (N >= 2, or 1 with A == B) or a list 0,10,90, "

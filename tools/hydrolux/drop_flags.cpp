@@ -1,0 +1,47 @@
+#include "drop_flags.hpp"
+
+#include <fmt/format.h>
+
+namespace hydrolux::cli {
+
+namespace {
+
+std::string_view flag_of(scatter::PhaseJobError::Field field) {
+  switch (field) {
+    case scatter::PhaseJobError::Field::theory: return "--theory";
+    case scatter::PhaseJobError::Field::size_distribution: return "--size-distribution";
+    case scatter::PhaseJobError::Field::radius_um: return "--radius-um";
+    case scatter::PhaseJobError::Field::nodes: return "--nodes";
+  }
+  return "?";
+}
+
+}  // namespace
+
+void add_drop_size_flags(CLI::App& sub, DropFlags& drops, std::string_view rain_note,
+                         std::map<std::string, std::string>& flags_for_quantity) {
+  sub.add_option("--radius-um", drops.radius_um, "Drop radius (the mean radius with gamma or lognormal), micrometres")
+      ->check(positive_number(1e6, "um"));
+  sub.add_option("--size-distribution", drops.distribution,
+                 fmt::format("mono, gamma:W or lognormal:W (relative width W in [0.0001, 1] around --radius-um), or "
+                             "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um{})",
+                             rain_note))
+      ->capture_default_str();
+  flags_for_quantity.insert({{"x", "--radius-um (size parameter x)"},
+                             {"m_real", "--medium/--surrounding (relative index, real part)"},
+                             {"m_imag", "--medium/--surrounding (relative index, imaginary part)"},
+                             {"r_max_m", "--radius-um (largest radius of the distribution, m)"},
+                             {"r_min_m", "--radius-um (smallest radius of the distribution, m)"},
+                             {"radius_um", "--radius-um"}});
+}
+
+void add_media_flags(CLI::App& sub, DropFlags& drops) {
+  sub.add_option("--medium", drops.medium, "Drop medium (see hydrolux ior --list)")->capture_default_str();
+  sub.add_option("--surrounding", drops.surrounding, "Surrounding medium")->capture_default_str();
+}
+
+std::string worded_with_flags(const scatter::PhaseJobError& e) {
+  return e.worded(flag_of(e.field()), e.also() ? flag_of(*e.also()) : std::string_view());
+}
+
+}  // namespace hydrolux::cli
