@@ -2,6 +2,7 @@
 // Every job's declared parameters (core/params.hpp) in one list: what docs/reference.md is generated
 // from and what the Python package lists (hydrolux.params). Each job's table lives in its module
 // (rain/params.hpp, ...); this list only gathers them.
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -12,5 +13,15 @@ namespace hydrolux {
 const std::vector<JobSpec>& job_specs();
 // One job's, by name ("rain"); throws UnknownNameError listing the jobs.
 const JobSpec& job_spec(std::string_view name);
+
+// Every job's declared parameters as JSON (`hydrolux spec --json`; the web demo's ranges and defaults
+// are built from it): {"format": "hydrolux-spec", "format_version": 1, "hydrolux_version", "jobs": [{
+// "name", "command", "summary", "python" (null: none), "params": [{"name", "flag", "group", "kind"
+// ("real", "integer" or "flag"), "unit" ("" for a pure number), "lo", "hi" (both included), "default"
+// (null: none; true/false for a flag), "help", "excludes", "only_with" and "not_with" (lists of
+// words), "why", "deprecated" (null where none)}]}]}, one parameter a line, the jobs and parameters in
+// the tables' order: the same text on every run.
+std::string job_specs_json();
+std::string job_spec_json(const JobSpec& job);
 
 }  // namespace hydrolux

@@ -151,6 +151,7 @@ constexpr TopCommand kTopCommands[] = {
     {"lens-drops", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_lens_drops(app)); }},
     {"medium", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_medium(app)); }},
     {"gallery", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_gallery(app)); }},
+    {"spec", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_spec(app)); }},
 };
 
 }  // namespace

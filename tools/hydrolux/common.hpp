@@ -62,6 +62,7 @@ Command add_rain(CLI::App& app);
 Command add_fog(CLI::App& app);
 Command add_lens_drops(CLI::App& app);
 Command add_medium(CLI::App& app);
+Command add_spec(CLI::App& app);
 
 // ---- validators: each gives "'<value>' ... valid range [lo, hi] <unit>" ----
 
