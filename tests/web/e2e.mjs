@@ -13,6 +13,10 @@
 //   - the polariser (the assets' Stokes Q tables) against `hydrolux sky --polarizer-deg A` at
 //     several angles and in every mode; the bow's top vanishing at 90 degrees and staying at 0; the
 //     frame with the filter off the same, byte for byte, as before it was used;
+//   - the sky's parameters as `hydrolux spec --json` declares them (the page is built from it): a
+//     value outside the declared range, or a radius outside the assets' table, is refused with an
+//     error naming the parameter, the value and the valid range, and no frame is drawn, where
+//     `hydrolux sky` refuses the same value too; the panel's sliders span the declared ranges;
 // then saves screenshots of the default scene (objects on), of the real drops and of the polariser
 // at 90 degrees to --out and prints the frame times.
 //
@@ -98,10 +102,9 @@ function preconditions() {
   for (const m of ['playwright-core', 'vite', 'three'])
     if (!fs.existsSync(path.join(webDir, 'node_modules', m, 'package.json')))
       missing.push(`${path.join(webDir, 'node_modules', m)} missing: run "make web" (cd web && npm ci)`);
-  if (!args.assets || !screenshotOnly) {
-    if (!args.hydrolux || !fs.existsSync(args.hydrolux))
-      missing.push(`the hydrolux binary (--hydrolux) not found: ${args.hydrolux}`);
-  }
+  // Always: the page's build reads the parameters from `hydrolux spec --json` (web/vite.config.js).
+  if (!args.hydrolux || !fs.existsSync(args.hydrolux))
+    missing.push(`the hydrolux binary (--hydrolux) not found: ${args.hydrolux}`);
   return missing;
 }
 
@@ -244,7 +247,9 @@ async function main() {
 
   // the page, built into the work dir (the source tree stays clean)
   const dist = path.join(workDir, 'dist');
-  run(process.execPath, [path.join(webDir, 'node_modules', 'vite', 'bin', 'vite.js'), 'build', '--outDir', dist, '--emptyOutDir', '--logLevel', 'warn'], { cwd: webDir });
+  // (the sky's parameters from this binary's `hydrolux spec --json`: HYDROLUX_BIN, web/vite.config.js)
+  run(process.execPath, [path.join(webDir, 'node_modules', 'vite', 'bin', 'vite.js'), 'build', '--outDir', dist, '--emptyOutDir', '--logLevel', 'warn'],
+    { cwd: webDir, env: { ...process.env, HYDROLUX_BIN: path.resolve(args.hydrolux) } });
   // A copy of the assets whose sky.json lacks two keys: the page must stop with an error naming them.
   const badAssetsDir = path.join(workDir, 'badassets');
   fs.rmSync(badAssetsDir, { recursive: true, force: true });
@@ -523,6 +528,8 @@ async function main() {
       info(`shape=spheroid:0.9 on beard-chuang assets: ${wrong}`);
       if (!wrong.includes('shape=spheroid:0.9') || !wrong.includes('beard-chuang'))
         fail('a shape the assets hold no table for does not stop the page naming it');
+
+      await checkRefusals(page, base, assetsDir);
     }
 
     // (f) the screenshot of the default scene (objects on), the control panel beside the canvas
@@ -568,9 +575,105 @@ async function main() {
     info(`frame time 1280x720, per-pixel, polariser, objects on: ${msPol.toFixed(2)} ms (SwiftShader)`);
     info(`screenshot: ${shotPol}`);
     if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
+
+    if (!screenshotOnly) await checkSliders(page, base, assetsDir);
   } finally {
     await browser.close();
     server.close();
+  }
+}
+
+// The sky's declared parameters by name, as the library dumps them (the page's build reads the same).
+function skySpec() {
+  const dump = JSON.parse(run(args.hydrolux, ['spec', '--json']).stdout);
+  return Object.fromEntries(dump.jobs.find((j) => j.name === 'sky').params.map((r) => [r.name, r]));
+}
+// The radii of the assets' rainbow table, [first, last] (um).
+function tableRadii(assetsDir) {
+  const r = JSON.parse(fs.readFileSync(path.join(assetsDir, 'rainbow.json'), 'utf8')).radius_um;
+  return [r[0], r[r.length - 1]];
+}
+
+// Values the CLI refuses are refused by the page: an error naming the parameter, the value and the
+// valid range (in the page's error box), no frame drawn (the page never becomes ready); and
+// `hydrolux sky` refuses each of them too (exit 2, naming its flag). Through the scripting API as well.
+async function checkRefusals(page, base, assetsDir) {
+  const spec = skySpec();
+  const [r0, r1] = tableRadii(assetsDir);
+  const range = (row) => `[${row.lo}, ${row.hi}]${row.unit ? ' ' + row.unit : ''}`;
+  const cases = [
+    // above the declared maximum (not clamped to it), below the minimum, not whole for an integer
+    { key: 'radius', value: spec.radius_um.hi * 1.2, flag: '--radius-um', says: range(spec.radius_um) },
+    { key: 'sun_el', value: spec.sun_elevation_deg.lo - 5, flag: '--sun-elevation-deg', says: range(spec.sun_elevation_deg) },
+    { key: 'fov', value: spec.fov_deg.hi + 1, flag: '--fov-deg', says: range(spec.fov_deg) },
+    { key: 'cube', value: 512.5, flag: '--cube-face-size', says: range(spec.cube_face_size), cpu: ['--mode', 'cube-map'] },
+    // within the declared range but outside the assets' table: refused as hydrolux sky --lut refuses it
+    { key: 'radius', value: r1 * 2, flag: '--radius-um', says: `[${r0}, ${r1}] um`, lut: true },
+  ];
+  for (const c of cases) {
+    await page.goto(base + query({ test: 1, size: `${W}x${H}`, ...VIEW, [c.key]: c.value }));
+    await page.waitForFunction(() => window.__hydroluxReady || window.__hydroluxError, null, { timeout: 120000 });
+    const got = await page.evaluate(() => ({
+      ready: Boolean(window.__hydroluxReady),
+      drawn: window.__hydrolux !== undefined,
+      error: window.__hydroluxError ?? '',
+      shown: document.getElementById('error').hidden ? '' : document.getElementById('error').textContent,
+    }));
+    info(`${c.key}=${c.value}: ${got.shown}`);
+    if (got.ready || got.drawn) fail(`${c.key}=${c.value} was not refused: the page drew a frame`);
+    for (const part of [c.key, String(c.value), c.says])
+      if (!got.shown.includes(part)) fail(`the error for ${c.key}=${c.value} does not name "${part}": ${got.shown}`);
+    const cpu = spawnSync(args.hydrolux, ['sky', '-q', '--size', '32x18', '-o', path.join(workDir, 'refused.png'),
+      ...(c.lut ? ['--lut', path.join(assetsDir, 'rainbow.exr')] : []), ...(c.cpu ?? []), `${c.flag}=${c.value}`],
+      { encoding: 'utf8' });
+    if (cpu.status !== 2 || !cpu.stderr.includes(c.flag))
+      fail(`hydrolux sky ${c.flag} ${c.value} exited ${cpu.status} (the page refuses it): ${cpu.stderr}`);
+  }
+  // The scripting API refuses as the URL does, and leaves the settings as they were.
+  await page.goto(base + query({ test: 1, size: `${W}x${H}`, ...VIEW }));
+  await page.waitForFunction(() => window.__hydroluxReady || window.__hydroluxError, null, { timeout: 120000 });
+  const api = await page.evaluate((v) => {
+    try {
+      window.__hydrolux.set({ radius: v });
+      return { error: '', radius: window.__hydrolux.params.radius };
+    } catch (e) {
+      return { error: e.message, radius: window.__hydrolux.params.radius };
+    }
+  }, spec.radius_um.hi * 1.2);
+  info(`__hydrolux.set({ radius: ${spec.radius_um.hi * 1.2} }): ${api.error}`);
+  if (!api.error.includes('radius') || api.radius !== VIEW.radius)
+    fail(`__hydrolux.set() took radius ${spec.radius_um.hi * 1.2} (radius now ${api.radius})`);
+}
+
+// The panel's sliders span the declared ranges: each one moved to its two ends sets the spec's lo and
+// hi (the radius's cut to the assets' table, whose other radii are refused).
+async function checkSliders(page, base, assetsDir) {
+  const spec = skySpec();
+  const [r0, r1] = tableRadii(assetsDir);
+  await page.goto(base + query({ test: 1, ui: 1, size: `${W}x${H}`, ...VIEW }));
+  await page.waitForFunction(() => window.__hydroluxReady || window.__hydroluxError, null, { timeout: 120000 });
+  await page.click('#ctl-polarizer-on');
+  const sliders = [
+    ['sun_az', spec.sun_azimuth_deg], ['sun_el', spec.sun_elevation_deg], ['fov', spec.fov_deg],
+    ['view_el', spec.view_elevation_deg], ['rain', spec.rain_rate_mmh], ['polarizer', spec.polarizer_deg],
+    ['sky_max_dolp', spec.sky_max_dolp],
+    ['radius', { lo: Math.max(spec.radius_um.lo, r0), hi: Math.min(spec.radius_um.hi, r1) }],
+  ];
+  const ends = await page.evaluate((keys) => keys.map((key) => {
+    const el = document.getElementById('ctl-' + key);
+    if (!el) return { key, missing: true };
+    const at = (v) => {
+      el.value = v;
+      el.dispatchEvent(new Event('input'));
+      return window.__hydrolux.params[key];
+    };
+    return { key, lo: at(el.min), hi: at(el.max) };
+  }), sliders.map(([key]) => key));
+  for (const [k, [key, want]] of sliders.entries()) {
+    const got = ends[k];
+    info(`slider ${key}: ${got.lo}..${got.hi} (declared ${want.lo}..${want.hi})`);
+    if (got.missing || got.lo !== want.lo || got.hi !== want.hi)
+      fail(`the ${key} slider spans ${got.lo}..${got.hi}, not the declared ${want.lo}..${want.hi}`);
   }
 }
 

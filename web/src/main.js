@@ -1,6 +1,6 @@
 // hydrolux web demo: the rain curtain's rainbow over the Preetham sky, in three.js, with the GLSL
 // files and the Lee tables that `hydrolux export` writes (loaded at run time from ?assets=URL).
-import { readParams, writeParams, MODES, BLENDS } from './params.js';
+import { readParams, writeParams, checkSettings, tableRadii, ParamError, SPEC, MODES, BLENDS } from './params.js';
 import { loadAssets } from './assets.js';
 import { HydroluxRenderer } from './renderer.js';
 import { dir } from './sky.js';
@@ -11,7 +11,8 @@ function showError(e) {
   console.error(e);
   const box = $('error');
   box.hidden = false;
-  box.textContent = String(e && e.stack ? e.stack : e);
+  // A refused setting is the user's, not a bug: its message alone (parameter, value, valid range).
+  box.textContent = e instanceof ParamError ? e.message : String(e && e.stack ? e.stack : e);
   window.__hydroluxError = String(e);
 }
 window.addEventListener('error', (ev) => showError(ev.error || ev.message));
@@ -27,6 +28,8 @@ async function main() {
   const p = readParams(location.search);
   const canvas = $('view');
   const assets = await loadAssets(p.assets);
+  checkSettings(p, assets); // the radius within the assets' table: refused before any frame, as the CLI does
+  narrowRadius(assets);
   const hx = new HydroluxRenderer(canvas, assets);
 
   const resize = () => {
@@ -78,7 +81,9 @@ async function main() {
   window.__hydrolux = {
     params: p,
     // Applies settings (params.js names), renders one frame, returns its time in ms.
+    // Refused (a ParamError, p unchanged, no frame) as the URL's values are.
     set(settings) {
+      checkSettings({ ...p, ...settings }, assets);
       Object.assign(p, settings);
       return frame();
     },
@@ -147,12 +152,12 @@ function setupPointer(canvas, p, hx, changed) {
     if (drag.sun) {
       const [az, el] = azEl(rayAt(ev));
       p.sun_az = Math.round(az * 10) / 10;
-      p.sun_el = Math.min(90, Math.max(0, Math.round(el * 10) / 10));
+      p.sun_el = Math.min(SPEC.sun_el.hi, Math.max(SPEC.sun_el.lo, Math.round(el * 10) / 10));
     } else {
       const rect = canvas.getBoundingClientRect();
       const degPerPx = p.fov / rect.width;
       p.view_az = (((drag.az - (ev.clientX - drag.x) * degPerPx) % 360) + 360) % 360;
-      p.view_el = Math.min(89, Math.max(-89, drag.el + (ev.clientY - drag.y) * degPerPx));
+      p.view_el = Math.min(SPEC.view_el.hi, Math.max(SPEC.view_el.lo, drag.el + (ev.clientY - drag.y) * degPerPx));
       p.view_az = Math.round(p.view_az * 10) / 10;
       p.view_el = Math.round(p.view_el * 10) / 10;
     }
@@ -164,20 +169,39 @@ function setupPointer(canvas, p, hx, changed) {
   canvas.addEventListener('pointercancel', end);
 }
 
-// The control panel: sliders (log sliders for the radius and the rain rate), toggles, selects.
+// The control panel: sliders, toggles, selects. A slider of one of hydrolux sky's parameters spans
+// the spec's range (params.js: hydrolux spec --json); the radius's is narrowed to the assets' table
+// (narrowRadius), whose other radii the page refuses. The radius moves on a log scale, the rain rate
+// (from 0) on a cubic one: fine steps for drizzle, the whole range to a cloudburst.
+const spec = (key) => ({ min: SPEC[key].lo, max: SPEC[key].hi });
 const CONTROLS = [
-  { key: 'sun_az', label: 'sun azimuth', min: 0, max: 360, step: 0.5, unit: '°' },
-  { key: 'sun_el', label: 'sun elevation', min: 0, max: 90, step: 0.5, unit: '°' },
-  { key: 'radius', label: 'drop radius', min: 5, max: 800, log: true, unit: 'µm' },
-  { key: 'rain', label: 'rain rate', min: 0.1, max: 100, log: true, unit: 'mm/h' },
+  { key: 'sun_az', label: 'sun azimuth', ...spec('sun_az'), step: 0.5, unit: '°' },
+  { key: 'sun_el', label: 'sun elevation', ...spec('sun_el'), step: 0.5, unit: '°' },
+  { key: 'radius', label: 'drop radius', ...spec('radius'), scale: 'log', unit: 'µm' },
+  { key: 'rain', label: 'rain rate', ...spec('rain'), scale: 'cubic', unit: 'mm/h' },
   { key: 'moisture', label: 'moisture', min: 0, max: 1, step: 0.01 },
   { key: 'noise', label: 'moisture noise', min: 0, max: 1, step: 0.01 },
   { key: 'curtain0', label: 'rain from', min: 0, max: 5000, step: 50, unit: 'm' },
   { key: 'curtain1', label: 'rain to', min: 100, max: 20000, step: 100, unit: 'm' },
-  { key: 'fov', label: 'field of view', min: 20, max: 140, step: 1, unit: '°' },
+  { key: 'fov', label: 'field of view', ...spec('fov'), step: 1, unit: '°' },
   { key: 'view_az', label: 'view azimuth', min: 0, max: 360, step: 0.1, unit: '°' },
-  { key: 'view_el', label: 'view elevation', min: -89, max: 89, step: 0.1, unit: '°' },
+  { key: 'view_el', label: 'view elevation', ...spec('view_el'), step: 0.1, unit: '°' },
 ];
+// The radius slider within the assets' table (spheres' radii, the spec's range cut to them).
+function narrowRadius(assets) {
+  const c = CONTROLS.find((k) => k.key === 'radius');
+  const [lo, hi] = tableRadii(assets, 'sphere');
+  Object.assign(c, { min: Math.max(SPEC.radius.lo, lo), max: Math.min(SPEC.radius.hi, hi) });
+}
+// A slider's position (0..1 on a log or cubic scale, else the value) and back.
+const toSlider = (c, v) =>
+  !c.scale ? v : c.max === c.min ? 0
+    : c.scale === 'log' ? Math.log(v / c.min) / Math.log(c.max / c.min) : Math.cbrt((v - c.min) / (c.max - c.min));
+const fromSlider = (c, x) => {
+  if (!c.scale) return x;
+  const v = c.scale === 'log' ? c.min * Math.pow(c.max / c.min, x) : c.min + (c.max - c.min) * x * x * x;
+  return Math.min(c.max, Math.max(c.min, Number(v.toPrecision(3))));
+};
 const TOGGLES = [
   { key: 'secondary', label: 'secondary' },
   { key: 'corona', label: 'corona' },
@@ -205,7 +229,7 @@ function syncUi(p) {
     const el = inputs[c.key];
     if (!el) continue;
     const v = getV(p, c.key);
-    el.input.value = c.log ? Math.log(v / c.min) / Math.log(c.max / c.min) : v;
+    el.input.value = toSlider(c, v);
     el.value.textContent = fmt(v) + (c.unit ? ' ' + c.unit : '');
   }
   const box = $('ctl-shape');
@@ -216,7 +240,7 @@ function syncUi(p) {
     const on = p.polarizer !== null && p.polarizer !== undefined;
     pol.checked = on;
     dial.disabled = !on || !hasStokes;
-    if (on) dial.value = String(Math.max(-90, Math.min(90, p.polarizer)));
+    if (on) dial.value = String(p.polarizer);
     $('val-polarizer').textContent = on ? `${fmt(p.polarizer)}°` : 'off';
   }
   const p90 = $('ctl-sky_max_dolp');
@@ -246,7 +270,7 @@ function buildUi(p, changed) {
     const input = document.createElement('input');
     input.type = 'range';
     input.id = 'ctl-' + c.key;
-    if (c.log) Object.assign(input, { min: 0, max: 1, step: 0.001 });
+    if (c.scale) Object.assign(input, { min: 0, max: 1, step: 0.001, disabled: c.min === c.max });
     else Object.assign(input, { min: c.min, max: c.max, step: c.step });
     const value = document.createElement('span');
     value.className = 'value';
@@ -254,9 +278,7 @@ function buildUi(p, changed) {
     root.append(label);
     inputs[c.key] = { input, value };
     input.addEventListener('input', () => {
-      const x = Number(input.value);
-      const v = c.log ? c.min * Math.pow(c.max / c.min, x) : x;
-      setV(p, c.key, c.log ? Number(v.toPrecision(3)) : v);
+      setV(p, c.key, fromSlider(c, Number(input.value)));
       syncUi(p);
       changed();
     });
@@ -303,7 +325,7 @@ function buildUi(p, changed) {
   root.append(toggles);
   {
     // The polariser in front of the camera (hydrolux sky --polarizer-deg): a toggle and a dial of its
-    // axis, -90..90 degrees from the image's horizontal (0 passes the top of the bow, 90 its sides),
+    // axis in degrees from the image's horizontal over the spec's range (0 passes the top of the bow, 90 its sides),
     // and the sky's P90 (--sky-max-dolp). Without the assets' Stokes Q tables, greyed out.
     const why = 'The assets hold no Stokes Q tables (rainbow_q.f32): export them again with hydrolux export';
     const label = document.createElement('label');
@@ -316,7 +338,7 @@ function buildUi(p, changed) {
     const dial = document.createElement('input');
     dial.type = 'range';
     dial.id = 'ctl-polarizer';
-    Object.assign(dial, { min: -90, max: 90, step: 1, value: 0 });
+    Object.assign(dial, { min: SPEC.polarizer.lo, max: SPEC.polarizer.hi, step: 1, value: 0 });
     const value = document.createElement('span');
     value.className = 'value';
     value.id = 'val-polarizer';
@@ -345,7 +367,7 @@ function buildUi(p, changed) {
     const p90 = document.createElement('input');
     p90.type = 'range';
     p90.id = 'ctl-sky_max_dolp';
-    Object.assign(p90, { min: 0, max: 1, step: 0.01 });
+    Object.assign(p90, { min: SPEC.sky_max_dolp.lo, max: SPEC.sky_max_dolp.hi, step: 0.01 });
     const v2 = document.createElement('span');
     v2.className = 'value';
     v2.id = 'val-sky_max_dolp';

@@ -1,22 +1,83 @@
 // Every setting of the demo, readable from and writable to URL query parameters, so that a test
-// (or a shared link) reproduces a frame exactly. Names follow `hydrolux sky`'s flags.
+// (or a shared link) reproduces a frame exactly.
+//
+// The settings that are `hydrolux sky`'s parameters take their names, valid ranges and defaults from
+// the library's declaration: `hydrolux spec --json`, read at build time (vite.config.js: the module
+// virtual:hydrolux-spec holds the sky's rows). SPEC_NAMES below is the one table from the demo's
+// short URL names to the spec's. A value outside the declared range is refused, as the CLI refuses it
+// (ParamError: the page shows the parameter, the value and the valid range, and renders nothing),
+// never clamped. The others (view_az, the curtain, moisture, noise, objects, shape, mode, blend,
+// light, size, test, ui, assets) are the demo's own.
+import sky from 'virtual:hydrolux-spec';
 
 export const MODES = ['per-pixel', 'cube-map', 'half-dome'];
 export const BLENDS = ['physical', 'whitepaper'];
 
+// The demo's URL name -> the name of `hydrolux sky`'s declared parameter (hydrolux spec --json).
+export const SPEC_NAMES = {
+  sun_az: 'sun_azimuth_deg',
+  sun_el: 'sun_elevation_deg',
+  view_el: 'view_elevation_deg',
+  fov: 'fov_deg',
+  radius: 'radius_um',
+  rain: 'rain_rate_mmh',
+  secondary: 'secondary',
+  corona: 'corona',
+  polarizer: 'polarizer_deg',
+  sky_max_dolp: 'sky_max_dolp',
+  cube: 'cube_face_size',
+  rings: 'dome_rings',
+  segments: 'dome_segments',
+};
+
+// The spec's row of each of those ({name, flag, kind, unit, lo, hi, default}), by the demo's name.
+export const SPEC = Object.fromEntries(
+  Object.entries(SPEC_NAMES).map(([key, name]) => {
+    const row = sky.params.find((r) => r.name === name);
+    if (!row) throw new Error(`${sky.command} declares no parameter "${name}" (the demo's "${key}"): hydrolux spec --json`);
+    return [key, row];
+  }),
+);
+
+// A refused value: the page shows its message (the parameter, the value, the valid range) and stops.
+export class ParamError extends Error {
+  constructor(message) {
+    super(message);
+    this.name = 'ParamError';
+  }
+}
+
+// "[0.1, 5000] um", as the CLI writes a range.
+export const rangeText = (row) => `[${row.lo}, ${row.hi}]${row.unit ? ' ' + row.unit : ''}`;
+
+// `value` (a number) if it lies in the spec's range of `key` (a whole number for an integer), else a
+// ParamError worded as the CLI's; `text` is the value as the user wrote it.
+export function checkSpec(key, value, text = String(value)) {
+  const row = SPEC[key];
+  const whole = row.kind !== 'integer' || Number.isInteger(value);
+  if (Number.isFinite(value) && value >= row.lo && value <= row.hi && whole) return value;
+  const what = !Number.isFinite(value) ? 'is not a number;' : whole ? 'is outside' : 'is not a whole number in';
+  throw new ParamError(`${key}: ${text} ${what} the valid range ${rangeText(row)} (hydrolux sky ${row.flag})`);
+}
+
+const specDefault = (key) => {
+  const d = SPEC[key].default;
+  return SPEC[key].kind === 'flag' ? Boolean(d) : d; // null: none (the polariser)
+};
+
 export const DEFAULTS = {
-  sun_az: 180, // sun azimuth (deg from north towards east)
-  sun_el: 25, // sun elevation (deg), 0..90
+  sun_az: specDefault('sun_az'), // sun azimuth (deg from north towards east)
+  sun_el: specDefault('sun_el'), // sun elevation (deg)
   view_az: 0, // camera azimuth (deg)
-  view_el: 10, // camera elevation (deg)
-  fov: 90, // horizontal field of view (deg)
-  radius: 500, // drop radius (um), 5..800
-  rain: 5, // rain rate (mm/h)
+  view_el: specDefault('view_el'), // camera elevation (deg)
+  fov: specDefault('fov'), // horizontal field of view (deg)
+  radius: specDefault('radius'), // drop radius (um)
+  rain: specDefault('rain'), // rain rate (mm/h)
   curtain: [1000, 3000], // the rain fills d0..d1 metres from the camera
   moisture: 1, // global moisture multiplier, 0..1
   noise: 0, // moisture noise amount, 0..1
-  secondary: true,
-  corona: false,
+  secondary: specDefault('secondary'),
+  corona: specDefault('corona'),
   objects: true, // houses and trees that hide the rain behind them
   // drop shape, as `hydrolux sky --shape`: 'sphere', or the shape of the assets' non-spherical
   // drops' table (rainbow_shaped.json, `hydrolux export --shape beard-chuang`): the "real drops" toggle
@@ -25,25 +86,33 @@ export const DEFAULTS = {
   blend: 'physical',
   light: [1, 1, 1], // light colour multiplier of the bow
   // a linear polariser in front of the camera, as `hydrolux sky --polarizer-deg`: null (none) or its
-  // axis in degrees from the image's horizontal towards its up (the dial: -90..90; 0 passes the top
-  // of the bow, 90 its sides); needs the assets' Stokes Q tables (hydrolux export writes them)
-  polarizer: null,
+  // axis in degrees from the image's horizontal towards its up (0 passes the top of the bow, 90 its
+  // sides); needs the assets' Stokes Q tables (hydrolux export writes them)
+  polarizer: specDefault('polarizer'),
   // P90, the sky's degree of polarisation 90 degrees from the sun (`hydrolux sky --sky-max-dolp`);
-  // null: sky.json's polarization.sky_max_dolp (0.8)
-  sky_max_dolp: null,
-  cube: 512, // cube-map face size (texels), as `hydrolux sky --cube-face-size`
-  rings: 90, // half-dome rings (90 degrees), as `hydrolux sky --dome-rings`
-  segments: 180, // half-dome segments (360 degrees), as `hydrolux sky --dome-segments`
+  // null: sky.json's polarization.sky_max_dolp
+  sky_max_dolp: specDefault('sky_max_dolp'),
+  cube: specDefault('cube'), // cube-map face size (texels), as `hydrolux sky --cube-face-size`
+  rings: specDefault('rings'), // half-dome rings (90 degrees), as `hydrolux sky --dome-rings`
+  segments: specDefault('segments'), // half-dome segments (360 degrees), as `hydrolux sky --dome-segments`
   size: null, // [W, H]: a canvas of exactly W x H pixels (pixel ratio 1); null: the window
   test: false, // test mode: no animation loop; window.__hydroluxReady after the first frame
   ui: true, // show the control panel
   assets: 'assets/', // where rainbow.f32/.json, corona.f32/.json, sky.json and glsl/ are
 };
 
-const num = (s, lo = -Infinity, hi = Infinity) => {
-  const v = Number(s);
+const num = (s) => {
+  const v = s.trim() === '' ? NaN : Number(s);
   if (!Number.isFinite(v)) throw new Error(`not a number: ${s}`);
-  return Math.min(hi, Math.max(lo, v));
+  return v;
+};
+// A declared number: refused outside the spec's range, never clamped.
+const specNum = (key) => (s) => checkSpec(key, s.trim() === '' ? NaN : Number(s), s);
+// A declared switch: on or off, as the CLI's flag; other text is refused.
+const specBool = (key) => (s) => {
+  if (['1', 'true', 'on', 'yes'].includes(s)) return true;
+  if (['0', 'false', 'off', 'no'].includes(s)) return false;
+  throw new ParamError(`${key}: ${s} is not a switch (0 or 1; hydrolux sky ${SPEC[key].flag})`);
 };
 const bool = (s) => !(s === '0' || s === 'false' || s === 'off' || s === 'no');
 const list = (s, n) => {
@@ -53,18 +122,18 @@ const list = (s, n) => {
 };
 
 const PARSERS = {
-  sun_az: (s) => num(s),
-  sun_el: (s) => num(s, 0, 90),
+  sun_az: specNum('sun_az'),
+  sun_el: specNum('sun_el'),
   view_az: (s) => num(s),
-  view_el: (s) => num(s, -89, 89),
-  fov: (s) => num(s, 1, 170),
-  radius: (s) => num(s, 1, 1000),
-  rain: (s) => num(s, 0.01, 1000),
+  view_el: specNum('view_el'),
+  fov: specNum('fov'),
+  radius: specNum('radius'),
+  rain: specNum('rain'),
   curtain: (s) => list(s, 2),
-  moisture: (s) => num(s, 0, 1),
-  noise: (s) => num(s, 0, 1),
-  secondary: bool,
-  corona: bool,
+  moisture: (s) => Math.min(1, Math.max(0, num(s))),
+  noise: (s) => Math.min(1, Math.max(0, num(s))),
+  secondary: specBool('secondary'),
+  corona: specBool('corona'),
   objects: bool,
   shape: (s) => {
     if (!/^(sphere|beard-chuang|spheroid:[0-9.]+)$/.test(s))
@@ -80,11 +149,11 @@ const PARSERS = {
     return s;
   },
   light: (s) => list(s, 3),
-  polarizer: (s) => (s === 'off' || s === 'none' || s === '' ? null : num(s, -180, 180)),
-  sky_max_dolp: (s) => num(s, 0, 1),
-  cube: (s) => Math.round(num(s, 4, 2048)),
-  rings: (s) => Math.round(num(s, 1, 1024)),
-  segments: (s) => Math.round(num(s, 3, 4096)),
+  polarizer: (s) => (s === 'off' || s === 'none' || s === '' ? null : specNum('polarizer')(s)),
+  sky_max_dolp: specNum('sky_max_dolp'),
+  cube: specNum('cube'),
+  rings: specNum('rings'),
+  segments: specNum('segments'),
   size: (s) => list(s, 2).map((v) => Math.round(v)),
   test: bool,
   ui: bool,
@@ -102,14 +171,42 @@ export function readParams(search) {
   return p;
 }
 
+// The radii (um) of the assets' table the bow is drawn from ([first, last]): a radius outside them is
+// refused, as `hydrolux sky --lut` refuses it ("outside the radii of --lut").
+export function tableRadii(assets, shape) {
+  const json = shape !== 'sphere' && assets.shaped ? assets.shaped.json : assets.rainbow.json;
+  const r = json.radius_um;
+  return [r[0], r[r.length - 1]];
+}
+
+// Settings (the demo's names) checked as readParams checks a URL's, and the radius against the
+// assets' table: a ParamError for the first refused one; null (none) is the polariser off or
+// sky.json's P90.
+export function checkSettings(p, assets) {
+  for (const key of Object.keys(SPEC)) {
+    if (!(key in p) || p[key] === null) continue;
+    if (SPEC[key].kind === 'flag') {
+      if (typeof p[key] !== 'boolean') throw new ParamError(`${key}: ${p[key]} is not a switch (true or false)`);
+    } else checkSpec(key, p[key]);
+  }
+  if (assets && 'radius' in p) {
+    const [lo, hi] = tableRadii(assets, p.shape ?? 'sphere');
+    if (!(p.radius >= lo && p.radius <= hi))
+      throw new ParamError(`radius: ${p.radius} is outside the radii of the assets' table [${lo}, ${hi}] um ` +
+        `(hydrolux sky --lut refuses it too; export a table that holds it)`);
+  }
+}
+
 // The query string of the settings that differ from the defaults.
 export function writeParams(p) {
   const q = new URLSearchParams();
   for (const key of Object.keys(DEFAULTS)) {
     const v = p[key], d = DEFAULTS[key];
     if (JSON.stringify(v) === JSON.stringify(d)) continue;
-    if (v === null) q.set(key, 'off');
-    else if (Array.isArray(v)) q.set(key, v.join(key === 'curtain' ? ':' : key === 'size' ? 'x' : ','));
+    // null: the polariser off; P90 from sky.json (no URL value: the default is the spec's)
+    if (v === null) {
+      if (key === 'polarizer') q.set(key, 'off');
+    } else if (Array.isArray(v)) q.set(key, v.join(key === 'curtain' ? ':' : key === 'size' ? 'x' : ','));
     else if (typeof v === 'boolean') q.set(key, v ? '1' : '0');
     else q.set(key, String(v));
   }
