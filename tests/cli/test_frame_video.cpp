@@ -18,6 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using hydrolux::testing::run;
+using hydrolux::testing::ffprobe_csv;
 using hydrolux::testing::slurp;
 
 fs::path dir() {
@@ -38,18 +39,6 @@ const fs::path& fading_video() {
   return p;
 }
 
-// ffprobe's width, height, frame rate and decoded frame count of the first video stream.
-std::string probe(const fs::path& f) {
-  const std::string cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
-                          "stream=nb_read_frames,r_frame_rate,width,height -of csv=p=0 " + f.string();
-  std::string s;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  char buf[256];
-  while (p && std::fgets(buf, sizeof buf, p)) s += buf;
-  if (p) ::pclose(p);
-  return s;
-}
-
 TEST(FrameVideo, FogKeepsFramesRateAndTheFirstFramesSky) {
   const fs::path out = dir() / "fog.mp4", stats = dir() / "fog.json";
   const std::string before = slurp(fading_video());
@@ -58,7 +47,7 @@ TEST(FrameVideo, FogKeepsFramesRateAndTheFirstFramesSky) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;
   EXPECT_EQ(slurp(fading_video()), before);  // the input is never modified
-  EXPECT_EQ(probe(out), "64,48,25/1,5\n");
+  EXPECT_EQ(ffprobe_csv(out), "64,48,25/1,5\n");
   const auto j = nlohmann::json::parse(slurp(stats));
   EXPECT_EQ(j.at("input"), fading_video().string());
   EXPECT_EQ(j.at("video").at("frames"), 5);
@@ -94,7 +83,7 @@ TEST(FrameVideo, LensDropsGiveFrameKTheDropsOfSeedPlusK) {
                      " --stats-json " + stats.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;
-  EXPECT_EQ(probe(out), "64,48,25/1,5\n");
+  EXPECT_EQ(ffprobe_csv(out), "64,48,25/1,5\n");
   const auto j = nlohmann::json::parse(slurp(stats));
   EXPECT_EQ(j.at("drops").at("seed"), 40);
   const auto& frames = j.at("frames");

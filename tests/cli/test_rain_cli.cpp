@@ -17,6 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using hydrolux::testing::run;
+using hydrolux::testing::ffprobe_csv;
 using hydrolux::testing::slurp;
 using namespace hydrolux;
 
@@ -213,17 +214,7 @@ TEST(RainCli, VideoKeepsFrameCountAndRate) {
                      stats.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(slurp(in), before);
-  const auto probe = [](const fs::path& f) {
-    const std::string cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
-                            "stream=nb_read_frames,r_frame_rate,width,height -of csv=p=0 " + f.string();
-    std::string s;
-    FILE* p = ::popen(cmd.c_str(), "r");
-    char buf[256];
-    while (p && std::fgets(buf, sizeof buf, p)) s += buf;
-    if (p) ::pclose(p);
-    return s;
-  };
-  EXPECT_EQ(probe(out), "160,96,30000/1001,24\n");
+  EXPECT_EQ(ffprobe_csv(out), "160,96,30000/1001,24\n");
   const auto j = nlohmann::json::parse(slurp(stats));
   EXPECT_EQ(j.at("frames").size(), 24u);
   EXPECT_NEAR(double(j.at("camera").at("fps")), 30000.0 / 1001, 1e-9);

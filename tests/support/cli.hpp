@@ -70,6 +70,19 @@ inline std::string slurp(const fs::path& p) {
 
 inline std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
 
+// ffprobe's width, height, frame rate and decoded frame count of a video's first stream, as one CSV
+// line ("64,48,25/1,5\n"; "" without ffprobe or a video stream).
+inline std::string ffprobe_csv(const fs::path& f) {
+  const std::string cmd = "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+                          "stream=nb_read_frames,r_frame_rate,width,height -of csv=p=0 '" + f.string() + "'";
+  std::string s;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  char buf[256];
+  while (p && std::fgets(buf, sizeof buf, p)) s += buf;
+  if (p) ::pclose(p);
+  return s;
+}
+
 // Bad input: exit code 2, exactly one line on stderr that names the flag, nothing on stdout. `cases`
 // is any range of (arguments, text the error must contain) pairs.
 template <typename Cases>
