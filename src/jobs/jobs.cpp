@@ -27,14 +27,14 @@ const std::vector<JobSpec>& job_specs() {
       v.push_back(std::move(rain));
     }
     {
-      JobSpec lens{"lens_drops", "hydrolux lens-drops", "Water drops on the lens or windshield over a photograph or a folder of frames", {}};
+      JobSpec lens{"lens_drops", "hydrolux lens-drops", "Water drops on the lens or windshield over a photograph, a folder of frames or a video", {}};
       lens.params = describe_fields(rain::lens_drops_params());
       for (const auto& p : describe_fields(rain::lens_drops_file_params())) lens.params.push_back(p);
       lens.python = "hydrolux.lens_drops";
       v.push_back(std::move(lens));
     }
     {
-      JobSpec fog{"fog", "hydrolux fog", "Fog, haze or mist over a photograph or a folder of frames", {}};
+      JobSpec fog{"fog", "hydrolux fog", "Fog, haze or mist over a photograph, a folder of frames or a video", {}};
       fog.params = describe_fields(rain::fog_params());
       for (const auto& p : describe_fields(rain::fog_file_params())) fog.params.push_back(p);
       fog.python = "hydrolux.fog";
