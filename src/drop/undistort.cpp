@@ -126,4 +126,12 @@ Image undistort(const Image& drop_image, double cx, double cy, double radius_px,
   return out;
 }
 
+double resolved_fraction(const Image& undistorted) {
+  if (undistorted.channels < 4 || undistorted.width <= 0 || undistorted.height <= 0) return 0;
+  std::size_t seen = 0;
+  for (int y = 0; y < undistorted.height; ++y)
+    for (int x = 0; x < undistorted.width; ++x) seen += undistorted.at(x, y, 3) > 0 ? 1 : 0;
+  return double(seen) / (double(undistorted.width) * double(undistorted.height));
+}
+
 }  // namespace hydrolux::drop

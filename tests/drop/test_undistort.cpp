@@ -325,3 +325,14 @@ TEST(Undistort, RecoversTheWorldFromARenderedDrop) {
 
 }  // namespace
 }  // namespace hydrolux::drop
+
+TEST(Undistort, ResolvedFractionCountsThePixelsWithAlpha) {
+  hydrolux::Image img(4, 2, 4);
+  img.at(0, 0, 3) = 1.f;
+  img.at(3, 0, 3) = 0.25f;
+  img.at(1, 1, 3) = 1e-6f;
+  img.at(2, 1, 0) = 1.f;  // colour without alpha is not resolved
+  EXPECT_DOUBLE_EQ(hydrolux::drop::resolved_fraction(img), 3.0 / 8.0);
+  EXPECT_DOUBLE_EQ(hydrolux::drop::resolved_fraction(hydrolux::Image(4, 2, 3)), 0.0);  // no alpha
+  EXPECT_DOUBLE_EQ(hydrolux::drop::resolved_fraction(hydrolux::Image{}), 0.0);
+}

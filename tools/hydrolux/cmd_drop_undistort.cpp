@@ -74,14 +74,11 @@ int run_undistort(const UndistortArgs& a) {
   files.commit();
 
   if (!a.quiet) {
-    std::size_t seen = 0;
-    for (int y = 0; y < out.height; ++y)
-      for (int x = 0; x < out.width; ++x) seen += out.at(x, y, 3) > 0 ? 1 : 0;
     fmt::print(stderr,
                "drop undistort: wrote {} ({}x{}, fov {:g} deg, yaw {:g}, pitch {:g}; {:.1f}% of the pixels "
                "seen through the drop)\n",
                printable(a.output), out.width, out.height, view.fov_deg, view.yaw_deg, view.pitch_deg,
-               100.0 * double(seen) / (double(out.width) * out.height));
+               100.0 * drop::resolved_fraction(out));
   }
   return 0;
 }

@@ -84,4 +84,8 @@ void validate(const UndistortView& view);
 Image undistort(const Image& drop_image, double cx, double cy, double radius_px, double mu,
                 const UndistortView& view, bool transmission_correction = true);
 
+// The fraction of an undistorted view's pixels that the drop resolves (alpha above 0), in [0, 1];
+// 0 for an empty image or one without an alpha channel.
+double resolved_fraction(const Image& undistorted);
+
 }  // namespace hydrolux::drop
