@@ -52,11 +52,7 @@ std::vector<Command> add_drop(CLI::App& app) {
 
 Command add_drop_profile(CLI::App& drop) {
   auto args = std::make_shared<ProfileArgs>();
-  auto* sub = drop.add_subcommand(
-      "profile",
-      "Figure 4 of Garg & Nayar: the radiance of the refracted, reflected and internally reflected "
-      "paths across the drop's image (rho = 0 centre to 1 rim) for a uniform environment Le = 1, "
-      "drop on the optical axis; and the drop's field of view.");
+  auto* sub = add_job_command(drop, "drop_profile");
   Command cmd{sub, [args] { return run_profile(*args); }, {}};
   add_params(*sub, args->r, drop::drop_profile_params(), cmd.flags_for_quantity);
   sub->add_flag("--json", args->json,

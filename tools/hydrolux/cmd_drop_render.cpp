@@ -92,12 +92,7 @@ int run_render(const RenderArgs& a) {
 
 Command add_drop_render(CLI::App& drop) {
   auto args = std::make_shared<RenderArgs>();
-  auto* sub = drop.add_subcommand(
-      "render",
-      "Render a rain drop from an environment with Garg & Nayar's model (their Figure 8): a pinhole camera "
-      "looks along +z at a spherical drop on its axis; every pixel has its own viewing direction; the rim is "
-      "anti-aliased by supersampling. Output: linear EXR, or sRGB PNG (RGBA: alpha is the drop's coverage "
-      "when --no-background is given).");
+  auto* sub = add_job_command(drop, "drop_render");
   Command cmd{sub,
               [args] { return run_render(*args); },
               {{"wavelength_nm", "--wavelength-nm"},

@@ -37,12 +37,7 @@ int run_fog(FogArgs& a, const CLI::App& sub) {
 
 Command add_fog(CLI::App& app) {
   auto a = std::make_shared<FogArgs>();
-  auto* sub = app.add_subcommand(
-      "fog",
-      "Fog, haze or mist over a photograph, a folder of frames or a video: extinction from a visibility (Koschmieder, 3.912 / V) "
-      "or from Lorenz-Mie over the droplets for a liquid water content; transmittance exp(-beta d) per pixel from "
-      "--depth (else a ground plane), airlight of the sky's colour, and the forward-scattered glow around lights "
-      "(docs/fog.md).");
+  auto* sub = add_job_command(app, "fog");
   sub->add_option("--image", a->job->image, "Input photograph (PNG, JPEG, EXR, TIFF, ...)");
   sub->add_option("--input-dir", a->job->input_dir, "A folder of frames in name order (one sky colour, from the first)");
   sub->add_option("--video", a->job->video,

@@ -61,11 +61,7 @@ int run_fresnel(const FresnelArgs& args) {
 
 Command add_fresnel(CLI::App& app) {
   auto args = std::make_shared<FresnelArgs>();
-  auto* sub = app.add_subcommand(
-      "fresnel",
-      "Fresnel reflectance and transmittance of a plane interface from a transparent medium (n1) "
-      "into a dielectric (n2) or an absorbing medium (n2 + i k2). Exact equations, unpolarised "
-      "R = (R_s + R_p) / 2, T = 1 - R for dielectrics.");
+  auto* sub = add_job_command(app, "fresnel");
   Command cmd{sub, [args] { return run_fresnel(*args); }, {}};
   add_params(*sub, args->r, optics::fresnel_params(), cmd.flags_for_quantity);
   sub->get_option(std::string(optics::fresnel_params().back().param.flag))->required();

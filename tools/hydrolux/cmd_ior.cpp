@@ -93,8 +93,7 @@ int run_ior(const IorArgs& a) {
 
 Command add_ior(CLI::App& app) {
   auto args = std::make_shared<IorArgs>();
-  auto* sub = app.add_subcommand(
-      "ior", "Complex refractive index n + i k of a medium at a vacuum wavelength.");
+  auto* sub = add_job_command(app, "ior");
   sub->add_option("--medium", args->medium,
                   "Medium name (see --list), or const:<n>[+<k>i] for a constant index");
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")

@@ -28,11 +28,7 @@ struct LensDropsArgs {
 
 Command add_lens_drops(CLI::App& app) {
   auto a = std::make_shared<LensDropsArgs>();
-  auto* sub = app.add_subcommand(
-      "lens-drops",
-      "Water drops on the lens or windshield over a photograph, a folder of frames or a video: spherical caps on a "
-      "glass plane in front of the camera, each refracting the scene behind it (Snell and Fresnel at the exact cap), defocused by "
-      "the aperture's circle of confusion, with their coverage mask. Deterministic for a --seed (docs/lens-drops.md).");
+  auto* sub = add_job_command(app, "lens_drops");
   sub->add_option("--image", a->job->image, "Input photograph (PNG, JPEG, EXR, TIFF, ...)");
   sub->add_option("--input-dir", a->job->input_dir, "A folder of frames in name order (frame k: the drops of --seed + k)");
   sub->add_option("--video", a->job->video,

@@ -103,11 +103,7 @@ int run_medium(const MediumArgs& a) {
 
 Command add_medium(CLI::App& app) {
   auto args = std::make_shared<MediumArgs>();
-  auto* sub = app.add_subcommand(
-      "medium",
-      "A population of drops as a renderer's participating medium: the size-averaged Lorenz-Mie phase function as "
-      "Mitsuba 3's tabphase (.xml) or pbrt-v4's Henyey-Greenstein (.pbrt, with its error stated), with the "
-      "extinction and albedo spectra, 360-830 nm, per scene unit (docs/renderer-export.md).");
+  auto* sub = add_job_command(app, "medium");
   args->sub = sub;
   Command cmd{sub,
               [args] { return run_medium(*args); },

@@ -96,10 +96,7 @@ int run_phase(const PhaseArgs& a) {
 
 Command add_phase(CLI::App& app) {
   auto args = std::make_shared<PhaseArgs>();
-  auto* sub = app.add_subcommand(
-      "phase",
-      "Scattered intensity against scattering angle for one drop: i1 = |S1|^2, i2 = |S2|^2 and "
-      "their average, by Lorenz-Mie, one Debye order, Airy theory or geometric optics.");
+  auto* sub = add_job_command(app, "phase");
   args->sub = sub;
   Command cmd{sub,
               [args] { return run_phase(*args); },

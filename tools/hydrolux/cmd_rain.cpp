@@ -37,12 +37,7 @@ int run_rain(RainArgs& a, const CLI::App& sub) {
 
 Command add_rain(CLI::App& app) {
   auto a = std::make_shared<RainArgs>();
-  auto* sub = app.add_subcommand(
-      "rain",
-      "Rain over a photograph, a folder of frames or a video: drops drawn from Marshall-Palmer for the rain rate, "
-      "falling at their terminal velocity with the wind, each seen through Garg & Nayar's drop model lit by the frame "
-      "itself and smeared by the exposure into a streak; hidden behind nearer scene geometry (--depth, else a ground "
-      "plane); unresolved distant rain as extinction and airlight. Deterministic for a --seed (docs/rain.md).");
+  auto* sub = add_job_command(app, "rain");
   sub->add_option("--image", a->job->image, "Input photograph (PNG, JPEG, EXR, TIFF, ...), or 'builtin' for the built-in street scene");
   sub->add_option("--size", a->job->size, "Size WxH of --image builtin [1280x720]")->check(size_validator());
   sub->add_option("--input-dir", a->job->input_dir, "A folder of frames in name order: one rain field across them");

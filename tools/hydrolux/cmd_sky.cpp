@@ -46,15 +46,7 @@ int run_sky(SkyArgs& a, const CLI::App& sub) {
 
 Command add_sky(CLI::App& app) {
   auto a = std::make_shared<SkyArgs>();
-  auto* sub = app.add_subcommand(
-      "sky",
-      "A rainbow in a daylight scene, per pixel on the CPU: the view ray's angle to the sun looked up in the Lee "
-      "tables, times the sun's light and the rain curtain's scattering (Marshall-Palmer rain at --rain-rate-mmh), over "
-      "Preetham's analytic sky and a ground plane. The EXR is linear Rec.709 in cd/m^2; the PNG is tone-mapped "
-      "(docs/sky.md). Without --lut the tables for --radius-um are computed first (Mie, with progress and an ETA): "
-      "about 12 s for 500 um drops on two cores at --sampling 1, growing as --sampling squared (50 s at 2, about an "
-      "hour at 16) and with the radius; for repeated or finer renders compute a table once (hydrolux lee or export) "
-      "and give it with --lut. Frames are refused up front when they would not fit in the memory available.");
+  auto* sub = add_job_command(app, "sky");
   Command cmd{sub, [a, sub] { return run_sky(*a, *sub); }, {}};
   const auto params = scene::sky_params();
   // The declared parameters store straight into the job (shared_ptr aliasing its options).

@@ -1,5 +1,9 @@
 #include "params.hpp"
 
+#include <fmt/format.h>
+
+#include "hydrolux/jobs.hpp"
+
 namespace hydrolux::cli {
 
 namespace {
@@ -32,17 +36,26 @@ CLI::Option* add_option_for(CLI::App& sub, const ParamInfo& info, const std::str
 
 }  // namespace
 
+CLI::App* add_job_command(CLI::App& parent, std::string_view job) {
+  const JobSpec& spec = job_spec(job);
+  const std::string_view command = spec.command.substr(spec.command.rfind(' ') + 1);
+  return parent.add_subcommand(std::string(command), std::string(spec.description));
+}
+
 CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(double)> store) {
   const Param& p = *info.param;
   CLI::Option* opt = add_option_for(sub, info, std::string(p.flag), store);
   if (!p.deprecated.empty()) {
     // The old spelling, for one release: it works as the new one, warns once, and is not in --help.
     const std::string old = Param::flag_of(p.deprecated);
-    CLI::Option* alias = add_option_for(sub, info, old, [store, old, &p](double v) {
+    // Both given is refused here, naming both (CLI11's excludes() would name a hidden option as "").
+    CLI::Option* alias = add_option_for(sub, info, old, [store, old, &p, opt](double v) {
+      if (opt->count() > 0)
+        throw CLI::ValidationError(old, fmt::format("give {} or {} (its deprecated name), not both", p.flag, old));
       warn(p.deprecation_warning(old, p.flag));
       store(v);
     });
-    alias->group("")->excludes(opt);
+    alias->group("");
   }
   return opt;
 }

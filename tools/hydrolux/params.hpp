@@ -14,6 +14,10 @@
 
 namespace hydrolux::cli {
 
+// The subcommand of `parent` for the library's job `job` (hydrolux/jobs.hpp): named by the last word
+// of the job's command ("hydrolux drop render": render), its help the job's description.
+CLI::App* add_job_command(CLI::App& parent, std::string_view job);
+
 // One flag for a declared parameter; `store` receives the parsed, range-checked value. A parameter
 // with a deprecated name also takes its old flag (hidden from --help; a warning when given).
 CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(double)> store);

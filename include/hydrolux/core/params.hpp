@@ -111,6 +111,9 @@ struct JobSpec {
   // The Python calls that take the parameters by name as keywords; empty where none does (then only
   // the CLI and the docs read the table).
   std::string_view python = {};
+  // What the job does, in a paragraph: the CLI command's help (`hydrolux <command> --help`) and the
+  // command reference read it.
+  std::string_view description = {};
 };
 
 template <class Request>
