@@ -366,15 +366,12 @@ def run(a: argparse.Namespace, after_result=None) -> int:
 
     Example (a local cluster of one worker; ``python3 -m hydrolux.batch lee-atlas`` does the same):
 
-    >>> import json, os, tempfile
+    >>> import argparse, json, os, tempfile
     >>> from hydrolux.batch import lee_atlas
     >>> folder = tempfile.mkdtemp()
     >>> spec = os.path.join(folder, "atlas.json")
-    >>> with open(spec, "w") as f:
-    ...     json.dump({"defaults": {"size": "4x8", "wavelengths-nm": "380:780:4"},
-    ...                "tables": [{"name": "rainbow-s{size-spread}", "table": "rainbow",
-    ...                            "sweep": {"size-spread": [0.05, 0.2]}}]}, f)
-    >>> import argparse
+    >>> with open(spec, "w") as f:   # one table, its flags its own (no defaults, no sweep)
+    ...     json.dump({"tables": [{"name": "glory", "table": "glory", "size": "4x8", "wavelengths-nm": "380:780:4"}]}, f)
     >>> p = argparse.ArgumentParser()
     >>> lee_atlas.add_arguments(p)
     >>> a = p.parse_args(["--spec", spec, "--output-dir", os.path.join(folder, "atlas")])
@@ -382,7 +379,7 @@ def run(a: argparse.Namespace, after_result=None) -> int:
     >>> lee_atlas.run(a)
     0
     >>> sorted(os.listdir(os.path.join(folder, "atlas")))
-    ['hydrolux-atlas.json', 'hydrolux-manifest.jsonl', ..., 'rainbow-s0.2.exr', 'rainbow-s0.2.json', 'rainbow-s0.2.png']
+    ['glory.exr', 'glory.json', 'glory.png', 'hydrolux-atlas.json', 'hydrolux-manifest.jsonl', 'hydrolux-manifest.lock']
     """
     lee_threads = {p["name"]: p for p in params()}["threads"]  # hydrolux lee --threads' range
     a.threads_per_table = _common.integer_flag("--threads-per-table", a.threads_per_table, int(lee_threads["lo"]),
