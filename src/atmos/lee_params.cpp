@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "hydrolux/core/random.hpp"  // kMaxSeed: the largest seed every door accepts
+#include "hydrolux/core/shared_params.hpp"
 
 namespace hydrolux::atmos {
 
@@ -20,14 +20,13 @@ using K = ParamKind;
 const Field<LeeRequest> kLee[] = {
     {{"sun_disk_deg", "--sun-disk-deg", "sun", K::real, "deg", 0, 5, "The sun's angular diameter in degrees (0: a point)"},
      HYDROLUX_PARAM_MEMBER(sun_disk_deg)},
-    {{"limb_darkening", "--limb-darkening", "sun", K::flag, "", 0, 1,
-      "Darken the sun's limb (linear law, u = 0.6; not with --sun-disk-deg 0)"},
+    {flag_param("limb_darkening", "--limb-darkening", "sun",
+                "Darken the sun's limb (linear law, u = 0.6; not with --sun-disk-deg 0)"),
      HYDROLUX_PARAM_MEMBER(limb_darkening)},
     {{"size_spread", "--size-spread", "drops", K::real, "", 0, 0.5,
       "Relative standard deviation of each column's gamma size distribution (0: one radius; else 0.01-0.5)"},
      HYDROLUX_PARAM_MEMBER(size_spread)},
-    {{"temperature_c", "--temperature-c", "drops", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
-      "Water temperature in Celsius (0 to 100) [20]"},
+    {temperature_param("drops", "Water temperature in Celsius (0 to 100) [20]"),
      HYDROLUX_PARAM_OPTIONAL(temperature_c)},
     {{"sun_elevation_deg", "--sun-elevation-deg", "drops", K::real, "deg", 0, 89,
       "Non-spherical drops: the sun's elevation above the horizon in degrees (spheres: no effect)"},
@@ -41,9 +40,9 @@ const Field<LeeRequest> kLee[] = {
     {{"sampling", "--sampling", "sampling", K::real, "", 0.25, 16,
       "Multiplier on every sampling rate (wavelengths, radius grid)"},
      HYDROLUX_PARAM_MEMBER(sampling)},
-    {{"seed", "--seed", "sampling", K::integer, "", 0, double(kMaxSeed), "Seed of the sampling pattern"},
+    {seed_param("sampling", "Seed of the sampling pattern"),
      HYDROLUX_PARAM_MEMBER(seed)},
-    {{"threads", "--threads", "sampling", K::integer, "", 0, kMaxThreads, "Threads (0: every core)"}, HYDROLUX_PARAM_MEMBER(threads)},
+    {threads_param("sampling", "Threads (0: every core)"), HYDROLUX_PARAM_MEMBER(threads)},
     {{"stokes", "--stokes", "output", K::flag, "", 0, 1,
       "Also the Stokes Q in the scattering-plane basis (> 0 tangential to the bow; U = 0): EXR channels Q.X, Q.Y, "
       "Q.Z, and the profile's dolp = Q_Y / I_Y"},

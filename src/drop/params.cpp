@@ -9,6 +9,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/shared_params.hpp"
 #include "hydrolux/drop/trace.hpp"
 #include "hydrolux/optics/media.hpp"
 
@@ -37,19 +38,19 @@ const Field<DropRenderRequest> kDropRender[] = {
      HYDROLUX_PARAM_MEMBER(samples)},
     {{"internal", "--internal", "render", K::integer, "", 0, 20, "Internal reflections added by the model (eq. 19)"},
      HYDROLUX_PARAM_MEMBER(internal)},
-    {{"temperature_c", "--temperature-c", "drop", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
-      "Drop temperature in Celsius, for media with a temperature model (water: 0 to 100) [medium's default]"},
+    {temperature_param("drop",
+      "Drop temperature in Celsius, for media with a temperature model (water: 0 to 100) [medium's default]"),
      HYDROLUX_PARAM_OPTIONAL(temperature_c)},
     {{"wavelength_nm", "--wavelength-nm", "drop", K::real, "nm", 200, 2500,
       "Vacuum wavelength of the index without --dispersion"},
      HYDROLUX_PARAM_MEMBER(wavelength_nm)},
-    {{"dispersion", "--dispersion", "drop", K::flag, "", 0, 1,
-      "Per-channel index at 610/550/465 nm: the channels' paths part (colour fringes)"},
+    {flag_param("dispersion", "--dispersion", "drop",
+                "Per-channel index at 610/550/465 nm: the channels' paths part (colour fringes)"),
      HYDROLUX_PARAM_MEMBER(dispersion)},
-    {{"background_blur", "--background-blur", "camera", K::flag, "", 0, 1,
-      "Defocus the background: the camera is focused on the drop, the scene is at infinity"},
+    {flag_param("background_blur", "--background-blur", "camera",
+                "Defocus the background: the camera is focused on the drop, the scene is at infinity"),
      HYDROLUX_PARAM_MEMBER(background_blur)},
-    {{"background", "--no-background", "camera", K::flag, "", 0, 1, "Black background with the drop's coverage in alpha"},
+    {flag_param("background", "--no-background", "camera", "Black background with the drop's coverage in alpha"),
      HYDROLUX_PARAM_MEMBER(background)},
     {{"exposure_ev", "--exposure-ev", "camera", K::real, "", -30, 30, "Exposure adjustment in stops applied to the output"},
      HYDROLUX_PARAM_MEMBER(exposure_ev)},

@@ -1,5 +1,7 @@
 #include "hydrolux/optics/params.hpp"
 
+#include "hydrolux/core/shared_params.hpp"
+
 namespace hydrolux::optics {
 
 namespace {
@@ -22,8 +24,8 @@ const Field<FresnelRequest> kFresnel[] = {
 };
 
 const Field<IorRequest> kIor[] = {
-    {{"temperature_c", "--temperature-c", "medium", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
-      "Temperature, Celsius (temperature-dependent media only; water: 0 to 100, default 20)"},
+    {temperature_param("medium",
+                       "Temperature, Celsius (temperature-dependent media only; water: 0 to 100, default 20)"),
      HYDROLUX_PARAM_OPTIONAL(temperature_c)},
 };
 

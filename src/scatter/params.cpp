@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "hydrolux/core/shared_params.hpp"
 #include "hydrolux/scatter/debye.hpp"
 #include "hydrolux/scatter/mie.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
@@ -17,26 +18,25 @@ using K = ParamKind;
 
 
 // Shared by both jobs: the media's temperature and the worker threads.
-constexpr Param kTemperature{"temperature_c", "--temperature-c", "media", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
-                             "Temperature in Celsius of the media that model it (water: 0 to 100); refused when "
-                             "neither medium does"};
-constexpr Param kThreads{"threads", "--threads", "run", K::integer, "", 0, kMaxThreads, "Worker threads (0 = all cores)"};
+constexpr Param kTemperature = temperature_param(
+    "media", "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither medium does");
+constexpr Param kThreads = threads_param("run", "Worker threads (0 = all cores)");
 
 const Field<MieRequest> kMie[] = {
     {{"x", "--x", "sphere", K::real, "", kMieMinSizeParameter, kMieMaxSizeParameter,
       "Size parameter 2 pi r / lambda, 1e-6 to 1e6"},
      HYDROLUX_PARAM_OPTIONAL(x)},
     {kTemperature, HYDROLUX_PARAM_OPTIONAL(temperature_c)},
-    {{"no_angles", "--no-angles", "amplitudes", K::flag, "", 0, 1,
-      "Efficiencies only (Qext, Qsca, Qabs, Qback, g): no amplitudes, the fast path for size sweeps"},
+    {flag_param("no_angles", "--no-angles", "amplitudes",
+                "Efficiencies only (Qext, Qsca, Qabs, Qback, g): no amplitudes, the fast path for size sweeps"),
      HYDROLUX_PARAM_MEMBER(no_angles)},
     {{"debye", "--debye", "amplitudes", K::integer, "", 0, kMaxDebyeOrder,
       "Restrict S1, S2 to Debye order P (0 diffraction + external reflection, 1 direct transmission, 2 primary "
       "rainbow, 3 secondary, ...); efficiencies stay the whole sphere's"},
      [](const MieRequest& o) { return o.debye ? double(*o.debye) : kNone; },
      [](MieRequest& o, double v) { o.debye = int(v); }},
-    {{"mueller", "--mueller", "amplitudes", K::flag, "", 0, 1,
-      "Add the Mueller matrix elements S11, S12, S33, S34 (Bohren & Huffman eq. 4.77) to the output"},
+    {flag_param("mueller", "--mueller", "amplitudes",
+                "Add the Mueller matrix elements S11, S12, S33, S34 (Bohren & Huffman eq. 4.77) to the output"),
      HYDROLUX_PARAM_MEMBER(mueller)},
     {kThreads, HYDROLUX_PARAM_MEMBER(threads)},
 };
@@ -49,8 +49,8 @@ const Field<PhaseRequest> kPhase[] = {
      HYDROLUX_PARAM_MEMBER(nodes)},
     {kTemperature, HYDROLUX_PARAM_OPTIONAL(temperature_c)},
     {kThreads, HYDROLUX_PARAM_MEMBER(threads)},
-    {{"mueller", "--mueller", "output", K::flag, "", 0, 1,
-      "Add the size-averaged Mueller matrix elements S11, S12, S33, S34 (Bohren & Huffman eq. 4.77) as columns"},
+    {flag_param("mueller", "--mueller", "output",
+         "Add the size-averaged Mueller matrix elements S11, S12, S33, S34 (Bohren & Huffman eq. 4.77) as columns"),
      HYDROLUX_PARAM_MEMBER(mueller)},
 };
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "hydrolux/atmos/lee_params.hpp"
+#include "hydrolux/core/shared_params.hpp"
 #include "hydrolux/scene/bow_tables.hpp"
 
 namespace hydrolux::scene {
@@ -59,11 +60,10 @@ std::span<const Field<SkyOptions>> sky_params() {
         "Multiplier on --environment's values (needs --environment)", {}, "environment", {},
         "scales {environment}'s values; without {environment} there is nothing to scale"},
        HYDROLUX_PARAM_MEMBER(environment_scale)},
-      {{"corona", "--corona", "rain", K::flag, "", 0, 1,
-        "Draw the corona and the forward light around the sun (0-90 degrees; drops of 1-50 um)"},
+      {flag_param("corona", "--corona", "rain",
+                  "Draw the corona and the forward light around the sun (0-90 degrees; drops of 1-50 um)"),
        HYDROLUX_PARAM_MEMBER(settings.corona)},
-      {{"secondary", "--no-secondary", "rain", K::flag, "", 0, 1,
-        "Leave out the secondary bow (fades out below 134 degrees)"},
+      {flag_param("secondary", "--no-secondary", "rain", "Leave out the secondary bow (fades out below 134 degrees)"),
        HYDROLUX_PARAM_MEMBER(settings.secondary)},
       {{"cube_face_size", "--cube-face-size", "mode", K::integer, "", 4, 4096,
         "Cube map face size in texels (--mode cube-map only)", {}, "mode=cube-map", {}, kCubeMapWhy},
