@@ -32,7 +32,6 @@ namespace hydrolux::atmos {
 
 namespace {
 
-constexpr double kPiD = kPi<double>;
 constexpr int kMaxSide = 16384;
 // The population's grid reaches kTailSigmas relative widths beyond the outer columns (the gamma
 // weight there is below 1e-13 of its peak for spread <= 0.5) and nodes are spread / kNodesPerWidth
@@ -243,21 +242,24 @@ struct Scratch {
 
 }  // namespace
 
+namespace {
+
+constexpr std::pair<LeeTableKind, std::string_view> kTableKinds[] = {
+    {LeeTableKind::rainbow, "rainbow"}, {LeeTableKind::corona, "corona"}, {LeeTableKind::glory, "glory"}};
+
+}  // namespace
+
 std::string_view table_kind_name(LeeTableKind k) {
-  switch (k) {
-    case LeeTableKind::rainbow: return "rainbow";
-    case LeeTableKind::corona: return "corona";
-    case LeeTableKind::glory: return "glory";
-  }
+  for (const auto& [kind, name] : kTableKinds)
+    if (kind == k) return name;
   return "?";
 }
 std::string_view angle_axis_name(AngleAxis a) { return a == AngleAxis::angle ? "angle" : "cos"; }
 std::string_view radius_scale_name(RadiusScale s) { return s == RadiusScale::log ? "log" : "linear"; }
 
 LeeTableKind parse_table_kind(std::string_view name) {
-  if (name == "rainbow") return LeeTableKind::rainbow;
-  if (name == "corona") return LeeTableKind::corona;
-  if (name == "glory") return LeeTableKind::glory;
+  for (const auto& [kind, kind_name] : kTableKinds)
+    if (kind_name == name) return kind;
   throw UnknownNameError(fmt::format("table '{}': expected rainbow, corona or glory", name));
 }
 
@@ -415,7 +417,7 @@ WorkShape work_shape(const LeeSpec& s) {
     w.cells = s.rows + 2 * (w.reach / (w.span / (s.rows - 1)) + 2);
   }
   const auto air = optics::find_medium(s.surrounding_medium);
-  const double k_max = 2 * kPiD * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
+  const double k_max = 2 * kPi<> * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
   w.nodes = s.size_spread == 0 ? double(s.columns) : double(shared_grid(s, k_max).nodes());
   return w;
 }
@@ -493,8 +495,8 @@ void validate(const LeeSpec& s) {
     (void)air->n(nm);
   }
   const bool wave_theory = is_wave_theory(s.theory);
-  const double x_max = 2 * kPiD * largest_radius_m(s) * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
-  const double x_min = 2 * kPiD * smallest_radius_m(s) * air->n(s.wavelength_max_nm) / (s.wavelength_max_nm * 1e-9);
+  const double x_max = 2 * kPi<> * largest_radius_m(s) * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
+  const double x_min = 2 * kPi<> * smallest_radius_m(s) * air->n(s.wavelength_max_nm) / (s.wavelength_max_nm * 1e-9);
   const double x_limit = wave_theory ? scatter::kMaxSizeParameter : scatter::kMaxGeometricSizeParameter;
   require_in_range("size_parameter", x_max, scatter::kMinSizeParameter, x_limit,
                    fmt::format("{} (the largest drop at the shortest wavelength)", scatter::theory_name(s.theory)));
@@ -567,7 +569,7 @@ double max_shape_radius_um(const LeeSpec& s) {
 double max_radius_um(const LeeSpec& s) {
   const auto air = optics::find_medium(s.surrounding_medium);
   const double x_limit = is_wave_theory(s.theory) ? scatter::kMaxSizeParameter : scatter::kMaxGeometricSizeParameter;
-  const double k_max = 2 * kPiD * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
+  const double k_max = 2 * kPi<> * air->n(s.wavelength_min_nm) / (s.wavelength_min_nm * 1e-9);
   // largest_radius_m's tail factor, inverted; floored to a whole micrometre so validate() accepts it.
   const double r_um = x_limit / k_max / std::exp(kTailSigmas * s.size_spread * 1.01) * 1e6;
   return std::min(kMaxRadiusUm, std::floor(r_um));
@@ -688,7 +690,7 @@ Population make_population(const LeeSpec& spec, const std::vector<double>& radiu
   Population p;
   const double w = spec.size_spread;
   p.per_column = w == 0;
-  const double k_max = 2 * kPiD * air.n(spec.wavelength_min_nm) / (spec.wavelength_min_nm * 1e-9);
+  const double k_max = 2 * kPi<> * air.n(spec.wavelength_min_nm) / (spec.wavelength_min_nm * 1e-9);
   if (!p.per_column) p.grid = shared_grid(spec, k_max);
   p.nodes = p.per_column ? radius_um.size() : std::size_t(p.grid.nodes());
   if (!p.per_column)
@@ -715,7 +717,7 @@ struct Sequences {
   // (cos rho, sin rho cos phi) of the n-th point of the disk.
   std::array<double, 2> disk_point(double n) const {
     const double rho = sun_radius * disk.radius_fraction(frac(disk_u0 + n * a1));
-    const double phi = 2 * kPiD * frac(disk_v0 + n * a2);
+    const double phi = 2 * kPi<> * frac(disk_v0 + n * a2);
     return std::array<double, 2>{std::cos(rho), std::sin(rho) * std::cos(phi)};
   }
   // The radius grid's shift at wavelength k.
@@ -789,7 +791,7 @@ std::vector<double> work_per_wavelength(const LeeTable& t, const Population& pop
   for (int k = 0; k < K; ++k) {
     double sum = 0;
     for (std::size_t j = 0; j < J; j += std::max<std::size_t>(1, J / 64))
-      sum += wants_mu ? 10 + 2 * kPiD * node_radius_m(j, k) / (t.wavelengths_nm[std::size_t(k)] * 1e-9) : 1.0;
+      sum += wants_mu ? 10 + 2 * kPi<> * node_radius_m(j, k) / (t.wavelengths_nm[std::size_t(k)] * 1e-9) : 1.0;
     k_work[std::size_t(k)] = sum;
     total += sum;
   }
@@ -964,7 +966,7 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
           for (std::size_t c = 0; c < R; ++c)
             cell_point(cells, wants_mu, c, frac(j0 + double(c) * seq.a1), sc.theta[c], sc.mu[c]);
         }
-        const double norm = 1 / (kPiD * x * x);
+        const double norm = 1 / (kPi<> * x * x);
         switch (spec.theory.kind) {
           case scatter::TheoryKind::Mie:
           case scatter::TheoryKind::Debye: {
@@ -1120,7 +1122,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
     const double nm = t.wavelengths_nm[std::size_t(k)];
     const std::complex<double> n_drop = drop->index(nm, spec.temperature_c);
     const double n_air = air->n(nm);
-    const Wavelength wl{k, K, n_drop / n_air, 2 * kPiD * n_air / (nm * 1e-9)};
+    const Wavelength wl{k, K, n_drop / n_air, 2 * kPi<> * n_air / (nm * 1e-9)};
     const double shift = seq.shift(k);
     place_nodes(pop, t, shift, wa);
     if (!pop.per_column) weigh_columns(pop, t, spec.size_spread, shift, arena, wa);

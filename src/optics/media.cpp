@@ -162,15 +162,23 @@ struct Registry {
   }
 };
 
+// A medium's name, description, source and valid range of vacuum wavelengths.
+MediumInfo medium_info(std::string name, std::string description, std::string source, double lambda_min_nm,
+                       double lambda_max_nm) {
+  MediumInfo info;
+  info.name = std::move(name);
+  info.description = std::move(description);
+  info.source = std::move(source);
+  info.lambda_min_nm = lambda_min_nm;
+  info.lambda_max_nm = lambda_max_nm;
+  return info;
+}
+
 std::shared_ptr<const Medium> tabulated(const char* name, const char* description,
                                         const char* path, bool conductor) {
   auto table = std::make_shared<const NkTable>(path);
-  MediumInfo info;
-  info.name = name;
-  info.description = description;
-  info.source = table->table.meta_or_empty("source");
-  info.lambda_min_nm = table->lambda.front();
-  info.lambda_max_nm = table->lambda.back();
+  MediumInfo info = medium_info(name, description, table->table.meta_or_empty("source"), table->lambda.front(),
+                                table->lambda.back());
   info.conductor = conductor;
   return std::make_shared<TabulatedMedium>(std::move(info), std::move(table));
 }
@@ -179,12 +187,9 @@ const Registry& registry() {
   static const Registry r = [] {
     Registry reg;
     {
-      MediumInfo info;
-      info.name = "water";
-      info.description = "liquid water (n: IAPWS R9-97 at 0.1 MPa; k: Hale & Querry 1973, 25 C)";
-      info.source = kIapwsSource;
-      info.lambda_min_nm = 200;  // IAPWS R9-97 range 0.2-1.1 um; Hale & Querry starts at 200 nm
-      info.lambda_max_nm = 1100;
+      // 200-1100 nm: IAPWS R9-97 range 0.2-1.1 um; Hale & Querry starts at 200 nm
+      MediumInfo info = medium_info("water", "liquid water (n: IAPWS R9-97 at 0.1 MPa; k: Hale & Querry 1973, 25 C)",
+                                    kIapwsSource, 200, 1100);
       info.temperature_dependent = true;
       info.temperature_min_c = 0;  // range of the density formula at 0.1 MPa (liquid)
       info.temperature_max_c = 100;
@@ -201,24 +206,17 @@ const Registry& registry() {
           info, std::make_shared<const NkTable>("media/ice_warren_brandt_2008.csv")));
     }
     {
-      MediumInfo info;
-      info.name = "pmma";
-      info.description = "PMMA (acrylic, poly(methyl methacrylate)), 20 C";
-      info.source =
+      const MediumInfo info = medium_info(
+          "pmma", "PMMA (acrylic, poly(methyl methacrylate)), 20 C",
           "Sultanova, Kasarova & Nikolov, Acta Phys. Pol. A 116, 585 (2009), one-term Sellmeier fit "
-          "of their data by refractiveindex.info";
-      info.lambda_min_nm = 436.8;
-      info.lambda_max_nm = 1052;
+          "of their data by refractiveindex.info",
+          436.8, 1052);
       reg.add(std::make_shared<FormulaMedium>(info, made_absolute(sellmeier({{{1.1819, 0.011313}}}))),
               {"acrylic"});
     }
     {
-      MediumInfo info;
-      info.name = "bk7";
-      info.description = "Schott N-BK7 borosilicate crown glass, 20 C";
-      info.source = "SCHOTT N-BK7 Sellmeier coefficients (catalogue 2017)";
-      info.lambda_min_nm = 300;
-      info.lambda_max_nm = 2500;
+      const MediumInfo info = medium_info("bk7", "Schott N-BK7 borosilicate crown glass, 20 C",
+                                          "SCHOTT N-BK7 Sellmeier coefficients (catalogue 2017)", 300, 2500);
       reg.add(std::make_shared<FormulaMedium>(
                   info, made_absolute(sellmeier({{1.03961212, 0.00600069867},
                                                  {0.231792344, 0.0200179144},
@@ -226,24 +224,16 @@ const Registry& registry() {
               {"glass"});
     }
     {
-      MediumInfo info;
-      info.name = "fused-silica";
-      info.description = "fused silica (amorphous SiO2), 20 C";
-      info.source = "Malitson, J. Opt. Soc. Am. 55, 1205 (1965)";  // relative to air
-      info.lambda_min_nm = 210;
-      info.lambda_max_nm = 3710;
+      const MediumInfo info = medium_info("fused-silica", "fused silica (amorphous SiO2), 20 C",
+                                          "Malitson, J. Opt. Soc. Am. 55, 1205 (1965)", 210, 3710);  // relative to air
       reg.add(std::make_shared<FormulaMedium>(
           info, made_absolute(sellmeier({{0.6961663, 0.0684043 * 0.0684043},
                                          {0.4079426, 0.1162414 * 0.1162414},
                                          {0.8974794, 9.896161 * 9.896161}}))));
     }
     {
-      MediumInfo info;
-      info.name = "air";
-      info.description = "standard air: 15 C, 101325 Pa, dry, 450 ppm CO2";
-      info.source = "Ciddor, Appl. Opt. 35, 1566 (1996)";
-      info.lambda_min_nm = 230;
-      info.lambda_max_nm = 1690;
+      MediumInfo info = medium_info("air", "standard air: 15 C, 101325 Pa, dry, 450 ppm CO2",
+                                    "Ciddor, Appl. Opt. 35, 1566 (1996)", 230, 1690);
       info.temperature_min_c = info.temperature_max_c = info.default_temperature_c = 15;
       reg.add(std::make_shared<FormulaMedium>(info, ciddor_standard_air));
     }

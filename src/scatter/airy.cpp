@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "hydrolux/core/error.hpp"
@@ -13,11 +14,10 @@ namespace hydrolux::scatter {
 
 namespace {
 
-constexpr double kPiD = kPi<double>;
 // Ai(0) and -Ai'(0) (A&S 10.4.4, 10.4.5): 3^(-2/3) / Gamma(2/3) and 3^(-1/3) / Gamma(1/3).
 constexpr double kC1 = 0.355028053887817239260;
 constexpr double kC2 = 0.258819403792806798405;
-constexpr double kSqrt3 = 1.7320508075688772935;
+constexpr double kSqrt3 = std::numbers::sqrt3;
 // Below this |x| the Maclaurin series; beyond, the Bessel forms.
 constexpr double kSeriesLimit = 2.0;
 // K_nu(zeta) underflows past zeta ~ 705; Ai(x) < 1e-300 there anyway.
@@ -53,35 +53,27 @@ AiryPair airy_series(double x) {
   return {kC1 * f - kC2 * x * gs, kC1 * fp - kC2 * gp};
 }
 
+// Ai (or Ai' with `derivative`): the Maclaurin series near 0, beyond it the Bessel forms (A&S
+// 10.4.14-10.4.17) of zeta = 2/3 |x|^(3/2).
+double airy(double x, bool derivative) {
+  if (std::isnan(x)) return x;
+  if (std::abs(x) <= kSeriesLimit) return derivative ? airy_series(x).aip : airy_series(x).ai;
+  const double z = std::abs(x);
+  const double zeta = 2.0 / 3.0 * z * std::sqrt(z);
+  if (x > 0) {
+    if (zeta > kMaxZeta) return 0.0;
+    if (derivative) return -x * std::cyl_bessel_k(2.0 / 3.0, zeta) / (kPi<> * kSqrt3);
+    return std::sqrt(x / 3) * std::cyl_bessel_k(1.0 / 3.0, zeta) / kPi<>;
+  }
+  if (derivative) return 0.5 * z * (std::cyl_bessel_j(2.0 / 3.0, zeta) + std::cyl_neumann(2.0 / 3.0, zeta) / kSqrt3);
+  return 0.5 * std::sqrt(z) * (std::cyl_bessel_j(1.0 / 3.0, zeta) - std::cyl_neumann(1.0 / 3.0, zeta) / kSqrt3);
+}
+
 }  // namespace
 
-double airy_ai(double x) {
-  if (std::isnan(x)) return x;
-  if (std::abs(x) <= kSeriesLimit) return airy_series(x).ai;
-  if (x > 0) {
-    const double zeta = 2.0 / 3.0 * x * std::sqrt(x);
-    if (zeta > kMaxZeta) return 0.0;
-    return std::sqrt(x / 3) * std::cyl_bessel_k(1.0 / 3.0, zeta) / kPiD;
-  }
-  const double z = -x;
-  const double zeta = 2.0 / 3.0 * z * std::sqrt(z);
-  return 0.5 * std::sqrt(z) *
-         (std::cyl_bessel_j(1.0 / 3.0, zeta) - std::cyl_neumann(1.0 / 3.0, zeta) / kSqrt3);
-}
+double airy_ai(double x) { return airy(x, false); }
 
-double airy_ai_prime(double x) {
-  if (std::isnan(x)) return x;
-  if (std::abs(x) <= kSeriesLimit) return airy_series(x).aip;
-  if (x > 0) {
-    const double zeta = 2.0 / 3.0 * x * std::sqrt(x);
-    if (zeta > kMaxZeta) return 0.0;
-    return -x * std::cyl_bessel_k(2.0 / 3.0, zeta) / (kPiD * kSqrt3);
-  }
-  const double z = -x;
-  const double zeta = 2.0 / 3.0 * z * std::sqrt(z);
-  return 0.5 * z *
-         (std::cyl_bessel_j(2.0 / 3.0, zeta) + std::cyl_neumann(2.0 / 3.0, zeta) / kSqrt3);
-}
+double airy_ai_prime(double x) { return airy(x, true); }
 
 namespace {
 
@@ -110,8 +102,8 @@ double airy_ai_fast(double x) {
     // A&S 10.4.60 with zeta = (2/3) z^(3/2) >= 42.7: four terms leave < 2e-8 relative.
     const double z = -x, zeta = 2.0 / 3.0 * z * std::sqrt(z), iz = 1 / zeta, iz2 = iz * iz;
     const double p = 1 - 0.0371335390946502 * iz2, q = iz * (0.0694444444444444 - 0.0379930650255432 * iz2);
-    const double phase = zeta + kPiD / 4;
-    return (std::sin(phase) * p - std::cos(phase) * q) / (std::sqrt(kPiD) * std::sqrt(std::sqrt(z)));
+    const double phase = zeta + kPi<> / 4;
+    return (std::sin(phase) * p - std::cos(phase) * q) / (std::sqrt(kPi<>) * std::sqrt(std::sqrt(z)));
   }
   // Cubic Hermite from Ai and Ai' at the two nodes around x.
   const double pos = (x - kTableLo) / kTableStep;
@@ -137,7 +129,7 @@ double airy_angular_scale(double n, double x, int p) {
 
 double airy_argument(double n, double x, int p, double theta) {
   check_airy(n, x, p);
-  require_in_range("theta_rad", theta, 0.0, kPiD, "Airy theory");
+  require_in_range("theta_rad", theta, 0.0, kPi<>, "Airy theory");
   const RainbowRay rb = rainbow_ray(n, p);
   return rb.side * (theta - rb.scattering_angle) * std::cbrt(x * x / rb.curvature);
 }
@@ -152,14 +144,14 @@ AiryRainbow airy_rainbow(double n_real, double x, int p, double kappa) {
   a.scale = std::cbrt(x * x / a.ray.curvature);  // z per radian
   // Weak absorption (van de Hulst 1957 section 14.2, as geometric.hpp): the rainbow ray's amplitude
   // decays as exp(-2 x kappa cos theta_t) along each of its p chords.
-  a.amplitude = std::sqrt(2 * kPiD * a.ray.impact_parameter / std::sin(a.ray.scattering_angle)) *
+  a.amplitude = std::sqrt(2 * kPi<> * a.ray.impact_parameter / std::sin(a.ray.scattering_angle)) *
                 std::pow(x, 7.0 / 6.0) / std::cbrt(a.ray.curvature) *
                 std::exp(-2.0 * p * x * kappa * std::cos(a.ray.theta_t));
   const double delta_r =
       2 * x * (p * n_real * std::cos(a.ray.theta_t) - std::cos(a.ray.theta_i));  // optical path
   // Focal lines of the inner branch (theta_i just below the rainbow ray, dTheta/dtheta_i < 0).
   const int n_inner = focal_lines(n_real, p, a.ray.theta_i * (1 - 1e-9));
-  a.phase0 = delta_r - kPiD * (n_inner + 1) / 2 - kPiD / 4;
+  a.phase0 = delta_r - kPi<> * (n_inner + 1) / 2 - kPi<> / 4;
   return a;
 }
 
@@ -177,7 +169,7 @@ void airy_amplitudes(double n_real, double x, int p, std::span<const double> the
   require_in_range("s2_size", static_cast<double>(s2.size()), size, size, "the theta_rad span");
   for (std::size_t i = 0; i < theta_rad.size(); ++i) {
     const double theta = theta_rad[i];
-    require_in_range("theta_rad", theta, 0.0, kPiD, "Airy theory");
+    require_in_range("theta_rad", theta, 0.0, kPi<>, "Airy theory");
     const double dtheta = a.ray.side * (theta - a.ray.scattering_angle);  // Theta - Theta_R
     const Complex common = a.amplitude * airy_ai(-a.scale * dtheta) *
                            std::exp(Complex(0, a.phase0 + x * a.ray.impact_parameter * dtheta));
