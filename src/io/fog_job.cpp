@@ -7,6 +7,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "frame_job.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/rain/rain.hpp"
 
@@ -54,14 +55,8 @@ class FogEffect final : public FrameEffect {
   void prepare(const SequenceStart& s) override { cam_ = rain::fog_camera_for(a_.options, s.width, s.height); }
   void render(const Image& frame, const Image* depth, std::size_t, bool, const std::string& origin,
               FrameOutput& out) override {
-    rain::FogFrame r;
-    try {
-      r = rain::render_fog(frame, depth, cam_, a_.options.settings, optics_, sky_);
-    } catch (const DomainError&) {
-      throw;
-    } catch (const Error& e) {
-      throw Error(fmt::format("{}: {}", origin, e.what()));
-    }
+    rain::FogFrame r = detail::render_frame(
+        origin, [&] { return rain::render_fog(frame, depth, cam_, a_.options.settings, optics_, sky_); });
     if (!sky_) sky_ = r.stats.sky;
     out.image = std::move(r.image);
     out.mask = std::move(r.alpha);
@@ -85,20 +80,14 @@ class FogEffect final : public FrameEffect {
               {"asymmetry_g", o.g},
               {"wavelength_nm", s.wavelength_nm},
               {"glow", s.glow}}},
-            {"camera",
-             {{"width", cam_.width},
-              {"height", cam_.height},
-              {"focal_mm", cam_.focal_mm},
-              {"sensor_width_mm", cam_.sensor_width_mm},
-              {"height_m", cam_.height_m},
-              {"pitch_deg", cam_.pitch_deg}}},
-            {"depth", a_.depth       ? *a_.depth
-                      : a_.depth_dir ? *a_.depth_dir
-                                     : fmt::format("ground plane, backdrop {:g} m", s.backdrop_m)}};
+            {"camera", detail::camera_json(cam_)},
+            {"depth", detail::depth_source(a_, fmt::format("ground plane, backdrop {:g} m", s.backdrop_m))}};
   }
 
-  const rain::FogOptics& optics() const { return optics_; }
-  const rain::FogStats& last() const { return last_; }
+  void fill_result(FogJobResult& out) const {
+    out.optics = optics_;
+    out.last = last_;
+  }
 
  private:
   const FogJob& a_;
@@ -112,13 +101,9 @@ class FogEffect final : public FrameEffect {
 
 FogJobResult run_fog_job(const FogJob& a, const FogJobHooks& hooks) {
   FogEffect effect(a);
-  FogJobResult out;
-  out.FrameRunResult::operator=(run_frames(frame_request(a, a.files.png_compression, a.video_files.crf, a.crf_given,
-                                                         a.files.depth_scale_m, a.depth_scale_given),
-                                           effect, hooks));
-  out.optics = effect.optics();
-  out.last = effect.last();
-  return out;
+  return detail::run_frame_job<FogJobResult>(frame_request(a, a.files.png_compression, a.video_files.crf, a.crf_given,
+                                                           a.files.depth_scale_m, a.depth_scale_given),
+                                             effect, hooks);
 }
 
 std::string fog_summary(const FogJobResult& r) {

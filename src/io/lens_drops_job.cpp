@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "frame_job.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/rain/rain.hpp"
 
@@ -35,13 +36,7 @@ class LensDropsEffect final : public FrameEffect {
               FrameOutput& out) override {
     rain::LensDropSettings s = a_.settings;
     s.seed = (a_.settings.seed + k) % (rain::kMaxSeed + 1);
-    try {
-      last_ = rain::render_lens_drops(frame, s);
-    } catch (const DomainError&) {
-      throw;  // a setting: the CLI names its flag
-    } catch (const Error& e) {
-      throw Error(fmt::format("{}: {}", origin, e.what()));
-    }
+    last_ = detail::render_frame(origin, [&] { return rain::render_lens_drops(frame, s); });
     out.image = std::move(last_.image);
     out.mask = std::move(last_.mask);
     out.stats = {{"seed", s.seed},
@@ -73,7 +68,11 @@ class LensDropsEffect final : public FrameEffect {
               {"samples", s.samples}}}};
   }
 
-  const rain::LensDropsResult& last() const { return last_; }
+  void fill_result(LensDropsJobResult& out) const {
+    out.drops = last_.drops;
+    out.coverage = last_.coverage;
+    out.blur_diameter_px = last_.blur_diameter_px;
+  }
 
  private:
   const LensDropsJob& a_;
@@ -84,13 +83,8 @@ class LensDropsEffect final : public FrameEffect {
 
 LensDropsJobResult run_lens_drops_job(const LensDropsJob& a, const FrameHooks& hooks) {
   LensDropsEffect effect(a);
-  LensDropsJobResult out;
-  out.FrameRunResult::operator=(
-      run_frames(frame_request(a, a.files.png_compression, a.video_files.crf, a.crf_given), effect, hooks));
-  out.drops = effect.last().drops;
-  out.coverage = effect.last().coverage;
-  out.blur_diameter_px = effect.last().blur_diameter_px;
-  return out;
+  return detail::run_frame_job<LensDropsJobResult>(
+      frame_request(a, a.files.png_compression, a.video_files.crf, a.crf_given), effect, hooks);
 }
 
 std::string lens_drops_summary(const LensDropsJobResult& r) {

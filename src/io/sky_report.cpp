@@ -5,6 +5,7 @@
 #include <cstring>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "hydrolux/core/embedded_data.hpp"
@@ -55,46 +56,32 @@ nlohmann::json sky_parameters_json(double turbidity) {
        "(*_q.f32)"},
       {"tone_map", "with a polariser l_ref / 2 in the tone map (a camera opens up one stop for the light it "
                    "halves); the whitepaper blend keeps l_ref"}};
-  nlohmann::json e = nlohmann::json::array(), lux = nlohmann::json::array(), sun = nlohmann::json::array(),
-                 sky = nlohmann::json::array(), ground = nlohmann::json::array(), lref = nlohmann::json::array(),
-                 zy = nlohmann::json::array(), zx = nlohmann::json::array(), zyc = nlohmann::json::array(),
-                 py = nlohmann::json::array(), px = nlohmann::json::array(), pyc = nlohmann::json::array(),
-                 pat = nlohmann::json::array();
+  // One column per quantity, a value per sun elevation from 0 to 90 degrees.
+  const auto rgb = [](const Vec3& v) { return nlohmann::json{v.x, v.y, v.z}; };
+  const auto coef = [](const scene::Perez& p) { return nlohmann::json{p.A, p.B, p.C, p.D, p.E}; };
   scene::SunSky first;
   for (int deg = 0; deg <= 90; ++deg) {
     const scene::SunSky s = scene::make_sun_sky(deg, turbidity);
     if (deg == 0) first = s;
-    e.push_back(deg);
-    lux.push_back(s.sun_illuminance_lux);
-    sun.push_back({s.sun_rgb.x, s.sun_rgb.y, s.sun_rgb.z});
-    sky.push_back({s.sky_illuminance_rgb.x, s.sky_illuminance_rgb.y, s.sky_illuminance_rgb.z});
-    ground.push_back({s.ground_rgb.x, s.ground_rgb.y, s.ground_rgb.z});
-    lref.push_back(s.l_ref);
-    zy.push_back(s.zenith_Y_kcd);
-    zx.push_back(s.zenith_x);
-    zyc.push_back(s.zenith_y);
-    const auto coef = [](const scene::Perez& p) { return nlohmann::json{p.A, p.B, p.C, p.D, p.E}; };
-    py.push_back(coef(s.perez[0]));
-    px.push_back(coef(s.perez[1]));
-    pyc.push_back(coef(s.perez[2]));
-    pat.push_back({s.perez_at_sun[0], s.perez_at_sun[1], s.perez_at_sun[2]});
+    const std::pair<const char*, nlohmann::json> row[] = {
+        {"elevations_deg", deg},
+        {"sun_illuminance_lux", s.sun_illuminance_lux},
+        {"sun_rgb", rgb(s.sun_rgb)},
+        {"sky_illuminance_rgb", rgb(s.sky_illuminance_rgb)},
+        {"ground_rgb", rgb(s.ground_rgb)},
+        {"l_ref", s.l_ref},
+        {"zenith_Y_kcd", s.zenith_Y_kcd},
+        {"zenith_x", s.zenith_x},
+        {"zenith_y", s.zenith_y},
+        {"perez_Y", coef(s.perez[0])},
+        {"perez_x", coef(s.perez[1])},
+        {"perez_y", coef(s.perez[2])},
+        {"perez_at_sun", {s.perez_at_sun[0], s.perez_at_sun[1], s.perez_at_sun[2]}}};
+    for (const auto& [key, value] : row) j[key].push_back(value);
   }
   j["xyz_to_rgb"] = {{first.xyz_to_rgb[0][0], first.xyz_to_rgb[0][1], first.xyz_to_rgb[0][2]},
                      {first.xyz_to_rgb[1][0], first.xyz_to_rgb[1][1], first.xyz_to_rgb[1][2]},
                      {first.xyz_to_rgb[2][0], first.xyz_to_rgb[2][1], first.xyz_to_rgb[2][2]}};
-  j["elevations_deg"] = e;
-  j["sun_illuminance_lux"] = lux;
-  j["sun_rgb"] = sun;
-  j["sky_illuminance_rgb"] = sky;
-  j["ground_rgb"] = ground;
-  j["l_ref"] = lref;
-  j["zenith_Y_kcd"] = zy;
-  j["zenith_x"] = zx;
-  j["zenith_y"] = zyc;
-  j["perez_Y"] = py;
-  j["perez_x"] = px;
-  j["perez_y"] = pyc;
-  j["perez_at_sun"] = pat;
   return j;
 }
 
