@@ -27,7 +27,7 @@ Image test_frame(int w, int h) {
 
 rain::RainRenderer make_renderer(double rate) {
   rain::RainSettings s;
-  s.rate_mmh = rate;
+  s.rain_rate_mmh = rate;
   s.wind_mps = 3;
   rain::RainCamera c;  // 1920 x 1080, 35 mm on a 36 mm sensor, 1/125 s
   return rain::RainRenderer(rain::RainField(s, c));

@@ -77,7 +77,7 @@ void BM_RainFolderPng(benchmark::State& state) {
   io::RainJob job;
   job.input_dir = f.in().string();
   job.output_dir = f.out().string();
-  job.options.settings.rate_mmh = 25;
+  job.options.settings.rain_rate_mmh = 25;
   job.options.settings.wind_mps = 3;
   job.files.png_compression = int(state.range(0));
   io::RainJobHooks hooks;

@@ -11,6 +11,7 @@ import functools
 import inspect
 import math
 import os
+import warnings
 from typing import Any, Optional, Sequence, Union
 
 import numpy as np
@@ -186,8 +187,35 @@ def _options_doc(params: list) -> str:
         default = f"; default {p['default']!r}" if p["default"] is not None else ""
         # A switch's help is its CLI flag's, which turns the default around (--no-unresolved).
         what = f"{not p['default']}: {p['help']}" if p["kind"] == "flag" else p["help"]
-        lines.append(f"    ``{p['name']}`` ({valid}{default}): {what}")
+        old = f" (``{p['deprecated']}`` before: deprecated)" if p.get("deprecated") else ""
+        lines.append(f"    ``{p['name']}`` ({valid}{default}): {what}{old}")
     return "\n".join(lines)
+
+
+def _deprecated_keyword(kw: dict, old: str, now: str, unit: str, stacklevel: int = 2) -> dict:
+    """``kw`` with the keyword ``old``, a parameter's name before it was renamed ``now`` (kept for one
+    release), given as ``now``, with one DeprecationWarning naming ``now`` (the library's words, as the
+    CLI says it for the old flag); both given is a TypeError naming both. ``stacklevel`` as
+    warnings.warn counts it from the caller of this function."""
+    if old not in kw:
+        return kw
+    if kw.get(now) is not None:
+        raise TypeError(f"{old}: give {now} or {old} ({now}'s deprecated name), not both")
+    kw = dict(kw)
+    kw.pop(now, None)
+    kw[now] = kw.pop(old)
+    warnings.warn(_core.deprecation_warning(old, now, unit), DeprecationWarning, stacklevel=stacklevel + 1)
+    return kw
+
+
+def _renamed(params: list, kw: dict, stacklevel: int = 2) -> dict:
+    """The options ``kw`` of a function taking ``**options`` with each declared parameter's deprecated
+    name (``p["deprecated"]``) given as its name, each with its warning (:func:`_deprecated_keyword`;
+    ``stacklevel`` 2: at the line that called the function calling this one)."""
+    for p in params:
+        if p.get("deprecated"):
+            kw = _deprecated_keyword(kw, p["deprecated"], p["name"], p["unit"], stacklevel + 1)
+    return kw
 
 
 def _with_options(params: list, keep: int, positional: bool = False):

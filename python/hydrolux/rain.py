@@ -11,7 +11,7 @@ from typing import Any, NamedTuple, Optional, Sequence
 import numpy as np
 
 from hydrolux import _core
-from hydrolux._args import _array_arg, _declared, _describe, _flag, _rgb, _with_options
+from hydrolux._args import _array_arg, _declared, _describe, _flag, _renamed, _rgb, _with_options
 
 
 class RainResult(NamedTuple):
@@ -66,7 +66,7 @@ class RainRenderer:
     Example:
 
     >>> import hydrolux
-    >>> renderer = hydrolux.RainRenderer(64, 48, rate_mmh=25, wind_mps=3, seed=4)
+    >>> renderer = hydrolux.RainRenderer(64, 48, rain_rate_mmh=25, wind_mps=3, seed=4)
     >>> scene = hydrolux.builtin_scene(64, 48)
     >>> frames = [renderer.render(scene, frame_index=k).image for k in range(3)]
     >>> bool((renderer.render(scene, frame_index=1).image == frames[1]).all())   # any frame alone, the same
@@ -75,6 +75,7 @@ class RainRenderer:
 
     @_with_options(_RAIN_PARAMS, 4)
     def __init__(self, width: int, height: int, ground_plane: bool = True, **options: Any):
+        options = _renamed(_RAIN_PARAMS, options)  # rate_mmh, deprecated: as rain_rate_mmh, with a warning
         self._r = _core.RainRenderer(width, height, _flag(ground_plane, "ground_plane"), _rain_options(options))
         self._made_by = (width, height, ground_plane, dict(options))
 
@@ -126,7 +127,7 @@ class RainRenderer:
 def rain(image: np.ndarray, depth: Optional[np.ndarray] = None, frame_index: int = 0, with_layer: bool = False,
          **options: Any) -> RainResult:
     """Rain over one image (``hydrolux rain --image``; docs/rain.md): drops from Marshall-Palmer for
-    ``rate_mmh``, falling at terminal velocity with the wind, each seen through Garg & Nayar's drop
+    ``rain_rate_mmh``, falling at terminal velocity with the wind, each seen through Garg & Nayar's drop
     model lit by the image, smeared by the exposure into streaks, hidden behind ``depth`` (camera z
     in metres, (H, W)) or else a ground plane; unresolved rain as extinction and airlight.
 
@@ -138,13 +139,14 @@ def rain(image: np.ndarray, depth: Optional[np.ndarray] = None, frame_index: int
 
     >>> import hydrolux
     >>> scene = hydrolux.builtin_scene(64, 48)
-    >>> out = hydrolux.rain(scene, rate_mmh=50, wind_mps=3, seed=4)
+    >>> out = hydrolux.rain(scene, rain_rate_mmh=50, wind_mps=3, seed=4)
     >>> out.image.shape, out.mask.shape, out.layer is None
     ((48, 64, 3), (48, 64, 1), True)
-    >>> again = hydrolux.rain(scene, rate_mmh=50, wind_mps=3, seed=4)
+    >>> again = hydrolux.rain(scene, rain_rate_mmh=50, wind_mps=3, seed=4)
     >>> bool((again.image == out.image).all())   # the same seed, the same bytes
     True
     """
+    options = _renamed(_RAIN_PARAMS, options)  # rate_mmh, deprecated: as rain_rate_mmh, with a warning
     img = _array_arg(image, "image")
     if img.ndim != 3 or img.shape[2] < 3:
         raise ValueError(f"image: expected (height, width, 3 or more channels) linear RGB, got {_describe(img)}")

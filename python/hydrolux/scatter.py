@@ -11,8 +11,8 @@ from typing import Any, NamedTuple, Optional, Tuple, Union
 import numpy as np
 
 from hydrolux import _core, _xarray
-from hydrolux._args import (_MEDIUM, ArrayLike, _complex, _describe, _flag, _history, _opt_real, _real, _reals,
-                            _text)
+from hydrolux._args import (_MEDIUM, ArrayLike, _complex, _deprecated_keyword, _describe, _flag, _history,
+                            _opt_real, _real, _reals, _text)
 from hydrolux._core import __version__
 
 
@@ -487,7 +487,7 @@ class SizeDistribution:
 
     Make one with :meth:`monodisperse`, :meth:`gamma`, :meth:`log_normal` or :meth:`marshall_palmer`.
     Radii in metres in (0, 1]; relative widths sigma_r / <r> in [1e-4, 1]; number concentrations
-    in (0, 1e30] m^-3; rain rates in (0, 1000] mm/h.
+    in (0, 1e30] m^-3; rain rates in [0.01, 500] mm/h.
 
     Example:
 
@@ -559,8 +559,13 @@ class SizeDistribution:
         return cls(_core.SizeDistribution.log_normal(*args), ("log_normal", args))
 
     @classmethod
-    def marshall_palmer(cls, rain_rate_mm_per_h: float, n0_per_m4: float = 8e6) -> "SizeDistribution":
+    def marshall_palmer(cls, rain_rate_mmh: Optional[float] = None, n0_per_m4: float = 8e6,
+                        **deprecated: Any) -> "SizeDistribution":
         """Marshall & Palmer (1948): n(r) = N0' exp(-Lambda r), N0 = 8e6 m^-4 per metre of diameter.
+
+        ``rain_rate_mmh``: the rain rate in [0.01, 500] mm/h, the range every job takes it in (500 the
+        rain's and the sky's upper limit). The keyword ``rain_rate_mm_per_h`` of earlier releases is
+        taken for one more, with a DeprecationWarning.
 
         Example:
 
@@ -569,7 +574,14 @@ class SizeDistribution:
         >>> print(f"{d.number_concentration:.0f} drops per m^3, mean radius {d.mean_radius * 1e3:.3f} mm")
         1368 drops per m^3, mean radius 0.171 mm
         """
-        args = (_real(rain_rate_mm_per_h, "rain_rate_mm_per_h"), _real(n0_per_m4, "n0_per_m4"))
+        for k in deprecated:
+            if k != "rain_rate_mm_per_h":
+                raise TypeError(f"marshall_palmer() got an unexpected keyword argument '{k}'")
+        kw = _deprecated_keyword({"rain_rate_mmh": rain_rate_mmh, **deprecated}, "rain_rate_mm_per_h",
+                                 "rain_rate_mmh", "mm/h", stacklevel=2)
+        if kw["rain_rate_mmh"] is None:
+            raise TypeError("marshall_palmer() missing the rain rate: rain_rate_mmh (mm/h)")
+        args = (_real(kw["rain_rate_mmh"], "rain_rate_mmh"), _real(n0_per_m4, "n0_per_m4"))
         return cls(_core.SizeDistribution.marshall_palmer(*args), ("marshall_palmer", args))
 
     @property

@@ -147,6 +147,8 @@ void bind_core(py::module_& m) {
           d["kind"] = p.kind == ParamKind::real ? "real" : p.kind == ParamKind::integer ? "integer" : "flag";
           d["unit"] = std::string(p.unit), d["lo"] = p.lo, d["hi"] = p.hi;
           d["range"] = p.range_text(), d["help"] = std::string(p.help), d["excludes"] = std::string(p.excludes);
+          // The name it had before (taken for one release with a warning), or None.
+          d["deprecated"] = p.deprecated.empty() ? py::object(py::none()) : py::object(py::str(std::string(p.deprecated)));
           d["default_text"] = info.default_text();
           if (std::isnan(info.default_value)) d["default"] = py::none();
           else if (p.kind == ParamKind::real) d["default"] = info.default_value;
@@ -157,6 +159,16 @@ void bind_core(py::module_& m) {
         return out;
       },
       py::arg("job"));
+  // The warning for a deprecated spelling `old` of `now` (a quantity in `unit`), in the library's words
+  // (Param::deprecation_warning): the keywords and the batch flags say it as the CLI does.
+  m.def(
+      "deprecation_warning",
+      [](const std::string& old, const std::string& now, const std::string& unit) {
+        Param p;
+        p.unit = unit;
+        return p.deprecation_warning(old, now);
+      },
+      py::arg("old"), py::arg("now"), py::arg("unit"));
   // A folder of frames as a sequence (io/frames.hpp): the frames, their outputs and depth maps, the
   // entries skipped, the folders checked; one definition with hydrolux rain --input-dir.
   m.def(

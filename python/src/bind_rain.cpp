@@ -67,7 +67,7 @@ class PyRainRenderer {
       if (o.has_fog()) renderer_->set_fog(o.fog);
     } catch (const rain::TooManyDrops& e) {
       throw Error(fmt::format("min_alpha {:g}: the rain field would hold {:.3g} drops, more than the limit of {:.3g}; "
-                              "raise min_alpha, near_m or min_radius_mm, or lower far_m or rate_mmh",
+                              "raise min_alpha, near_m or min_radius_mm, or lower far_m or rain_rate_mmh",
                               s.min_alpha, e.drops(), double(rain::RainField::kMaxDrops)));
     }
   }

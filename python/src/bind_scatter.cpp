@@ -457,7 +457,7 @@ void bind_scatter(py::module_& m) {
                   py::arg("number_per_m3"))
       .def_static("log_normal", &sc::SizeDistribution::log_normal, py::arg("mean_radius_m"), py::arg("relative_width"),
                   py::arg("number_per_m3"))
-      .def_static("marshall_palmer", &sc::SizeDistribution::marshall_palmer, py::arg("rain_rate_mm_per_h"),
+      .def_static("marshall_palmer", &sc::SizeDistribution::marshall_palmer, py::arg("rain_rate_mmh"),
                   py::arg("n0_per_m4"))
       .def_property_readonly("kind",
                              [](const sc::SizeDistribution& d) {

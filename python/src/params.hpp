@@ -11,7 +11,7 @@
 
 namespace hydrolux::py_bind {
 
-// Where a declared real's range is checked: here, as the CLI's flags check it ("rate_mmh = 600 is
+// Where a declared real's range is checked: here, as the CLI's flags check it ("rain_rate_mmh = 600 is
 // outside [0, 500] mm/h"), or by the library call that follows, which reads the same range from the
 // table and says it in its own words (hydrolux.lee: atmos::validate, as before the table existed).
 enum class RealRanges { checked, by_library };
@@ -28,7 +28,7 @@ inline double param_value(const Param& p, py::handle v, RealRanges ranges = Real
       break;
   }
   const double x = real_arg(v, name.c_str());
-  if (ranges == RealRanges::checked) p.check(x);  // "rate_mmh = 600 is outside [0, 500] mm/h"
+  if (ranges == RealRanges::checked) p.check(x);  // "rain_rate_mmh = 600 is outside [0, 500] mm/h"
   return x;
 }
 

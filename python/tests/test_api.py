@@ -66,7 +66,7 @@ def test_rain_is_the_function_and_its_module_is_found():
     assert inspect.ismodule(batch_rain) and batch_rain.__name__ == "hydrolux.batch.rain"
     help_text = subprocess.run([sys.executable, "-m", "hydrolux.batch", "rain", "--help"], capture_output=True,
                                text=True)
-    assert help_text.returncode == 0 and "--rate-mmh" in help_text.stdout, help_text.stderr
+    assert help_text.returncode == 0 and "--rain-rate-mmh" in help_text.stdout, help_text.stderr
 
 
 def test_the_io_module_leaves_the_standard_io_alone():
@@ -104,7 +104,7 @@ def test_pickles_made_before_the_split_load():
     bulk = h.bulk_optics(1.333, 550, fog, nodes=8)
     assert isinstance(old["bulk"], h.BulkOptics) and old["bulk"] == bulk
     assert old["bulk"].setup["distribution"].parameters == fog.parameters
-    renderer = h.RainRenderer(64, 48, rate_mmh=25, wind_mps=3, seed=4)
+    renderer = h.RainRenderer(64, 48, rain_rate_mmh=25, wind_mps=3, seed=4)
     assert isinstance(old["renderer"], h.RainRenderer) and old["renderer"].field_info() == renderer.field_info()
     scene = h.builtin_scene(64, 48)
     np.testing.assert_array_equal(old["renderer"].render(scene, frame_index=2).image,

@@ -34,7 +34,7 @@ def cli_out(frames, tmp_path_factory, cli):
     """The single-process reference: hydrolux rain --input-dir over the whole sequence."""
     d = tmp_path_factory.mktemp("cli")
     cli("rain", "--input-dir", frames, "--output-dir", d / "rainy", "--mask-dir", d / "masks", "--seed", 4,
-        "--rate-mmh", 25, "--wind-mps", 2, "--frame-index", 10, "-q")
+        "--rain-rate-mmh", 25, "--wind-mps", 2, "--frame-index", 10, "-q")
     return d
 
 
@@ -45,7 +45,7 @@ def batch_args(frames, out, **kw):
     for p in batch_rain.params():  # every other declared parameter as the parser leaves it
         if not hasattr(a, p["name"]):
             setattr(a, p["name"], batch_rain.parser_default(p))
-    a.seed, a.rate_mmh, a.wind_mps = 4, 25.0, 2.0
+    a.seed, a.rain_rate_mmh, a.wind_mps = 4, 25.0, 2.0
     for k, v in kw.items():
         setattr(a, k, v)
     return a
@@ -139,8 +139,8 @@ def test_a_corrupt_frame_is_reported_and_the_others_go_on(frames, cli_out, tmp_p
 
 def test_usage_errors_are_one_line_exit_2(frames, tmp_path, capfd):
     cases = [
-        (["rain", "--input-dir", str(frames), "--output-dir", str(tmp_path / "o"), "--rate-mmh", "600"],
-         "--rate-mmh: 600 is outside the valid range [0, 500] mm/h"),
+        (["rain", "--input-dir", str(frames), "--output-dir", str(tmp_path / "o"), "--rain-rate-mmh", "600"],
+         "--rain-rate-mmh: 600 is outside the valid range [0, 500] mm/h"),
         (["rain", "--input-dir", str(frames), "--output-dir", str(frames)], "is the input folder"),
         (["rain", "--input-dir", str(tmp_path / "none"), "--output-dir", str(tmp_path / "o")], "not a folder"),
         (["rain", "--input-dir", str(frames), "--output-dir", str(tmp_path / "o"), "--workers", "0"],
@@ -269,7 +269,7 @@ def test_an_existing_cluster_through_scheduler(frames, cli_out, tmp_path):
             c.wait_for_workers(2)
         out = tmp_path / "rainy"
         assert main(["rain", "--scheduler", address, "--input-dir", str(frames), "--output-dir", str(out),
-                     "--seed", "4", "--rate-mmh", "25", "--wind-mps", "2", "--frame-index", "10", "-q"]) == 0
+                     "--seed", "4", "--rain-rate-mmh", "25", "--wind-mps", "2", "--frame-index", "10", "-q"]) == 0
         names = sorted(os.listdir(cli_out / "rainy"))
         assert_same_bytes(cli_out / "rainy", out, names)
     finally:
@@ -303,7 +303,7 @@ def test_depth_maps_give_the_cli_bytes_and_are_tracked(frames, cli, cli_out, tmp
         else:  # a 16-bit PNG (code 0: no geometry); what its codes mean is the same for both readers
             h.write_image(str(depth / f"f_{k:03d}.png"), np.where(np.isfinite(z), z / 100, 0), bits=16)
     cli("rain", "--input-dir", frames, "--output-dir", tmp_path / "cli", "--depth-dir", depth, "--seed", 4,
-        "--rate-mmh", 25, "--wind-mps", 2, "--frame-index", 10, "-q")
+        "--rain-rate-mmh", 25, "--wind-mps", 2, "--frame-index", 10, "-q")
     out = tmp_path / "rainy"
     assert batch_rain.run(batch_args(frames, out, depth_dir=str(depth))) == 0
     names = sorted(os.listdir(tmp_path / "cli"))

@@ -210,8 +210,8 @@ def test_more_workers_than_the_cores_or_the_memory_are_refused_before_any_cluste
 # ---- 3. numbers as the CLI parses them ------------------------------------------------------------
 
 CLI_CASES = [("--seed", "1.5"), ("--seed", "-1"), ("--seed", "9007199254740993"), ("--seed", "1e20"),
-             ("--seed", "x"), ("--rate-mmh", "1_0"), ("--rate-mmh", " 10 "), ("--rate-mmh", "infinity"),
-             ("--rate-mmh", "nan"), ("--rate-mmh", "600"), ("--rate-mmh", "0x10"), ("--rate-mmh", "1e400"),
+             ("--seed", "x"), ("--rain-rate-mmh", "1_0"), ("--rain-rate-mmh", " 10 "), ("--rain-rate-mmh", "infinity"),
+             ("--rain-rate-mmh", "nan"), ("--rain-rate-mmh", "600"), ("--rain-rate-mmh", "0x10"), ("--rain-rate-mmh", "1e400"),
              ("--wind-mps", "-1"), ("--fov-deg", "171"), ("--frame-index", "-1"), ("--frame-index", "2.5"),
              ("--crf", "52"), ("--crf", "1_8"), ("--depth-scale-m", "0"), ("--min-alpha", "1"),
              ("--pitch-deg", "+81")]
@@ -230,15 +230,15 @@ def test_numbers_are_refused_with_the_cli_message(flag, value, frames, tmp_path,
 
 
 def test_numbers_the_cli_accepts_are_accepted(frames):
-    a = argparse.Namespace(input_dir=str(frames), output_dir="o", seed="1e3", rate_mmh="+25", wind_mps=".5",
+    a = argparse.Namespace(input_dir=str(frames), output_dir="o", seed="1e3", rain_rate_mmh="+25", wind_mps=".5",
                            frame_index="1e2", chunk_frames="4", crf="1.8e1", depth_scale_m="1e-3")
     for p in batch_rain.params():
         if not hasattr(a, p["name"]):
             setattr(a, p["name"], batch_rain.parser_default(p))
     batch_rain.parse_numbers(a)
-    assert (a.seed, a.rate_mmh, a.wind_mps, a.frame_index, a.chunk_frames, a.crf, a.depth_scale_m) == \
+    assert (a.seed, a.rain_rate_mmh, a.wind_mps, a.frame_index, a.chunk_frames, a.crf, a.depth_scale_m) == \
         (1000, 25.0, 0.5, 100, 4, 18, 0.001)
-    assert type(a.seed) is int and type(a.rate_mmh) is float
+    assert type(a.seed) is int and type(a.rain_rate_mmh) is float
     for flag, value, text in (("--chunk-frames", "2.5", "--chunk-frames: 2.5 is not a whole number; valid range "
                                                         "[0, 100000] (0: automatic)"),
                               ("--workers", "1_0", "--workers: '1_0' is not a whole number; valid range [1, "),

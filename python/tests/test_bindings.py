@@ -275,10 +275,10 @@ def test_rain_matches_cli(cli, tmp_path):
     assert frame.shape == (136, 240, 3) and frame.dtype == np.float32
     src = tmp_path / "frame.exr"
     h.write_image(str(src), frame)
-    r = h.rain(h.read_image(str(src)), seed=7, rate_mmh=40, wind_mps=3, frame_index=5, with_layer=True)
+    r = h.rain(h.read_image(str(src)), seed=7, rain_rate_mmh=40, wind_mps=3, frame_index=5, with_layer=True)
     assert r.image.shape == (136, 240, 3) and r.mask.shape == (136, 240, 1) and r.layer.shape == (136, 240, 4)
     cli("rain", "--image", src, "-o", tmp_path / "out.exr", "--mask-out", tmp_path / "mask.exr",
-        "--layer-out", tmp_path / "layer.exr", "--stats-json", tmp_path / "s.json", "--seed", 7, "--rate-mmh", 40,
+        "--layer-out", tmp_path / "layer.exr", "--stats-json", tmp_path / "s.json", "--seed", 7, "--rain-rate-mmh", 40,
         "--wind-mps", 3, "--frame-index", 5, "-q")
     np.testing.assert_array_equal(r.image, h.read_image(str(tmp_path / "out.exr")))
     np.testing.assert_array_equal(r.mask, h.read_image(str(tmp_path / "mask.exr")))
@@ -368,7 +368,7 @@ def test_image_files_round_trip(tmp_path):
     (lambda: h.drop_render(size=4), "size: 4 is outside the valid range [8, 16384] px"),
     (lambda: h.drop_undistort(np.zeros((8, 8, 3)), (4, 4), 3, fov_deg=200), "fov_deg"),
     (lambda: h.drop_undistort(np.zeros((8, 8, 3)), (4, 4), -3), "drop_radius_px"),
-    (lambda: h.rain(np.zeros((64, 64, 3), np.float32), rate_mmh=600), "rate_mmh = 600"),
+    (lambda: h.rain(np.zeros((64, 64, 3), np.float32), rain_rate_mmh=600), "rain_rate_mmh = 600"),
     (lambda: h.rain(np.zeros((64, 64, 3), np.float32), camera_height_m=-1), "camera_height_m"),
     (lambda: h.rain(np.zeros((64, 64, 3), np.float32), fov_deg=179), "fov_deg = 179"),
     (lambda: h.rain(np.zeros((64, 64), np.float32)), "image"),

@@ -97,15 +97,15 @@ def test_rain_with_fog_is_one_pass_and_without_rain_the_fog_alone():
     img = _frame()
     h, w = img.shape[:2]
     depth = np.full((h, w), 60, np.float32)
-    r = hydrolux.rain(img, depth, rate_mmh=0, visibility_m=150, glow=False)
+    r = hydrolux.rain(img, depth, rain_rate_mmh=0, visibility_m=150, glow=False)
     f, _, _ = hydrolux.fog(img, depth, visibility_m=150, glow=False)
     np.testing.assert_allclose(r.image, f, atol=1e-5)
     assert r.stats["fog"]["visibility_m"] == pytest.approx(150)
-    wet = hydrolux.rain(img, depth, rate_mmh=25, visibility_m=150, glow=False)
+    wet = hydrolux.rain(img, depth, rain_rate_mmh=25, visibility_m=150, glow=False)
     assert wet.stats["drops_in_view"] > 0 and "fog" in wet.stats
-    assert "fog" not in hydrolux.rain(img, depth, rate_mmh=25).stats
+    assert "fog" not in hydrolux.rain(img, depth, rain_rate_mmh=25).stats
 
 
 def test_rain_fog_setting_without_fog_is_refused():
     with pytest.raises(ValueError, match="mode_radius_um"):
-        hydrolux.rain(_frame(), rate_mmh=5, mode_radius_um=4)
+        hydrolux.rain(_frame(), rain_rate_mmh=5, mode_radius_um=4)

@@ -103,8 +103,8 @@ _MAX_SEED = 2 ** 53  # hydrolux::rain::kMaxSeed, the CLI's --seed range
      "m: expected one complex number such as 1.333+1e-8j, got an array of shape (2,) and dtype float64"),
     (lambda: h.lee(table=None), TypeError, "table: expected a string (rainbow, corona or glory), got None"),
     (lambda: h.lee(theory="debye:x"), ValueError, "theory 'debye:x': the order must be a whole number; valid:"),
-    (lambda: h.rain(_IMG, rate_mmh="heavy"), TypeError, "rate_mmh: expected a number, got 'heavy'"),
-    (lambda: h.RainRenderer(64, 64, rate_mmh=[3]), TypeError, "rate_mmh: expected a number, got a list"),
+    (lambda: h.rain(_IMG, rain_rate_mmh="heavy"), TypeError, "rain_rate_mmh: expected a number, got 'heavy'"),
+    (lambda: h.RainRenderer(64, 64, rain_rate_mmh=[3]), TypeError, "rain_rate_mmh: expected a number, got a list"),
     (lambda: h.rain(_IMG, unresolved="no"), TypeError, "unresolved: expected True or False, got 'no'"),
     (lambda: h.rain(_IMG, with_layer=np.ones(4)), TypeError,
      "with_layer: expected True or False, got an array of shape (4,) and dtype float64"),
@@ -199,7 +199,7 @@ def _png_chunks(data):
 def test_masks_read_back_as_written_through_the_cli_and_python(tmp_path, cli):
     # rain --mask-out writes 16-bit linear codes (gAMA 1.0, no sRGB chunk); read_image used to put them
     # through the sRGB curve (a 0.17 alpha read as 0.02).
-    args = ["rain", "-q", "--image", "builtin", "--size", "96x64", "--rate-mmh", "50", "--seed", "3"]
+    args = ["rain", "-q", "--image", "builtin", "--size", "96x64", "--rain-rate-mmh", "50", "--seed", "3"]
     cli(*args, "-o", tmp_path / "a.png", "--mask-out", tmp_path / "m.png")
     cli(*args, "-o", tmp_path / "b.png", "--mask-out", tmp_path / "m.exr")
     exact = h.read_image(str(tmp_path / "m.exr"))
@@ -369,7 +369,7 @@ def test_distributions_results_and_renderers_pickle():
     assert c == b and isinstance(c, h.BulkOptics)
     xr = pytest.importorskip("xarray")
     xr.testing.assert_identical(c.to_xarray(), b.to_xarray())
-    r = h.RainRenderer(64, 48, rate_mmh=25, wind_mps=3, seed=4)
+    r = h.RainRenderer(64, 48, rain_rate_mmh=25, wind_mps=3, seed=4)
     s = pickle.loads(pickle.dumps(r))
     scene = h.builtin_scene(64, 48)
     assert s.field_info() == r.field_info()

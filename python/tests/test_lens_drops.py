@@ -46,7 +46,7 @@ def test_bad_keywords_are_value_errors_naming_them(clean, kw, name):
 
 def test_unknown_keyword_is_a_type_error(clean):
     with pytest.raises(TypeError, match="unknown lens_drops option"):
-        hydrolux.lens_drops(clean, rate_mmh=3)
+        hydrolux.lens_drops(clean, rain_rate_mmh=3)
 
 
 def test_batch_lens_drops_matches_the_cli(tmp_path, batch_matches_cli):

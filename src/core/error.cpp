@@ -42,9 +42,10 @@ std::string DomainError::range_text() const {
   std::string unit;
   if (const auto us = quantity_.rfind('_'); us != std::string::npos) {
     const std::string suffix = quantity_.substr(us + 1);
-    for (const char* u : {"nm", "um", "mm", "deg", "rad", "s", "mmh"})
+    for (const char* u : {"nm", "um", "mm", "deg", "rad", "s"})
       if (suffix == u) unit = " " + suffix;
     if (suffix == "c") unit = " C";
+    if (suffix == "mmh") unit = " mm/h";  // rain_rate_mmh
   }
   std::string m = fmt::format("outside the valid range [{:g}, {:g}]{}", lo_, hi_, unit);
   if (!context_.empty()) m += is_relation(context_) ? fmt::format(" ({})", context_) : fmt::format(" of {}", context_);

@@ -104,7 +104,7 @@ std::vector<Entry> fog_entries() {
         cam.height = 720;
         const Image clear = rain::builtin_scene(cam);
         rain::RainSettings s;
-        s.rate_mmh = 100;
+        s.rain_rate_mmh = 100;
         s.wind_mps = 3;
         s.backdrop_m = 1000;
         rain::RainRenderer plain{rain::RainField(s, cam)}, fogged{rain::RainField(s, cam)};

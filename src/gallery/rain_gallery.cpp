@@ -88,7 +88,7 @@ std::vector<Entry> rain_entries() {
         std::vector<Image> full{rain::builtin_scene(camera())}, crops{road(full.front())};
         for (const double rate : {5.0, 25.0, 100.0}) {
           rain::RainSettings s;
-          s.rate_mmh = rate;
+          s.rain_rate_mmh = rate;
           s.wind_mps = 2;
           full.push_back(rainy(s, camera()).image);
           crops.push_back(road(full.back()));
@@ -103,7 +103,7 @@ std::vector<Entry> rain_entries() {
       "the streaks are long and faint, as Garg & Nayar describe them.",
       [] {
         return road_panels({1.0 / 2000, 1.0 / 250, 1.0 / 30}, [](rain::RainSettings& s, rain::RainCamera& c, double t) {
-          s.rate_mmh = 25;
+          s.rain_rate_mmh = 25;
           s.wind_mps = 2;
           c.exposure_s = t;
           c.fps = 30;
@@ -116,7 +116,7 @@ std::vector<Entry> rain_entries() {
       "degrees for a 1 mm drop (6.5 m/s) in 5 m/s.",
       [] {
         return road_panels({0.0, 5.0, -10.0}, [](rain::RainSettings& s, rain::RainCamera& c, double w) {
-          s.rate_mmh = 100;
+          s.rain_rate_mmh = 100;
           s.wind_mps = std::abs(w);
           s.wind_dir_deg = w < 0 ? -90 : 90;
           c.exposure_s = 1.0 / 60;
@@ -129,7 +129,7 @@ std::vector<Entry> rain_entries() {
       "the horizon is the unresolved rain.",
       [] {
         rain::RainSettings s;
-        s.rate_mmh = 25;
+        s.rain_rate_mmh = 25;
         s.wind_mps = 2;
         const auto f = rainy(s, camera());
         Image mask(kWidth, kHeight, 3);

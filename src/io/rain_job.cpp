@@ -112,7 +112,7 @@ class RainEffect final : public FrameEffect {
     } catch (const rain::TooManyDrops& e) {
       throw Error(fmt::format(
           "--min-alpha {:g}: the rain field would hold {:.3g} drops, more than the limit of {:.3g}; "
-          "raise --min-alpha, --near-m or --min-radius-mm, or lower --far-m or --rate-mmh",
+          "raise --min-alpha, --near-m or --min-radius-mm, or lower --far-m or --rain-rate-mmh",
           a_.options.settings.min_alpha, e.drops(), double(rain::RainField::kMaxDrops)));
     }
   }
@@ -130,7 +130,7 @@ RainJobResult run_rain_job(const RainJob& a, const RainJobHooks& hooks) {
   out.FrameRunResult::operator=(run_frames(frame_request(a, a.files.png_compression, a.files.crf, a.crf_given,
                                                          a.files.depth_scale_m, a.depth_scale_given),
                                            effect, hooks));
-  out.rate_mmh = effect.renderer().field().settings().rate_mmh;
+  out.rain_rate_mmh = effect.renderer().field().settings().rain_rate_mmh;
   out.drops = effect.renderer().field().drop_count();
   out.last = effect.last();
   return out;
@@ -141,7 +141,7 @@ std::string rain_summary(const RainJobResult& r) {
   return fmt::format(
       "rain: {} frame{} at {:g} mm/h; {} drops in the field, {} streaks in view (length p50 {:.1f} px, p95 "
       "{:.1f} px); drops {:.2f}x the luminance under them; {:.2f} s ({:.1f} frames/s)",
-      r.frames, r.frames == 1 ? "" : "s", r.rate_mmh, r.drops, st.drops_in_view, st.streak_length_px_p50,
+      r.frames, r.frames == 1 ? "" : "s", r.rain_rate_mmh, r.drops, st.drops_in_view, st.streak_length_px_p50,
       st.streak_length_px_p95,
       st.background_luminance_mean > 0 ? st.drop_luminance_mean / st.background_luminance_mean : 0.0, r.seconds,
       r.seconds > 0 ? double(r.frames) / r.seconds : 0.0);

@@ -37,7 +37,7 @@ nlohmann::json rain_run_json(const rain::RainField& field, const std::string& de
                        {"drops", rc.count}});
   return {{"program", "hydrolux rain"},
           {"seed", s.seed},
-          {"rain", {{"rate_mmh", s.rate_mmh}, {"wind_mps", s.wind_mps}, {"wind_dir_deg", s.wind_dir_deg},
+          {"rain", {{"rain_rate_mmh", s.rain_rate_mmh}, {"wind_mps", s.wind_mps}, {"wind_dir_deg", s.wind_dir_deg},
                     {"near_m", s.near_m}, {"far_m", s.far_m}, {"min_radius_mm", s.min_radius_mm},
                     {"max_radius_mm", s.max_radius_mm}, {"min_alpha", s.min_alpha}, {"extent_m", s.extent_m},
                     {"backdrop_m", s.backdrop_m}, {"oscillation", s.oscillation},

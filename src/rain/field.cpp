@@ -93,7 +93,7 @@ namespace {
 // Marshall & Palmer (1948): N(D) = 8000 exp(-4.1 h^-0.21 D) m^-3 mm^-1 over diameter D in mm; per
 // metre of radius a = D / 2: N0 = 1.6e7 m^-4 and Lambda = 8200 h^-0.21 m^-1 (the library's law).
 constexpr double kMpN0PerM4 = scatter::kMarshallPalmerN0PerRadius;
-double mp_lambda(double rate_mmh) { return scatter::SizeDistribution::marshall_palmer(rate_mmh, kMpN0PerM4).lambda(); }
+double mp_lambda(double rain_rate_mmh) { return scatter::SizeDistribution::marshall_palmer(rain_rate_mmh, kMpN0PerM4).lambda(); }
 // Integral of a^k N0 exp(-L a) from a to infinity, k = 0 or 2.
 double mp_tail(int k, double a, double lambda) {
   const double e = kMpN0PerM4 * std::exp(-lambda * a) / lambda;
@@ -102,9 +102,9 @@ double mp_tail(int k, double a, double lambda) {
 }
 }  // namespace
 
-double marshall_palmer_per_m4(double radius_m, double rate_mmh) {
-  if (rate_mmh <= 0) return 0;
-  return kMpN0PerM4 * std::exp(-mp_lambda(rate_mmh) * radius_m);
+double marshall_palmer_per_m4(double radius_m, double rain_rate_mmh) {
+  if (rain_rate_mmh <= 0) return 0;
+  return kMpN0PerM4 * std::exp(-mp_lambda(rain_rate_mmh) * radius_m);
 }
 
 // ---- peak alpha -----------------------------------------------------------------------------
@@ -138,8 +138,8 @@ RainField::RainField(const RainSettings& settings, const RainCamera& camera, boo
   for (int i = 0; i < n; ++i)
     velocity_lut_[std::size_t(i)] = float(drop::terminal_velocity_gunn_kinzer_mps(std::min(gk[1], gk[0] + i * lut_step_)));
 
-  if (s_.rate_mmh <= 0) return;
-  const double lambda = mp_lambda(s_.rate_mmh);
+  if (s_.rain_rate_mmh <= 0) return;
+  const double lambda = mp_lambda(s_.rain_rate_mmh);
   const double a_min = s_.min_radius_mm * 1e-3, a_max = s_.max_radius_mm * 1e-3;
   beta_small_ = kPi<double> * (mp_tail(2, 0, lambda) - mp_tail(2, a_min, lambda));
   beta_total_ = kPi<double> * (mp_tail(2, 0, lambda) - mp_tail(2, a_max, lambda));
@@ -258,7 +258,7 @@ Vec3 RainField::position(std::uint64_t index, double t_s) const {
 }
 
 double RainField::unresolved_optical_depth(double depth_m, double cos_off_axis) const {
-  if (!s_.unresolved || s_.rate_mmh <= 0) return 0;
+  if (!s_.unresolved || s_.rain_rate_mmh <= 0) return 0;
   // Along the ray: the path between depths z1 < z2 is (z2 - z1) / cos.
   const double z = std::isfinite(depth_m) && depth_m > 0 ? depth_m : s_.extent_m * cos_off_axis;
   double tau = beta_small_ * std::max(0.0, z - s_.near_m);

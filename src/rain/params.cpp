@@ -13,7 +13,10 @@ using K = ParamKind;
 
 
 const Field<RainOptions> kRain[] = {
-    {{"rate_mmh", "--rate-mmh", "rain", K::real, "mm/h", 0, kMaxRainRateMmh, "Rain rate, mm/h"}, HYDROLUX_PARAM_MEMBER(settings.rate_mmh)},
+    // Named rate_mmh / --rate-mmh before (deprecated: taken for one release, with a warning).
+    {{"rain_rate_mmh", "--rain-rate-mmh", "rain", K::real, "mm/h", 0, kMaxRainRateMmh, "Rain rate, mm/h (0: no rain)",
+      {}, {}, {}, {}, "rate_mmh"},
+     HYDROLUX_PARAM_MEMBER(settings.rain_rate_mmh)},
     {{"wind_mps", "--wind-mps", "rain", K::real, "m/s", 0, 50, "Horizontal wind speed, m/s (drops move with it)"},
      HYDROLUX_PARAM_MEMBER(settings.wind_mps)},
     {{"wind_dir_deg", "--wind-dir-deg", "rain", K::real, "deg", -360, 360,

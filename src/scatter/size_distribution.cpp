@@ -18,7 +18,6 @@ namespace {
 
 constexpr double kMaxRadius = 1.0;          // m
 constexpr double kMaxConcentration = 1e30;  // m^-3
-constexpr double kMaxRainRate = 1000.0;     // mm/h
 constexpr double kMaxN0 = 1e12;             // m^-4
 constexpr double kTiny = std::numeric_limits<double>::min();
 
@@ -176,13 +175,12 @@ SizeDistribution SizeDistribution::log_normal(double mean_radius_m, double relat
   return d;
 }
 
-SizeDistribution SizeDistribution::marshall_palmer(double rain_rate_mm_per_h, double n0_per_m4) {
-  require_in_range("rain_rate_mm_per_h", rain_rate_mm_per_h, kTiny, kMaxRainRate,
-                   "Marshall-Palmer");
+SizeDistribution SizeDistribution::marshall_palmer(double rain_rate_mmh, double n0_per_m4) {
+  require_in_range("rain_rate_mmh", rain_rate_mmh, kMinDistributionRainRateMmh, kMaxRainRateMmh, "Marshall-Palmer");
   require_in_range("n0_per_m4", n0_per_m4, kTiny, kMaxN0, "Marshall-Palmer");
   SizeDistribution d;
   d.kind_ = SizeDistributionKind::marshall_palmer;
-  d.lambda_ = 8200.0 * std::pow(rain_rate_mm_per_h, -0.21);  // Garg & Nayar eq. 2
+  d.lambda_ = 8200.0 * std::pow(rain_rate_mmh, -0.21);  // Garg & Nayar eq. 2
   d.n0_ = n0_per_m4;
   d.number_ = n0_per_m4 / d.lambda_;
   return d;
@@ -308,7 +306,7 @@ SizeDistributionSpec parse_size_distribution(std::string_view text) {
   const auto fail = [&](const std::string& why) {
     return Error(fmt::format("'{}': {}; valid: mono, gamma:W, lognormal:W (W the relative width in [{:g}, 1]), "
                              "marshall-palmer:H (H the rain rate in [{:g}, {:g}] mm/h)",
-                             text, why, kMinRelativeWidth, kMinSpecRainRateMmh, kMaxSpecRainRateMmh));
+                             text, why, kMinRelativeWidth, kMinDistributionRainRateMmh, kMaxRainRateMmh));
   };
   if (name == "mono") {
     if (colon != std::string_view::npos) throw fail("mono takes no parameter");
@@ -328,8 +326,9 @@ SizeDistributionSpec parse_size_distribution(std::string_view text) {
   const auto value = parse::number(text.substr(colon + 1));
   if (!value) throw fail(fmt::format("'{}' is not a number", text.substr(colon + 1)));
   spec.parameter = *value;
-  if (rain && !(*value >= kMinSpecRainRateMmh && *value <= kMaxSpecRainRateMmh))
-    throw fail(fmt::format("H = {:g} is outside [{:g}, {:g}] mm/h", *value, kMinSpecRainRateMmh, kMaxSpecRainRateMmh));
+  if (rain && !(*value >= kMinDistributionRainRateMmh && *value <= kMaxRainRateMmh))
+    throw fail(fmt::format("H = {:g} is outside [{:g}, {:g}] mm/h", *value, kMinDistributionRainRateMmh,
+                           kMaxRainRateMmh));
   if (!rain && !(*value >= kMinRelativeWidth && *value <= 1))
     throw fail(fmt::format("W = {:g} is outside [{:g}, 1]{}", *value, kMinRelativeWidth,
                            *value < kMinRelativeWidth && *value > 0 ? " (use mono for narrower)" : ""));

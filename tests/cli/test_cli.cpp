@@ -394,6 +394,13 @@ TEST(Cli, PhaseRefusesFlagsItWouldIgnore) {
   EXPECT_NE(rain.err.find("--size-distribution marshall-palmer:5 sets its own radii (50-3000 um); omit --radius-um"),
             std::string::npos)
       << rain.err;
+  // The rain rate's one range (issue 38): 600 mm/h is refused, the range in the message.
+  const auto heavy = run("phase -q --wavelength-nm 650 --size-distribution marshall-palmer:600 --angles-deg 140");
+  EXPECT_EQ(heavy.code, 2);
+  EXPECT_NE(heavy.err.find("--size-distribution"), std::string::npos) << heavy.err;
+  EXPECT_NE(heavy.err.find("H = 600 is outside [0.01, 500] mm/h"), std::string::npos) << heavy.err;
+  EXPECT_EQ(run("phase -q --wavelength-nm 650 --size-distribution marshall-palmer:500 --nodes 3 --angles-deg 140").code,
+            0);
   const auto mono = run("phase -q --radius-um 10 --wavelength-nm 500 --nodes 16");
   EXPECT_NE(mono.err.find("--size-distribution mono is one radius"), std::string::npos) << mono.err;
   // Each alone is still fine.
@@ -484,7 +491,7 @@ TEST(Cli, DanglingSymbolicLinkOutputsAreNamed) {
   const std::string folder = " --input-dir " + in.string() + " --output-dir " + out.string();
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"fog -q --visibility-m 300" + folder, "--output-dir " + out.string() + ": is a dangling symbolic link"},
-      {"rain -q --rate-mmh 5" + folder, "--output-dir " + out.string() + ": is a dangling symbolic link"},
+      {"rain -q --rain-rate-mmh 5" + folder, "--output-dir " + out.string() + ": is a dangling symbolic link"},
       {"fog -q --visibility-m 300 --input-dir " + in.string() + " --output-dir " + (dir / "o2").string() +
            " --mask-dir " + out.string(),
        "--mask-dir " + out.string() + ": is a dangling symbolic link"},

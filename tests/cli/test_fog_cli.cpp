@@ -90,15 +90,15 @@ TEST(FogCli, SameBytesTwiceAndMieRoute) {
 TEST(FogCli, RainWithFogOnePass) {
   const fs::path a = dir() / "rf_a.exr", b = dir() / "rf_b.exr", stats = dir() / "rf.json";
   const std::string in = " --image " + clear_exr().string();
-  auto r = run("rain -q" + in + " --rate-mmh 25 --visibility-m 200 -o " + a.string() + " --stats-json " + stats.string());
+  auto r = run("rain -q" + in + " --rain-rate-mmh 25 --visibility-m 200 -o " + a.string() + " --stats-json " + stats.string());
   ASSERT_EQ(r.code, 0) << r.err;
-  r = run("rain -q" + in + " --rate-mmh 25 --visibility-m 200 -o " + b.string());
+  r = run("rain -q" + in + " --rain-rate-mmh 25 --visibility-m 200 -o " + b.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(slurp(a), slurp(b));
   const auto j = nlohmann::json::parse(slurp(stats));
   EXPECT_NEAR(double(j.at("frames").at(0).at("fog").at("visibility_m")), 200, 1e-9);
   const fs::path dry = dir() / "rf_dry.exr", fog = dir() / "rf_fog.exr";
-  r = run("rain -q" + in + " --rate-mmh 0 --backdrop-m 300 --visibility-m 200 -o " + dry.string());
+  r = run("rain -q" + in + " --rain-rate-mmh 0 --backdrop-m 300 --visibility-m 200 -o " + dry.string());
   ASSERT_EQ(r.code, 0) << r.err;
   r = run("fog -q" + in + " --backdrop-m 300 --visibility-m 200 -o " + fog.string());
   ASSERT_EQ(r.code, 0) << r.err;
@@ -107,7 +107,7 @@ TEST(FogCli, RainWithFogOnePass) {
   double worst = 0;
   for (std::size_t i = 0; i < x.pixels.size(); ++i) worst = std::max(worst, double(std::abs(x.pixels[i] - y.pixels[i])));
   EXPECT_LT(worst, 1e-5);
-  r = run("rain -q" + in + " --rate-mmh 25 --size-alpha 6 -o " + (dir() / "rf_c.png").string());
+  r = run("rain -q" + in + " --rain-rate-mmh 25 --size-alpha 6 -o " + (dir() / "rf_c.png").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--size-alpha: sets the fog"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir() / "rf_c.png"));

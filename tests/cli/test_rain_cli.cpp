@@ -4,6 +4,7 @@
 // geometry; a video keeping its frame count and rate; and bad input refused in one line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -40,7 +41,7 @@ TEST(RainCli, ImageMaskLayerAndStatsPairExactly) {
   const fs::path out = dir() / "rainy.exr", mask = dir() / "mask.exr", layer = dir() / "layer.exr",
                  mask_png = dir() / "mask.png", stats = dir() / "stats.json";
   const std::string before = slurp(clear_exr());
-  auto r = run("rain -q --image " + clear_exr().string() + " --rate-mmh 50 --wind-mps 3 --seed 7 -o " + out.string() +
+  auto r = run("rain -q --image " + clear_exr().string() + " --rain-rate-mmh 50 --wind-mps 3 --seed 7 -o " + out.string() +
                " --mask-out " + mask.string() + " --layer-out " + layer.string() + " --stats-json " + stats.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;  // -q
@@ -63,7 +64,7 @@ TEST(RainCli, ImageMaskLayerAndStatsPairExactly) {
 
   const auto j = nlohmann::json::parse(slurp(stats));
   EXPECT_EQ(j.at("seed"), 7);
-  EXPECT_EQ(j.at("rain").at("rate_mmh"), 50);
+  EXPECT_EQ(j.at("rain").at("rain_rate_mmh"), 50);
   EXPECT_EQ(j.at("camera").at("width"), 320);
   EXPECT_GT(j.at("field").at("drops"), 1000);
   const auto& f = j.at("frames").at(0);
@@ -72,14 +73,14 @@ TEST(RainCli, ImageMaskLayerAndStatsPairExactly) {
   EXPECT_GT(f.at("streak_length_px").at("p95"), f.at("streak_length_px").at("p50"));
 
   // A pixel pitch gives the same camera as the sensor width it implies (36 mm over 320 px: 112.5 um).
-  r = run("rain -q --image " + clear_exr().string() + " --rate-mmh 50 --wind-mps 3 --seed 7 --pixel-pitch-um 112.5 -o " +
+  r = run("rain -q --image " + clear_exr().string() + " --rain-rate-mmh 50 --wind-mps 3 --seed 7 --pixel-pitch-um 112.5 -o " +
           (dir() / "pitch.exr").string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(slurp(dir() / "pitch.exr"), slurp(out));
 
   // The PNG mask holds alpha as 16-bit linear codes, alpha x 65535, and says so (gAMA 1.0, no sRGB
   // chunk): hydrolux's reader gives alpha back within half a code (issue 37; it read 0.17 as 0.02).
-  r = run("rain -q --image " + clear_exr().string() + " --rate-mmh 50 --wind-mps 3 --seed 7 -o " +
+  r = run("rain -q --image " + clear_exr().string() + " --rain-rate-mmh 50 --wind-mps 3 --seed 7 -o " +
           (dir() / "rainy.png").string() + " --mask-out " + mask_png.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string mask_bytes = slurp(mask_png);
@@ -99,7 +100,7 @@ TEST(RainCli, ImageMaskLayerAndStatsPairExactly) {
 TEST(RainCli, SameSeedSameBytes) {
   const auto make = [](const std::string& name, int seed) {
     const fs::path f = dir() / name;
-    const auto r = run("rain -q --image " + clear_png().string() + " --rate-mmh 25 --seed " + std::to_string(seed) +
+    const auto r = run("rain -q --image " + clear_png().string() + " --rain-rate-mmh 25 --seed " + std::to_string(seed) +
                        " -o " + f.string());
     EXPECT_EQ(r.code, 0) << r.err;
     return slurp(f);
@@ -110,6 +111,44 @@ TEST(RainCli, SameSeedSameBytes) {
   EXPECT_NE(a, slurp(clear_png()));
 }
 
+// Issue 38: the rain rate is --rain-rate-mmh in every job. The old --rate-mmh is taken for one release:
+// the same bytes, with one line on stderr naming the new flag; giving both is a usage error naming both.
+TEST(RainCli, DeprecatedRateMmhWarnsOnceAndGivesTheSameBytes) {
+  const std::string in = " -q --image " + clear_png().string() + " --seed 3 --stats-json ";
+  const fs::path now = dir() / "rate_now.png", old = dir() / "rate_old.png";
+  const auto a = run("rain" + in + (dir() / "rate_now.json").string() + " --rain-rate-mmh 5 -o " + now.string());
+  ASSERT_EQ(a.code, 0) << a.err;
+  const auto b = run("rain" + in + (dir() / "rate_old.json").string() + " --rate-mmh 5 -o " + old.string());
+  ASSERT_EQ(b.code, 0) << b.err;
+  EXPECT_EQ(slurp(now), slurp(old));
+  EXPECT_EQ(a.out, b.out);
+  // The only difference on stderr (-q: nothing else) is the one warning line.
+  EXPECT_EQ(a.err, "");
+  EXPECT_EQ(b.err,
+            "hydrolux rain: warning: --rate-mmh is deprecated and will be removed in the next release: give "
+            "--rain-rate-mmh (the same value in mm/h)\n");
+  // The run's record names the quantity by its one name.
+  const auto j = nlohmann::json::parse(slurp(dir() / "rate_old.json"));
+  EXPECT_EQ(j.at("rain").at("rain_rate_mmh"), 5);
+  EXPECT_FALSE(j.at("rain").contains("rate_mmh"));
+
+  const auto both = run("rain -q --image builtin --rate-mmh 5 --rain-rate-mmh 5 -o " + (dir() / "both.png").string());
+  EXPECT_EQ(both.code, 2) << both.err;
+  EXPECT_TRUE(both.out.empty());
+  EXPECT_NE(both.err.find("--rate-mmh: give --rain-rate-mmh or --rate-mmh (its deprecated name), not both"),
+            std::string::npos)
+      << both.err;
+  EXPECT_EQ(std::count(both.err.begin(), both.err.end(), '\n'), 1) << both.err;
+  EXPECT_FALSE(fs::exists(dir() / "both.png"));
+  // The old flag has the new one's range, and --help shows only the new one.
+  const auto high = run("rain -q --image builtin --rate-mmh 600 -o " + (dir() / "high.png").string());
+  EXPECT_EQ(high.code, 2);
+  EXPECT_NE(high.err.find("[0, 500]"), std::string::npos) << high.err;
+  const auto help = run("rain --help");
+  EXPECT_NE(help.out.find("--rain-rate-mmh"), std::string::npos);
+  EXPECT_EQ(help.out.find("--rate-mmh"), std::string::npos);
+}
+
 TEST(RainCli, FolderOfFramesIsOneRain) {
   const fs::path in = dir() / "frames", out = dir() / "rainy", masks = dir() / "masks";
   fs::create_directories(in);
@@ -117,7 +156,7 @@ TEST(RainCli, FolderOfFramesIsOneRain) {
   fs::copy_file(clear_exr(), in / "d.exr", fs::copy_options::overwrite_existing);
   const std::string stats = (dir() / "frames.json").string();
   auto r = run("rain -q --input-dir " + in.string() + " --output-dir " + out.string() + " --mask-dir " +
-               masks.string() + " --rate-mmh 25 --stats-json " + stats);
+               masks.string() + " --rain-rate-mmh 25 --stats-json " + stats);
   ASSERT_EQ(r.code, 0) << r.err;
   for (const char* n : {"a.png", "b.png", "c.png", "d.exr"}) {
     EXPECT_TRUE(fs::is_regular_file(out / n)) << n;
@@ -128,11 +167,11 @@ TEST(RainCli, FolderOfFramesIsOneRain) {
   ASSERT_EQ(j.at("frames").size(), 4u);
   EXPECT_EQ(j.at("frames").at(0).at("input"), "a.png");
   EXPECT_EQ(j.at("frames").at(3).at("frame_index"), 3);
-  r = run("rain -q --image " + (in / "a.png").string() + " --rate-mmh 25 -o " + (dir() / "single.png").string());
+  r = run("rain -q --image " + (in / "a.png").string() + " --rain-rate-mmh 25 -o " + (dir() / "single.png").string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(slurp(out / "a.png"), slurp(dir() / "single.png"));
   // --frame-index 1 is the folder's second frame (the same input picture).
-  r = run("rain -q --image " + (in / "b.png").string() + " --rate-mmh 25 --frame-index 1 -o " +
+  r = run("rain -q --image " + (in / "b.png").string() + " --rain-rate-mmh 25 --frame-index 1 -o " +
           (dir() / "second.png").string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(slurp(out / "b.png"), slurp(dir() / "second.png"));
@@ -158,7 +197,7 @@ TEST(RainCli, DepthMapHidesRainBehindNearerGeometry) {
     }
   io::write_image(depth, d, io::PngOptions{16});
   auto r = run("rain -q --image " + clear_exr().string() + " --depth " + depth.string() +
-               " --depth-scale-m 0.001 --rate-mmh 100 -o " + out.string() + " --mask-out " + mask.string());
+               " --depth-scale-m 0.001 --rain-rate-mmh 100 -o " + out.string() + " --mask-out " + mask.string());
   ASSERT_EQ(r.code, 0) << r.err;
   const Image a = io::read_image(mask), o = io::read_image(out), c = io::read_image(clear_exr());
   double left = 0, right = 0;
@@ -184,7 +223,7 @@ TEST(RainCli, FolderWithDepthMapsPerFrame) {
   io::write_image(depths / "a.exr", open);
   io::write_image(depths / "b.exr", wall);
   auto r = run("rain -q --input-dir " + in.string() + " --depth-dir " + depths.string() + " --output-dir " +
-               out.string() + " --rate-mmh 100");
+               out.string() + " --rain-rate-mmh 100");
   ASSERT_EQ(r.code, 0) << r.err;
   const Image c = io::read_image(clear_exr()), a = io::read_image(out / "a.exr"), b = io::read_image(out / "b.exr");
   int a_changed = 0;
@@ -210,7 +249,7 @@ TEST(RainCli, VideoKeepsFrameCountAndRate) {
                            "-pix_fmt yuv420p -c:v libx264 " + in.string();
   ASSERT_EQ(std::system(make.c_str()), 0) << "ffmpeg (Debian's ffmpeg package; scripts/install-deps)";
   const std::string before = slurp(in);
-  const auto r = run("rain -q --video " + in.string() + " --rate-mmh 50 -o " + out.string() + " --stats-json " +
+  const auto r = run("rain -q --video " + in.string() + " --rain-rate-mmh 50 -o " + out.string() + " --stats-json " +
                      stats.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(slurp(in), before);
@@ -232,7 +271,7 @@ TEST(RainCli, BadInputIsRefusedInOneLine) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"rain -o " + o, "--image"},
       {"rain --image " + img + " --input-dir " + dir().string() + " -o " + o, "--input-dir"},
-      {"rain --image " + img + " --rate-mmh 900 -o " + o, "--rate-mmh"},
+      {"rain --image " + img + " --rain-rate-mmh 900 -o " + o, "--rain-rate-mmh"},
       {"rain --image " + img + " --exposure-s 0.5 -o " + o, "--exposure-s"},
       {"rain --image " + img + " --exposure-s 0.02 --fps 60 -o " + o, "--exposure-s"},
       {"rain --image " + img + " --near-m 5 --far-m 2 -o " + o, "--far-m"},
@@ -245,7 +284,7 @@ TEST(RainCli, BadInputIsRefusedInOneLine) {
       {"rain --video " + img + " -o " + (dir() / "v.mp4").string(), "--video"},
       {"rain --input-dir " + clash.string() + " --output-dir " + (dir() / "clash_out").string(), "a.png"},
       {"rain --video " + img + " -o " + (dir() / "v.avi").string(), "-o"},
-      {"rain --image builtin --size 1920x1080 --min-alpha 0.00001 --rate-mmh 500 --far-m 10000 -o " + o, "--min-alpha"},
+      {"rain --image builtin --size 1920x1080 --min-alpha 0.00001 --rain-rate-mmh 500 --far-m 10000 -o " + o, "--min-alpha"},
   };
   hydrolux::testing::expect_usage_errors(cases);
   EXPECT_FALSE(fs::exists(dir() / "bad.png"));

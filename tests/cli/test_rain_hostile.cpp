@@ -39,7 +39,7 @@ fs::path frames_dir(const std::string& name, int n) {
   const fs::path d = dir() / name;
   fs::remove_all(d);
   fs::create_directories(d);
-  const auto r = run("rain -q --image builtin --size 160x90 --rate-mmh 0 -o " + (d / "f_000.png").string());
+  const auto r = run("rain -q --image builtin --size 160x90 --rain-rate-mmh 0 -o " + (d / "f_000.png").string());
   EXPECT_EQ(r.code, 0) << r.err;
   for (int k = 1; k < n; ++k)
     fs::copy_file(d / "f_000.png", d / ("f_00" + std::to_string(k) + ".png"), fs::copy_options::overwrite_existing);
@@ -60,7 +60,7 @@ TEST(RainHostile, NoOutputLandsOnAnyFileTheRunReadsOrWrites) {
   const fs::path frames = frames_dir("frames", 2);
   const fs::path depth = dir() / "depth";
   fs::create_directories(depth);
-  ASSERT_EQ(run("rain -q --image builtin --size 160x90 --rate-mmh 0 -o " + (depth / "f_000.png").string()).code, 0);
+  ASSERT_EQ(run("rain -q --image builtin --size 160x90 --rain-rate-mmh 0 -o " + (depth / "f_000.png").string()).code, 0);
   fs::copy_file(depth / "f_000.png", depth / "f_001.png", fs::copy_options::overwrite_existing);
   const fs::path out = dir() / "out", masks = dir() / "masks";
   fs::create_directories(out);
@@ -113,7 +113,7 @@ TEST(RainHostile, NonFiniteInputIsRefusedNamingThePixel) {
   for (const float v : {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
     const fs::path in = exr_with(std::isnan(v) ? "nan" : "inf", v, 17, 5, 1);
     const fs::path o = dir() / "nonfinite_out.exr";
-    const auto r = run("rain -q --image " + in.string() + " --rate-mmh 25 -o " + o.string());
+    const auto r = run("rain -q --image " + in.string() + " --rain-rate-mmh 25 -o " + o.string());
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("--image " + in.string() + ": pixel (17, 5) channel 1 is"), std::string::npos) << r.err;
@@ -125,10 +125,10 @@ TEST(RainHostile, NegativeInputIsReadAsZeroAndSaid) {
   const fs::path neg = exr_with("negative", -0.25f, 3, 4, 0);
   const fs::path zero = exr_with("zero", 0.0f, 3, 4, 0);
   const fs::path a = dir() / "neg_out.exr", b = dir() / "zero_out.exr", sa = dir() / "neg.json";
-  const auto r = run("rain --image " + neg.string() + " --rate-mmh 25 -o " + a.string() + " --stats-json " + sa.string());
+  const auto r = run("rain --image " + neg.string() + " --rain-rate-mmh 25 -o " + a.string() + " --stats-json " + sa.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("warning: --image " + neg.string() + ": 1 negative value read as 0"), std::string::npos) << r.err;
-  ASSERT_EQ(run("rain -q --image " + zero.string() + " --rate-mmh 25 -o " + b.string()).code, 0);
+  ASSERT_EQ(run("rain -q --image " + zero.string() + " --rain-rate-mmh 25 -o " + b.string()).code, 0);
   EXPECT_EQ(slurp(a), slurp(b));  // exactly as if the value were 0
   const Image out = io::read_image(a);
   for (const float v : out.pixels) ASSERT_TRUE(std::isfinite(v) && v >= 0);
@@ -238,7 +238,7 @@ TEST(RainHostile, AmbiguousDepthMapsFloatFramesAndGreyImagesAreSaidPlainly) {
     std::vector<float> px(std::size_t(w) * h * 3, 2.5f);
     pfm.write(reinterpret_cast<const char*>(px.data()), std::streamsize(px.size() * sizeof(float)));
   }
-  r = run("rain -q --rate-mmh 0 --input-dir " + frames.string() + " --output-dir " + out.string());
+  r = run("rain -q --rain-rate-mmh 0 --input-dir " + frames.string() + " --output-dir " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(out / "f_000.png"));
   ASSERT_TRUE(fs::exists(out / "f_001.exr"));

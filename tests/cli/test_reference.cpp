@@ -51,11 +51,19 @@ TEST(Reference, DeprecatedFlagWorksWithOneWarningAndIsHidden) {
   CLI::App out_of_range;
   hydrolux::cli::add_param(out_of_range, info, [](double) {});
   EXPECT_THROW(out_of_range.parse("--rate-mmh 600", false), CLI::ValidationError);
-  CLI::App both;
-  hydrolux::cli::add_param(both, info, [](double) {});
-  ::testing::internal::CaptureStderr();
-  EXPECT_THROW(both.parse("--rate-mmh 1 --rain-rate-mmh 2", false), CLI::ExcludesError);
-  (void)::testing::internal::GetCapturedStderr();
+  // Both spellings: refused, naming both (and no warning for a value that is not taken).
+  for (const char* args : {"--rate-mmh 1 --rain-rate-mmh 2", "--rain-rate-mmh 2 --rate-mmh 1"}) {
+    CLI::App both;
+    hydrolux::cli::add_param(both, info, [](double) {});
+    ::testing::internal::CaptureStderr();
+    try {
+      both.parse(args, false);
+      ADD_FAILURE() << args << ": accepted";
+    } catch (const CLI::ValidationError& e) {
+      EXPECT_STREQ(e.what(), "--rate-mmh: give --rain-rate-mmh or --rate-mmh (its deprecated name), not both");
+    }
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "") << args;
+  }
 }
 
 }  // namespace

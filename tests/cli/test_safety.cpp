@@ -242,7 +242,7 @@ TEST_F(Safety, InterruptedRainLeavesNoPartialOutput) {
   const std::string make = "ffmpeg -v error -y -f lavfi -i testsrc2=size=1280x720:rate=25 -frames:v 250 "
                            "-pix_fmt yuv420p -c:v libx264 -preset ultrafast " + in.string();
   ASSERT_EQ(std::system(make.c_str()), 0) << "ffmpeg (Debian's ffmpeg package; scripts/install-deps)";
-  auto p = spawn({"rain", "-q", "--video", in.string(), "--rate-mmh", "100", "-o", (dir_ / "out.mp4").string()});
+  auto p = spawn({"rain", "-q", "--video", in.string(), "--rain-rate-mmh", "100", "-o", (dir_ / "out.mp4").string()});
   wait_until_signals_handled(p.pid);
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // frames are being encoded
   ::kill(p.pid, SIGINT);
@@ -256,7 +256,7 @@ TEST_F(Safety, InterruptedRainLeavesNoPartialOutput) {
   ASSERT_EQ(std::system(("ffmpeg -v error -y -i " + in.string() + " -frames:v 120 " + (frames / "f%03d.png").string())
                             .c_str()),
             0);
-  p = spawn({"rain", "-q", "--input-dir", frames.string(), "--output-dir", rainy.string(), "--rate-mmh", "100"});
+  p = spawn({"rain", "-q", "--input-dir", frames.string(), "--output-dir", rainy.string(), "--rain-rate-mmh", "100"});
   wait_until_signals_handled(p.pid);
   const auto committed = [&] {  // a frame in place (not a hidden temporary file)
     std::error_code ec;

@@ -19,15 +19,15 @@ using hydrolux::Param;
 using hydrolux::ParamKind;
 
 TEST(Params, CheckNamesTheValueAndTheRangeWithItsUnit) {
-  const Param p{"rate_mmh", "--rate-mmh", "rain", ParamKind::real, "mm/h", 0, 500, "Rain rate"};
+  const Param p{"rain_rate_mmh", "--rain-rate-mmh", "rain", ParamKind::real, "mm/h", 0, 500, "Rain rate"};
   EXPECT_NO_THROW(p.check(0));
   EXPECT_NO_THROW(p.check(500));
   try {
     p.check(600);
     FAIL() << "600 accepted";
   } catch (const hydrolux::DomainError& e) {
-    EXPECT_STREQ(e.what(), "rate_mmh = 600 is outside [0, 500] mm/h");
-    EXPECT_EQ(e.quantity(), "rate_mmh");
+    EXPECT_STREQ(e.what(), "rain_rate_mmh = 600 is outside [0, 500] mm/h");
+    EXPECT_EQ(e.quantity(), "rain_rate_mmh");
     EXPECT_EQ(e.lo(), 0);
     EXPECT_EQ(e.hi(), 500);
   }
@@ -53,7 +53,7 @@ TEST(Params, RainDefaultsAreTheStructsInitializers) {
     ADD_FAILURE() << "no parameter " << name;
     return 0.0;
   };
-  EXPECT_EQ(value("rate_mmh"), s.rate_mmh);
+  EXPECT_EQ(value("rain_rate_mmh"), s.rain_rate_mmh);
   EXPECT_EQ(value("near_m"), s.near_m);
   EXPECT_EQ(value("seed"), double(s.seed));
   EXPECT_EQ(value("unresolved"), s.unresolved ? 1.0 : 0.0);

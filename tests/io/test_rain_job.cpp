@@ -62,7 +62,7 @@ class RainJobFolder : public ::testing::Test {
     j.input_dir = (dir_ / "in").string();
     j.output_dir = (dir_ / out).string();
     j.mask_dir = (dir_ / (out + "_masks")).string();
-    j.options.settings.rate_mmh = 25;
+    j.options.settings.rain_rate_mmh = 25;
     j.options.settings.wind_mps = 3;
     j.options.settings.seed = 4;
     j.files.frame_index = 10;
@@ -205,7 +205,7 @@ TEST_F(RainJobFolder, OverlappedVideoWritesTheBytesOfOneFrameAtATime) {
   ASSERT_EQ(std::system(make.c_str()), 0) << "ffmpeg (Debian's ffmpeg package; scripts/install-deps)";
   RainJob j;
   j.video = in.string();
-  j.options.settings.rate_mmh = 25;
+  j.options.settings.rain_rate_mmh = 25;
   j.options.settings.wind_mps = 3;
   j.options.settings.seed = 4;
   j.files.frame_index = 10;

@@ -329,9 +329,9 @@ Image street(int w, int h) {
   return img;
 }
 
-RainRenderer rain_renderer(double rate_mmh, const RainCamera& c) {
+RainRenderer rain_renderer(double rain_rate_mmh, const RainCamera& c) {
   RainSettings s;
-  s.rate_mmh = rate_mmh;
+  s.rain_rate_mmh = rain_rate_mmh;
   s.wind_mps = 2;
   return RainRenderer(RainField(s, c));
 }
@@ -424,7 +424,7 @@ TEST(FogWithRain, OneVeilMixesTheAirlights) {
   Image depth(96, 64, 1);
   for (auto& z : depth.pixels) z = 400;
   RainSettings rs;
-  rs.rate_mmh = 50;
+  rs.rain_rate_mmh = 50;
   rs.near_m = 0.05;
   rs.far_m = 0.1;
   const Vec3 A(0.5, 0.6, 0.7);

@@ -58,7 +58,7 @@ TEST(RainField, StreakLengthIsSpeedTimesExposureOverDepth) {
   // No wind and a level camera: a drop falls straight down at constant depth z, so its streak is
   // v t_exp f / (z p) pixels long (f / p the focal length in pixels), exactly.
   RainSettings s;
-  s.rate_mmh = 25;
+  s.rain_rate_mmh = 25;
   RainCamera c = small_camera();
   c.exposure_s = 1.0 / 60;
   c.fps = 30;
@@ -86,7 +86,7 @@ TEST(RainField, SlantFollowsTheWind) {
   // so its streak leans right by dx / dy = w / v; blowing to the left it leans left.
   for (const double dir : {90.0, -90.0}) {
     RainSettings s;
-    s.rate_mmh = 25;
+    s.rain_rate_mmh = 25;
     s.wind_mps = 4;
     s.wind_dir_deg = dir;
     const RainRenderer r(RainField(s, small_camera()));
@@ -106,7 +106,7 @@ TEST(RainField, DropCountsFollowMarshallPalmer) {
   // (8000 m^-3 mm^-1 per diameter, Marshall & Palmer 1948) and Lambda = 8200 h^-0.21 m^-1, the
   // drops of 0.1-2.9 mm at 10 mm/h number N0 / Lambda (e^{-Lambda 1e-4} - e^{-Lambda 2.9e-3}) per m^3.
   RainSettings s;
-  s.rate_mmh = 10;
+  s.rain_rate_mmh = 10;
   const RainField f(s, small_camera());
   const double lambda = 8200 * std::pow(10.0, -0.21);
   double total = 0;
@@ -176,14 +176,14 @@ TEST(RainField, ExtinctionMatchesTheSkyCompositorsRain) {
   // negligible part of it (e^{-Lambda 2.9 mm} ~ 1e-4).
   for (const double rate : {1.0, 5.0, 50.0}) {
     RainSettings s;
-    s.rate_mmh = rate;
+    s.rain_rate_mmh = rate;
     const RainField f(s, small_camera());
     EXPECT_NEAR(f.beta_total_per_m(), scene::rain_beta_geo_per_m(rate), 2e-3 * f.beta_total_per_m());
   }
   // Unresolved rain: with every class left unresolved, the optical depth of a sky pixel is the
   // whole extinction over extent_m - near_m.
   RainSettings s;
-  s.rate_mmh = 5;
+  s.rain_rate_mmh = 5;
   s.min_alpha = 0.5;
   s.far_m = 0.6;
   const RainField f(s, small_camera());
@@ -194,7 +194,7 @@ TEST(RainField, ExtinctionMatchesTheSkyCompositorsRain) {
 
 TEST(RainField, SameSeedSameRainDifferentSeedDifferentRain) {
   RainSettings s;
-  s.rate_mmh = 25;
+  s.rain_rate_mmh = 25;
   s.wind_mps = 2;
   const RainCamera c = small_camera();
   const Image img = frame(c, 0.8f, 0.1f);
@@ -215,7 +215,7 @@ TEST(RainField, StreaksContinueFromFrameToFrame) {
   // streak in frame k ended (unless it wrapped round its box in between); with a shorter exposure it
   // starts where the drop has moved on to during the gap.
   RainSettings s;
-  s.rate_mmh = 25;
+  s.rain_rate_mmh = 25;
   s.wind_mps = 3;
   s.wind_dir_deg = 60;
   s.min_alpha = 0.001;  // more drops drawn
@@ -260,7 +260,7 @@ TEST(RainRenderer, NoStreakInFrontOfNearerGeometry) {
   // nearer than every drop (D < near_m) its pixels keep their values exactly; with D = 4 m they carry
   // exactly the streaks of the drops nearer than 4 m, rendered without the wall over an open scene.
   RainSettings s;
-  s.rate_mmh = 50;
+  s.rain_rate_mmh = 50;
   s.unresolved = false;
   const RainCamera c = small_camera();
   const Image img = frame(c, 0.8f, 0.2f);
@@ -377,7 +377,7 @@ TEST(RainRenderer, DropsAreBrighterThanTheirBackground) {
   // beyond the frame, so over a scene darker than the sky drops are brighter than what they cover, on
   // a dark scene and on a bright one alike; drops take the frame's colour (a blue sky, blue drops).
   RainSettings s;
-  s.rate_mmh = 25;
+  s.rain_rate_mmh = 25;
   const RainCamera c = small_camera();
   for (const float scene : {0.03f, 0.35f}) {
     RainRenderer r(RainField(s, c));
@@ -405,7 +405,7 @@ TEST(RainRenderer, SimdCompositeAgreesWithScalar) {
   c.width = 101;
   c.height = 60;
   RainSettings s;
-  s.rate_mmh = 60;
+  s.rain_rate_mmh = 60;
   s.wind_mps = 3;
   RainRenderer a{RainField(s, c)}, b{RainField(s, c)};
   Image rgb = frame(c, 0.7f, 0.2f), rgba(c.width, c.height, 4);
@@ -481,7 +481,7 @@ TEST(RainRenderer, SimdRasterAgreesWithScalar) {
 TEST(RainRenderer, SameFloatsOnEverySimdTarget) {
   RainCamera c = small_camera();
   RainSettings s;
-  s.rate_mmh = 25;
+  s.rain_rate_mmh = 25;
   const Image img = frame(c, 0.8f, 0.15f);
   std::vector<float> first;
   int targets = 0;

@@ -294,6 +294,21 @@ TEST(SizeDistribution, DomainErrors) {
   EXPECT_THROW(SizeDistribution::marshall_palmer(0.0), DomainError);
   EXPECT_THROW(SizeDistribution::marshall_palmer(-3.0), DomainError);
   EXPECT_THROW(SizeDistribution::marshall_palmer(10.0, 0.0), DomainError);
+  // Issue 38: one range for the rain rate, [kMinDistributionRainRateMmh, kMaxRainRateMmh] (core/params.hpp),
+  // named rain_rate_mmh as every job names it; 1000 mm/h, taken before, is refused.
+  EXPECT_NO_THROW(SizeDistribution::marshall_palmer(kMaxRainRateMmh));
+  EXPECT_NO_THROW(SizeDistribution::marshall_palmer(kMinDistributionRainRateMmh));
+  for (const double h : {600.0, 1000.0, 0.005}) {
+    try {
+      (void)SizeDistribution::marshall_palmer(h);
+      ADD_FAILURE() << h << " mm/h accepted";
+    } catch (const DomainError& e) {
+      EXPECT_EQ(e.quantity(), "rain_rate_mmh");
+      EXPECT_EQ(e.lo(), 0.01);
+      EXPECT_EQ(e.hi(), 500);
+      EXPECT_NE(std::string(e.what()).find("is outside [0.01, 500]"), std::string::npos) << e.what();
+    }
+  }
   const auto d = SizeDistribution::gamma(1e-3, 0.5);
   EXPECT_THROW(d.quadrature(0), DomainError);
   EXPECT_THROW(d.quadrature(8, 1e-3, 1e-4), DomainError);
@@ -312,7 +327,7 @@ TEST(SizeDistribution, SpecsParseWithTheirRanges) {
   EXPECT_EQ(parse_size_distribution("marshall-palmer:25").parameter, 25.0);
   for (const char* bad : {"", "mono:1", "gamma", "gamma:", "gamma:0", "gamma:1e-300", "gamma:9e-5", "gamma:1.01",
                           "gamma:nan", "lognormal:-0.1", "marshall-palmer:0", "marshall-palmer:0.009",
-                          "marshall-palmer:1001", "marshall-palmer", "foo:1", "gamma:1,2"}) {
+                          "marshall-palmer:1001", "marshall-palmer:600", "marshall-palmer", "foo:1", "gamma:1,2"}) {
     try {
       (void)parse_size_distribution(bad);
       ADD_FAILURE() << bad;
@@ -324,6 +339,14 @@ TEST(SizeDistribution, SpecsParseWithTheirRanges) {
     }
   }
   EXPECT_THROW(SizeDistribution::gamma(1e-3, 0.5 * kMinRelativeWidth), DomainError);
+  // The rain rate's one range (issue 38): marshall-palmer:H as marshall_palmer() takes it, said with H.
+  EXPECT_EQ(parse_size_distribution("marshall-palmer:500").parameter, 500.0);
+  try {
+    (void)parse_size_distribution("marshall-palmer:600");
+    ADD_FAILURE() << "marshall-palmer:600 accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("H = 600 is outside [0.01, 500] mm/h"), std::string::npos) << e.what();
+  }
 }
 
 // Narrow distributions. The average of a Mie-like ripple (period 0.25 um at a mean radius of 10 um)

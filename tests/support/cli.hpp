@@ -114,7 +114,7 @@ inline fs::path temp_dir(const std::string& prefix) {
 // The built-in street scene, clear (no rain), written by the CLI to `file` (.exr or .png) at `size`
 // ("WxH"); a test keeps the path in a function-local static so that it is made once.
 inline fs::path builtin_frame(const fs::path& file, const std::string& size) {
-  const Result r = run("rain -q --image builtin --size " + size + " --rate-mmh 0 -o " + file.string());
+  const Result r = run("rain -q --image builtin --size " + size + " --rain-rate-mmh 0 -o " + file.string());
   EXPECT_EQ(r.code, 0) << r.err;
   return file;
 }

@@ -121,7 +121,7 @@ Command add_rainphys(CLI::App& app) {
       "in mm/h, as in the paper. It keeps Marshall & Palmer's N0 = 8e6 m^-4, which they defined per metre "
       "of DIAMETER, with the radius: a strict per-radius density is twice this (and so is the number "
       "density). number_density_per_m3 = N0 / Lambda counts all drops; mean_spacing_m = n^(-1/3).");
-  Command cmd{sub, [args] { return run_rainphys(*args); }, {{"rain_rate_mm_per_h", "--rain-rate-mmh"}}};
+  Command cmd{sub, [args] { return run_rainphys(*args); }, {}};
   add_params(*sub, args->r, drop::rainphys_params(), cmd.flags_for_quantity);
   sub->add_flag("--json", args->json,
                 "Print one JSON object: terminal_velocity_mps, terminal_velocity_gunn_kinzer_mps (null outside "

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "hydrolux/core/params.hpp"
+
 namespace hydrolux::cli {
 
 namespace {
@@ -24,8 +26,8 @@ void add_drop_size_flags(CLI::App& sub, DropFlags& drops, std::string_view rain_
       ->check(positive_number(1e6, "um"));
   sub.add_option("--size-distribution", drops.distribution,
                  fmt::format("mono, gamma:W or lognormal:W (relative width W in [0.0001, 1] around --radius-um), or "
-                             "marshall-palmer:H (rain of H in [0.01, 1000] mm/h, radii 50-3000 um{})",
-                             rain_note))
+                             "marshall-palmer:H (rain of H in [{:g}, {:g}] mm/h, radii 50-3000 um{})",
+                             kMinDistributionRainRateMmh, kMaxRainRateMmh, rain_note))
       ->capture_default_str();
   flags_for_quantity.insert({{"x", "--radius-um (size parameter x)"},
                              {"m_real", "--medium/--surrounding (relative index, real part)"},

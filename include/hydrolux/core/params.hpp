@@ -25,8 +25,8 @@ enum class ParamKind {
 };
 
 struct Param {
-  std::string_view name;  // the Python keyword, the JSON key, the library's quantity: "rate_mmh"
-  std::string_view flag;  // the CLI's and the batch jobs' flag: "--rate-mmh"
+  std::string_view name;  // the Python keyword, the JSON key, the library's quantity: "rain_rate_mmh"
+  std::string_view flag;  // the CLI's and the batch jobs' flag: "--rain-rate-mmh"
   // Which part of the job it sets ("rain", "camera", "files"): the docs group by it, and a door
   // that takes only a part (the Python functions take arrays, not files) selects by it.
   std::string_view group;
@@ -56,13 +56,13 @@ struct Param {
 
   // "[0, 500] mm/h"
   std::string range_text() const;
-  // Throws DomainError "rate_mmh = 600 is outside [0, 500] mm/h" (quantity: the name) unless the
+  // Throws DomainError "rain_rate_mmh = 600 is outside [0, 500] mm/h" (quantity: the name) unless the
   // value lies in the range; for an integer also unless it is whole.
   void check(double value) const;
 };
 
 // The door a user came through, which spells a parameter its own way in every message: the
-// library's name ("rate_mmh"), the CLI's and the batch jobs' flag ("--rate-mmh"), Python's keyword.
+// library's name ("rain_rate_mmh"), the CLI's and the batch jobs' flag ("--rain-rate-mmh"), Python's keyword.
 enum class Door { library, cli, python };
 // `param` as `door` spells it.
 std::string_view spelled(const Param& param, Door door);
@@ -70,9 +70,14 @@ std::string_view spelled(const Param& param, Door door);
 // Ranges that several jobs' parameters share, stated once: a temperature before the medium's own
 // range is checked (from absolute zero to 1000 C), and the worker threads (0: every core).
 inline constexpr double kMinTemperatureC = -273.15, kMaxTemperatureC = 1000;
-// The rain rate the rain and the sky take, mm/h (0: no rain; Marshall-Palmer is fitted to at most
-// ~100 mm/h, and cloudbursts reach a few hundred).
+// The rain rate, mm/h: one name (rain_rate_mmh) and one upper limit for every job and call that takes
+// one (the rain, the sky, rainphys, marshall-palmer:H, SizeDistribution::marshall_palmer).
+// Marshall-Palmer is fitted to at most ~100 mm/h, and cloudbursts reach a few hundred. The lower end is
+// 0 where a job takes no rain (the rain, the sky), and kMinDistributionRainRateMmh where a size
+// distribution needs a positive rate (Lambda = 8200 h^-0.21 is infinite at 0 mm/h; 0.01 mm/h is a trace
+// of drizzle).
 inline constexpr double kMaxRainRateMmh = 500;
+inline constexpr double kMinDistributionRainRateMmh = 0.01;
 inline constexpr int kMaxThreads = 1024;
 
 // A parameter bound to the request it fills. `get` reads it (NaN where it has no value of its own
@@ -85,7 +90,7 @@ struct Field {
 };
 
 // The accessors of a table row (a Field's get and set) for a member of the request:
-// HYDROLUX_PARAM_MEMBER(settings.rate_mmh) for a number or a bool, HYDROLUX_PARAM_OPTIONAL(fov_deg) for
+// HYDROLUX_PARAM_MEMBER(settings.rain_rate_mmh) for a number or a bool, HYDROLUX_PARAM_OPTIONAL(fov_deg) for
 // a std::optional<double> (NaN while unset: no default of its own).
 #define HYDROLUX_PARAM_MEMBER(path)                         \
   [](const auto& o) { return double(o.path); },             \

@@ -13,12 +13,6 @@ struct RainphysRequest {
   double rain_rate_mmh = 30.0;  // of the Marshall-Palmer distribution
 };
 
-// The rain rate of a distribution evaluated at one rate: above 0 (Lambda = 8200 h^-0.21 is infinite at
-// 0 mm/h) up to the rain jobs' kMaxRainRateMmh, one upper limit for every job. Marshall-Palmer is fitted
-// to at most ~100 mm/h; nothing here needs the 1000 mm/h rainphys took before (its law only grows
-// Lambda's power further out of the fit), so its rate takes the rain's and the sky's 500.
-inline constexpr double kMinDistributionRainRateMmh = 0.01;
-
 struct DropProfileRequest {
   double mu = 1.333;  // the drop's index relative to the air
   int samples = 101;  // rho values from 0 to 1

@@ -32,7 +32,7 @@ using RainJobHooks = FrameHooks;
 // The frames written, of the input, left out (a folder's, after the first written) and the time, and
 // the rain's summary.
 struct RainJobResult : FrameRunResult {
-  double rate_mmh = 0;
+  double rain_rate_mmh = 0;
   std::uint64_t drops = 0;             // in the field
   rain::RainStats last;                // the last frame's
 };

@@ -94,7 +94,7 @@ void validate(const RainCamera& camera);
 // parameters in rain/params.cpp; validate() checks them and the ranges that follow from other
 // members (far_m beyond near_m, max_radius_mm beyond min_radius_mm).
 struct RainSettings {
-  double rate_mmh = 25;          // rain rate, mm/h (0: no rain)
+  double rain_rate_mmh = 25;     // rain rate, mm/h (0: no rain)
   double wind_mps = 0;           // horizontal wind speed, m/s; drops move with it
   double wind_dir_deg = 90;      // where it blows to: 0 away from the camera, 90 to its right
   double near_m = 0.5;           // drops nearer than this are left out
@@ -114,11 +114,11 @@ struct RainSettings {
 // The largest seed every door accepts (core/random.hpp).
 using hydrolux::kMaxSeed;
 
-// DomainError naming the setting ("rate_mmh", "near_m", ...) for a value outside its range.
+// DomainError naming the setting ("rain_rate_mmh", "near_m", ...) for a value outside its range.
 void validate(const RainSettings& settings);
 
 // Marshall & Palmer's drop count per metre of radius per m^3 at radius a (m) for rate h (mm/h).
-double marshall_palmer_per_m4(double radius_m, double rate_mmh);
+double marshall_palmer_per_m4(double radius_m, double rain_rate_mmh);
 
 // One radius class of the field.
 struct RadiusClass {

@@ -35,6 +35,8 @@
 #include <utility>
 #include <vector>
 
+#include "hydrolux/core/params.hpp"  // kMinDistributionRainRateMmh, kMaxRainRateMmh
+
 namespace hydrolux::scatter {
 
 struct RadiusQuadrature {
@@ -51,8 +53,9 @@ enum class SizeDistributionKind { monodisperse, gamma, log_normal, marshall_palm
 
 // Valid domain (DomainError outside): radii in (0, 1] m (mean_radius_m, radius_m), relative widths
 // in [1e-4, 1] (narrower is monodisperse to 1e-8 in any average a drop's optics can resolve: use
-// monodisperse), number concentrations in (0, 1e30] m^-3, rain rates in (0, 1000] mm/h, N0 in
-// (0, 1e12] m^-4, quadrature nodes in [1, 4096].
+// monodisperse), number concentrations in (0, 1e30] m^-3, rain rates in [kMinDistributionRainRateMmh,
+// kMaxRainRateMmh] = [0.01, 500] mm/h (core/params.hpp: one range for every job), N0 in (0, 1e12] m^-4,
+// quadrature nodes in [1, 4096].
 inline constexpr int kMaxQuadratureNodes = 4096;
 inline constexpr double kMinRelativeWidth = 1e-4;
 
@@ -63,7 +66,8 @@ class SizeDistribution {
                                 double number_per_m3 = 1.0);
   static SizeDistribution log_normal(double mean_radius_m, double relative_width,
                                      double number_per_m3 = 1.0);
-  static SizeDistribution marshall_palmer(double rain_rate_mm_per_h, double n0_per_m4 = 8e6);
+  // DomainError naming rain_rate_mmh outside [kMinDistributionRainRateMmh, kMaxRainRateMmh] mm/h.
+  static SizeDistribution marshall_palmer(double rain_rate_mmh, double n0_per_m4 = 8e6);
 
   SizeDistributionKind kind() const { return kind_; }
 
@@ -103,13 +107,13 @@ class SizeDistribution {
 };
 
 // A distribution written as text: "mono", "gamma:W", "lognormal:W" (W the relative width,
-// sigma_r / <r>, in [1e-4, 1]) or "marshall-palmer:H" (H the rain rate in [0.01, 1000] mm/h; 0.01 is
-// a trace of drizzle). The mean radius comes separately.
+// sigma_r / <r>, in [1e-4, 1]) or "marshall-palmer:H" (H the rain rate in
+// [kMinDistributionRainRateMmh, kMaxRainRateMmh] mm/h, as SizeDistribution::marshall_palmer takes it).
+// The mean radius comes separately.
 struct SizeDistributionSpec {
   SizeDistributionKind kind = SizeDistributionKind::monodisperse;
   double parameter = 0;  // W for gamma and log-normal, H for Marshall-Palmer
 };
-inline constexpr double kMinSpecRainRateMmh = 0.01, kMaxSpecRainRateMmh = 1000;
 // Throws hydrolux::Error with the reason and the valid forms (naming no flag).
 SizeDistributionSpec parse_size_distribution(std::string_view text);
 

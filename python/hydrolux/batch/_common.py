@@ -190,6 +190,35 @@ def number_flag(flag: str, value, lo: float, hi: float, unit: str = "", lo_open:
     return v
 
 
+def _flag_of(name: str) -> str:
+    return "--" + name.replace("_", "-")
+
+
+def add_deprecated_flag(p, q: dict) -> None:
+    """The old flag of the declared parameter ``q`` where it was renamed (``q["deprecated"]``, kept for one
+    release): hidden from --help, and kept apart (``<name>_deprecated``) for :func:`take_deprecated_flags`."""
+    if q.get("deprecated"):
+        import argparse
+
+        p.add_argument(_flag_of(q["deprecated"]), dest=q["name"] + "_deprecated", default=None, help=argparse.SUPPRESS)
+
+
+def take_deprecated_flags(a, params, given: Callable[[dict], bool], tag: str) -> None:
+    """Each renamed parameter given by its old flag, in place: its value as the new flag's, with one warning
+    line on stderr in the CLI's words (``hydrolux.<tag>: warning: --rate-mmh is deprecated ...: give
+    --rain-rate-mmh ...``); both flags given (``given(q)``: the new one was) is a UsageError naming both."""
+    for q in params:
+        value = getattr(a, q["name"] + "_deprecated", None) if q.get("deprecated") else None
+        if value is None:
+            continue
+        old = _flag_of(q["deprecated"])
+        if given(q):
+            raise UsageError(f"{old}: give {q['flag']} or {old} ({q['flag']}'s deprecated name), not both")
+        setattr(a, q["name"], value)
+        text = native("_core").deprecation_warning(old, q["flag"], q["unit"])
+        sys.stderr.write(printable(f"hydrolux.{tag}: warning: {text}") + "\n")
+
+
 def integer_flag(flag: str, value, lo: int, hi: int, unit: str = "", extra: str = "") -> int:
     """A whole number in [lo, hi] given to ``flag``, as the CLI's integer_in accepts it ("1e3" is 1000).
     ``extra`` follows the range in the message (what the bound means)."""

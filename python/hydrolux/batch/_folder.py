@@ -76,10 +76,12 @@ def add_arguments(p: argparse.ArgumentParser, fj: FrameJob) -> None:
         else:
             p.add_argument(q["flag"], dest=q["name"], default=None,
                            help=f"{text}; valid {q['range']}" + (f" [{q['default_text']}]" if q["default_text"] else ""))
+            _common.add_deprecated_flag(p, q)
     p.add_argument("--chunk-frames", default=0, help="Frames per task (0: about 4 tasks per worker, at most 32)")
 
 
 def _parse_numbers(a: argparse.Namespace, fj: FrameJob) -> None:
+    _common.take_deprecated_flags(a, params(fj), lambda q: getattr(a, q["name"], None) is not None, f"batch {fj.name}")
     for p in params(fj):
         if p["kind"] == "flag":
             continue

@@ -47,8 +47,8 @@ def params() -> tuple:
 
     >>> from hydrolux.batch import rain
     >>> p = {p["name"]: p for p in rain.params()}
-    >>> p["rate_mmh"]["flag"], p["rate_mmh"]["range"], p["seed"]["hi"] == 2 ** 53
-    ('--rate-mmh', '[0, 500] mm/h', True)
+    >>> p["rain_rate_mmh"]["flag"], p["rain_rate_mmh"]["range"], p["seed"]["hi"] == 2 ** 53
+    ('--rain-rate-mmh', '[0, 500] mm/h', True)
     """
     return tuple(_common.native("_core").params("rain"))
 
@@ -61,7 +61,7 @@ def parser_default(p: dict) -> Any:
     Example:
 
     >>> from hydrolux.batch import rain
-    >>> [rain.parser_default(p) for p in rain.params() if p["name"] in ("rate_mmh", "focal_mm", "crf")]
+    >>> [rain.parser_default(p) for p in rain.params() if p["name"] in ("rain_rate_mmh", "focal_mm", "crf")]
     [25.0, None, None]
     """
     replaced = any(q["excludes"] == p["name"] for q in params())
@@ -78,15 +78,17 @@ def parse_numbers(a: argparse.Namespace) -> None:
     >>> from hydrolux.batch import rain
     >>> p = argparse.ArgumentParser()
     >>> rain.add_arguments(p)
-    >>> a = p.parse_args(["--rate-mmh", "1e1", "--seed", "7", "--frame-index", "2e3"])
+    >>> a = p.parse_args(["--rain-rate-mmh", "1e1", "--seed", "7", "--frame-index", "2e3"])
     >>> rain.parse_numbers(a)
-    >>> a.rate_mmh, a.seed, a.frame_index, a.crf
+    >>> a.rain_rate_mmh, a.seed, a.frame_index, a.crf
     (10.0, 7, 2000, 18)
-    >>> rain.parse_numbers(p.parse_args(["--rate-mmh", "600"]))
+    >>> rain.parse_numbers(p.parse_args(["--rain-rate-mmh", "600"]))
     Traceback (most recent call last):
     ...
-    hydrolux.batch._common.UsageError: --rate-mmh...600...
+    hydrolux.batch._common.UsageError: --rain-rate-mmh...600...
     """
+    # A flag's text is a string; a value not given is its default (a number) or None.
+    _common.take_deprecated_flags(a, params(), lambda q: isinstance(getattr(a, q["name"], None), str), "batch rain")
     for p in params():
         name = p["name"]
         if p["kind"] == "flag":
@@ -116,7 +118,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     >>> p = argparse.ArgumentParser(prog="rain")
     >>> rain.add_arguments(p)
     >>> a = p.parse_args(["--input-dir", "frames", "--output-dir", "rainy", "--wind-mps", "3", "--no-unresolved"])
-    >>> a.input_dir, a.rate_mmh, a.wind_mps, a.unresolved
+    >>> a.input_dir, a.rain_rate_mmh, a.wind_mps, a.unresolved
     ('frames', 25.0, '3', False)
     """
     p.add_argument("--input-dir", help="A folder of frames in name order: one rain field across them")
@@ -136,6 +138,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         else:
             p.add_argument(q["flag"], dest=q["name"], default=parser_default(q),
                            help=f"{text}; valid {q['range']}" + (f" [{q['default_text']}]" if q["default_text"] else ""))
+            _common.add_deprecated_flag(p, q)  # --rate-mmh for --rain-rate-mmh, for one release
     p.add_argument("--chunk-frames", default=0,
                    help="Frames per task (0: about 4 tasks per worker, at most 32 frames each; 8 for video)")
 
@@ -238,7 +241,7 @@ def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
     >>> frames, out = tempfile.mkdtemp(), tempfile.mkdtemp()
     >>> hydrolux.write_image(os.path.join(frames, "f0.png"), hydrolux.builtin_scene(64, 48))
     >>> job = {"input_dir": frames, "output_dir": out, "mask_dir": None, "depth_dir": None, "depth_scale_m": None,
-    ...        "width": 64, "height": 48, "options": {"rate_mmh": 25.0, "seed": 4}, "threads": 0}
+    ...        "width": 64, "height": 48, "options": {"rain_rate_mmh": 25.0, "seed": 4}, "threads": 0}
     >>> records = rain.render_frames(job, [("f0.png", "rainy0.png", 0, None), ("gone.png", "gone.png", 1, None)])
     >>> [(r["output"], r.get("error", "ok")) for r in records]
     [('rainy0.png', 'ok'), ('gone.png', '...gone.png...')]
