@@ -13,6 +13,7 @@ from hydrolux._args import _MEDIUM, _array_arg, _flag, _opt_real, _pair, _real, 
 
 # The drop render's declared defaults (drop/params.hpp): the same as hydrolux drop render's flags.
 _DROP = {p["name"]: p["default"] for p in _core.params("drop_render")}
+_UNDISTORT = {p["name"]: p["default"] for p in _core.params("drop_undistort")}
 
 
 def drop_render(env: Optional[np.ndarray] = None, radius_mm: float = _DROP["radius_mm"],
@@ -57,8 +58,10 @@ def drop_render(env: Optional[np.ndarray] = None, radius_mm: float = _DROP["radi
 
 
 def drop_undistort(image: np.ndarray, drop_center: Tuple[float, float], drop_radius_px: float,
-                   fov_deg: float = 60.0, yaw_deg: float = 0.0, pitch_deg: float = 0.0, mu: float = 1.333,
-                   size: Tuple[int, int] = (512, 512), transmission_correction: bool = True) -> np.ndarray:
+                   fov_deg: float = _UNDISTORT["fov_deg"], yaw_deg: float = _UNDISTORT["yaw_deg"],
+                   pitch_deg: float = _UNDISTORT["pitch_deg"], mu: float = _UNDISTORT["mu"],
+                   size: Tuple[int, int] = (512, 512),
+                   transmission_correction: bool = _UNDISTORT["transmission_correction"]) -> np.ndarray:
     """Undo a drop's distortion (``hydrolux drop undistort``; Garg & Nayar Figure 9): the perspective
     view (``size`` = (width, height), ``fov_deg`` horizontal, turned by ``yaw_deg``/``pitch_deg``) of a
     pinhole camera at the drop whose image, centred at ``drop_center`` (x, y pixels) with radius

@@ -73,27 +73,27 @@ py::array_t<float> drop_render(std::optional<py::array> env, const std::string& 
       [&](const ProgressFn& progress) { return drop::render_request(r, cam, *environment, mu, blur_rad, progress); }));
 }
 
+// The numbers as hydrolux drop undistort takes its flags: the declared parameters
+// (drop/undistort.hpp), checked in the table's order and named by their keywords; `size` is
+// (width, height).
 py::array_t<float> drop_undistort(const py::array& image, std::pair<double, double> drop_center, double drop_radius_px,
                                   double mu, double fov_deg, double yaw_deg, double pitch_deg,
                                   std::pair<py::object, py::object> size, bool transmission_correction) {
-  require_arg("mu", mu, 1.0001, 10);  // the CLI's --mu
-  drop::UndistortView view;
-  view.yaw_deg = yaw_deg, view.pitch_deg = pitch_deg, view.fov_deg = fov_deg;
-  view.width = int(whole_arg(size.first, "size[0] (width)", 1, 16384, "px"));
-  view.height = int(whole_arg(size.second, "size[1] (height)", 1, 16384, "px"));
-  try {
-    drop::validate(view);
-  } catch (const DomainError& e) {
-    rethrow_named(e, {{"width", {"size[0] (width)"}}, {"height", {"size[1] (height)"}}});
-  }
+  drop::UndistortRequest r;
+  r.drop_radius_px = drop_radius_px, r.mu = mu, r.fov_deg = fov_deg, r.yaw_deg = yaw_deg, r.pitch_deg = pitch_deg;
+  r.width = int(whole_arg(size.first, "size[0] (width)", 1, 16384, "px"));
+  r.height = int(whole_arg(size.second, "size[1] (height)", 1, 16384, "px"));
+  r.transmission_correction = transmission_correction;
+  check_fields(drop::undistort_params(), r);
+  const drop::UndistortView view = r.view();
   const Image in = to_image(image, "image");
   Image out;
   try {
     py::gil_scoped_release release;
-    out = drop::undistort(in, drop_center.first, drop_center.second, drop_radius_px, mu, view, transmission_correction);
+    out = drop::undistort(in, drop_center.first, drop_center.second, *r.drop_radius_px, r.mu, view,
+                          r.transmission_correction);
   } catch (const DomainError& e) {
-    rethrow_named(e, {{"radius_px", {"drop_radius_px"}}, {"center_x_px", {"drop_center[0]"}},
-                      {"center_y_px", {"drop_center[1]"}}});
+    rethrow_named(e, {{"center_x_px", {"drop_center[0]"}}, {"center_y_px", {"drop_center[1]"}}});
   }
   return to_array(out);
 }

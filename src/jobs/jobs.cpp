@@ -6,6 +6,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/params.hpp"
 #include "hydrolux/drop/physics_params.hpp"
+#include "hydrolux/drop/undistort.hpp"
 #include "hydrolux/optics/params.hpp"
 #include "hydrolux/rain/fog.hpp"
 #include "hydrolux/rain/lens_drops.hpp"
@@ -87,6 +88,15 @@ const std::vector<JobSpec>& job_specs() {
                  "looks along +z at a spherical drop on its axis; every pixel has its own viewing direction; the rim is "
                  "anti-aliased by supersampling. Output: linear EXR, or sRGB PNG (RGBA: alpha is the drop's coverage "
                  "when --no-background is given)."});
+    v.push_back({"drop_undistort", "hydrolux drop undistort",
+                 "A perspective view recovered from the picture inside a drop (Garg & Nayar Figure 9)",
+                 describe_fields(drop::undistort_params()), "hydrolux.drop_undistort",
+                 "Undo a rain drop's distortion (Garg & Nayar Figure 9): the drop refracts a ~165 degree, inverted "
+                 "view of the world into its image; inverting the refraction mapping gives the perspective view of a "
+                 "pinhole camera at the drop. The drop is taken as a sphere seen head-on. Near the drop's rim the "
+                 "view is packed ever tighter, so the result is sharp near the centre of the field only. Output RGBA: "
+                 "alpha 0 where a direction lies outside the drop's field of view or its image point outside the "
+                 "input image."});
     v.push_back({"mie", "hydrolux mie", "Lorenz-Mie scattering by one sphere", describe_fields(scatter::mie_params()),
                  "",
                  "Lorenz-Mie scattering by a homogeneous sphere: efficiencies and the amplitudes S1, S2 "

@@ -28,8 +28,10 @@
 // so the outer field of view is packed into a thin ring of the drop image; an undistorted view is
 // sharp near theta_r = 0 only.
 #include <optional>
+#include <span>
 
 #include "hydrolux/core/image.hpp"
+#include "hydrolux/core/params.hpp"
 #include "hydrolux/core/vec.hpp"
 
 namespace hydrolux::drop {
@@ -71,6 +73,25 @@ struct UndistortView {
 // DomainError "yaw_deg" [-360, 360], "pitch_deg" [-90, 90], "fov_deg" (0, 179], "width" or
 // "height" [1, 16384].
 void validate(const UndistortView& view);
+
+// What a user sets for an undistortion (hydrolux drop undistort, hydrolux.drop_undistort), declared
+// once (undistort_params: each value's name, unit, range, default and help). The drop's radius has
+// no default (every door requires it); of width and height, one given sets both (a square view),
+// neither gives UndistortView's 512 x 512.
+struct UndistortRequest {
+  std::optional<double> drop_radius_px;
+  double fov_deg = 60;
+  double yaw_deg = 0;
+  double pitch_deg = 0;
+  double mu = 1.333;
+  std::optional<int> width, height;
+  bool transmission_correction = true;
+
+  // The view these values ask for (not validated: check_fields(undistort_params(), request)).
+  UndistortView view() const;
+};
+
+std::span<const Field<UndistortRequest>> undistort_params();
 
 // Resamples the drop in `drop_image` (centre (cx, cy) in pixels, pixel centres at half-integers,
 // image radius radius_px) into the perspective view `view`. For each output pixel: its direction,
