@@ -1,0 +1,115 @@
+// The specs `hydrolux lee` and `hydrolux export` compute from their flags' texts (io/lee_job.hpp,
+// io/export_job.hpp), before any file or work: the values the texts state, the defaults
+// docs/lee.md and docs/sky.md give (a rainbow table of 512 x 1024 over 5-800 um, the corona's rows
+// twice the rainbow's, no corona for drops over 50 um), and the refusals in the flags' words.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/io/export_job.hpp"
+#include "hydrolux/io/lee_job.hpp"
+
+namespace hydrolux::io {
+namespace {
+
+std::string error_of(const auto& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(LeeJobSpec, TheTextsSetTheSpec) {
+  LeeJob job;
+  job.radius_um = "100:500";
+  job.angle_deg = "120:150";
+  job.request.size = std::array<int, 2>{8, 32};
+  job.wavelengths = "400:700:16";
+  job.medium = "ice";
+  const atmos::LeeSpec s = lee_job_spec(job);
+  EXPECT_EQ(s.radius_min_um, 100);
+  EXPECT_EQ(s.radius_max_um, 500);
+  EXPECT_EQ(s.columns, 8);
+  EXPECT_EQ(s.rows, 32);
+  EXPECT_EQ(s.wavelength_min_nm, 400);
+  EXPECT_EQ(s.wavelength_max_nm, 700);
+  EXPECT_EQ(s.wavelengths, 16);
+  EXPECT_EQ(s.drop_medium, "ice");
+  EXPECT_EQ(s.table, atmos::LeeTableKind::rainbow);
+}
+
+TEST(LeeJobSpec, RefusalsNameTheFlags) {
+  LeeJob job;
+  job.radius_um = "500:100";
+  EXPECT_EQ(error_of([&] { (void)lee_job_spec(job); }),
+            "--radius-um '500:100': expected A:B (micrometres in [0.1, 5000], A <= B) or one value");
+  job = LeeJob{};
+  job.wavelengths = "300";
+  EXPECT_EQ(error_of([&] { (void)lee_job_spec(job); }),
+            "--wavelengths-nm '300': expected A:B or A:B:N (nanometres in [360, 830], A <= B; N samples in [1, 2000])");
+  job = LeeJob{};
+  job.given.insert("canting_deg");
+  job.request.canting_deg = 5;
+  EXPECT_EQ(error_of([&] { (void)lee_job_spec(job); }),
+            "--canting-deg 5: sets the canting of the non-spherical drops' table (--shape); the spheres' tables do not "
+            "depend on it (omit it or give --shape)");
+}
+
+// --json prints one radius's profile, and nothing else is written without -o: refused before any work.
+TEST(LeeJob, JsonNeedsOneRadius) {
+  LeeJob job;
+  job.radius_um = "100:500";
+  job.request.size = std::array<int, 2>{8, 32};
+  job.json = true;
+  EXPECT_EQ(error_of([&] { (void)run_lee_job(job, lee_job_spec(job), {}); }),
+            "--json prints one radius's profile: give a single --radius-um R");
+  job.json = false;
+  EXPECT_EQ(error_of([&] { (void)run_lee_job(job, lee_job_spec(job), {}); }),
+            "-o is required (a .exr path, or .nc for NetCDF), unless --json prints a profile");
+}
+
+TEST(ExportTables, DefaultsAndOneRadius) {
+  ExportJob job;
+  ExportTables t = export_tables(job);
+  EXPECT_EQ(t.rainbow.columns, 512);
+  EXPECT_EQ(t.rainbow.rows, 1024);
+  EXPECT_EQ(t.corona.rows, 2048);
+  EXPECT_TRUE(t.with_corona);
+  EXPECT_TRUE(t.rainbow.stokes);
+  EXPECT_FALSE(t.shaped);
+
+  job.options.radius_um = 100;  // over 50 um: no corona
+  job.size = "1x16";
+  job.size_wh = std::array<int, 2>{1, 16};
+  t = export_tables(job);
+  EXPECT_FALSE(t.with_corona);
+  EXPECT_EQ(t.rainbow.columns, 1);
+  EXPECT_EQ(t.rainbow.rows, 16);
+  EXPECT_EQ(t.rainbow.radius_min_um, 100);
+
+  job.size = "4x16";
+  job.size_wh = std::array<int, 2>{4, 16};
+  EXPECT_EQ(error_of([&] { (void)export_tables(job); }),
+            "--size 4x16: one --radius-um makes one column; give --size 1x16");
+}
+
+TEST(ExportTables, ShapeAndSunElevation) {
+  ExportJob job;
+  job.given.insert("sun_elevation_deg");
+  job.options.sun_elevation_deg = 30;
+  EXPECT_EQ(error_of([&] { (void)export_tables(job); }),
+            "--sun-elevation-deg 30: sets the sun of the non-spherical drops' table (--shape); the spheres' tables do "
+            "not depend on it (omit it or give --shape)");
+  job.options.shape = "spheroid:0.9";
+  job.size = "4x16";
+  job.size_wh = std::array<int, 2>{4, 16};
+  const ExportTables t = export_tables(job);
+  ASSERT_TRUE(t.shaped);
+  EXPECT_FALSE(t.shape.spherical());
+}
+
+}  // namespace
+}  // namespace hydrolux::io
