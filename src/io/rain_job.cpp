@@ -6,6 +6,7 @@
 
 #include <optional>
 
+#include "frame_job.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/parse.hpp"
 #include "hydrolux/io/rain_report.hpp"
@@ -94,13 +95,14 @@ class RainEffect final : public FrameEffect {
     last_ = r.stats;
   }
   nlohmann::json run_json() const override {
-    return rain_run_json(renderer_->field(), a_.depth       ? *a_.depth
-                                             : a_.depth_dir ? *a_.depth_dir
-                                                            : std::string("ground plane"));
+    return rain_run_json(renderer_->field(), detail::depth_source(a_, "ground plane"));
   }
 
-  const rain::RainRenderer& renderer() const { return *renderer_; }
-  const rain::RainStats& last() const { return last_; }
+  void fill_result(RainJobResult& out) const {
+    out.rain_rate_mmh = renderer_->field().settings().rain_rate_mmh;
+    out.drops = renderer_->field().drop_count();
+    out.last = last_;
+  }
 
  private:
   // The renderer for one camera, with the library's "too many drops" said in the flags.
@@ -126,14 +128,9 @@ class RainEffect final : public FrameEffect {
 
 RainJobResult run_rain_job(const RainJob& a, const RainJobHooks& hooks) {
   RainEffect effect(a);
-  RainJobResult out;
-  out.FrameRunResult::operator=(run_frames(frame_request(a, a.files.png_compression, a.files.crf, a.crf_given,
-                                                         a.files.depth_scale_m, a.depth_scale_given),
-                                           effect, hooks));
-  out.rain_rate_mmh = effect.renderer().field().settings().rain_rate_mmh;
-  out.drops = effect.renderer().field().drop_count();
-  out.last = effect.last();
-  return out;
+  return detail::run_frame_job<RainJobResult>(frame_request(a, a.files.png_compression, a.files.crf, a.crf_given,
+                                                            a.files.depth_scale_m, a.depth_scale_given),
+                                              effect, hooks);
 }
 
 std::string rain_summary(const RainJobResult& r) {

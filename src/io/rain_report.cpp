@@ -1,5 +1,7 @@
 #include "hydrolux/io/rain_report.hpp"
 
+#include "frame_job.hpp"
+
 namespace hydrolux::io {
 
 nlohmann::json rain_stats_json(const rain::RainStats& s) {
@@ -28,6 +30,13 @@ nlohmann::json rain_stats_json(const rain::RainStats& s) {
 nlohmann::json rain_run_json(const rain::RainField& field, const std::string& depth) {
   const auto& s = field.settings();
   const auto& c = field.camera();
+  nlohmann::json camera = detail::camera_json(c);
+  camera.update({{"focal_px", c.focal_px()},
+                 {"pixel_pitch_um", c.pixel_pitch_m() * 1e6},
+                 {"f_number", c.f_number},
+                 {"focus_m", c.focus_m},
+                 {"exposure_s", c.exposure_s},
+                 {"fps", c.fps}});
   nlohmann::json classes = nlohmann::json::array();
   for (const auto& rc : field.classes())
     classes.push_back({{"radius_mm", {rc.radius_lo_m * 1e3, rc.radius_hi_m * 1e3}},
@@ -43,11 +52,7 @@ nlohmann::json rain_run_json(const rain::RainField& field, const std::string& de
                     {"backdrop_m", s.backdrop_m}, {"oscillation", s.oscillation},
                     {"refractive_index", s.refractive_index}, {"unresolved", s.unresolved},
                     {"radius_classes", s.radius_classes}}},
-          {"camera", {{"width", c.width}, {"height", c.height}, {"focal_mm", c.focal_mm},
-                      {"sensor_width_mm", c.sensor_width_mm}, {"focal_px", c.focal_px()},
-                      {"pixel_pitch_um", c.pixel_pitch_m() * 1e6}, {"f_number", c.f_number}, {"focus_m", c.focus_m},
-                      {"exposure_s", c.exposure_s}, {"fps", c.fps}, {"height_m", c.height_m},
-                      {"pitch_deg", c.pitch_deg}}},
+          {"camera", camera},
           {"depth", depth},
           {"field", {{"drops", field.drop_count()}, {"beta_total_per_m", field.beta_total_per_m()},
                      {"classes", classes}}}};

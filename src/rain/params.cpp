@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "hydrolux/core/shared_params.hpp"
+
 namespace hydrolux::rain {
 
 namespace {
@@ -65,8 +67,8 @@ const Field<RainOptions> kRain[] = {
     {{"oscillation", "--oscillation", "rain", K::real, "", 0, 0.5,
       "Relative amplitude of the drops' shape oscillation (Rayleigh mode 2); 0 off"},
      HYDROLUX_PARAM_MEMBER(settings.oscillation)},
-    {{"unresolved", "--no-unresolved", "rain", K::flag, "", 0, 1,
-      "Leave out the unresolved rain's extinction and airlight (streaks only)"},
+    {flag_param("unresolved", "--no-unresolved", "rain",
+                "Leave out the unresolved rain's extinction and airlight (streaks only)"),
      HYDROLUX_PARAM_MEMBER(settings.unresolved)},
     {{"radius_classes", "--radius-classes", "rain", K::integer, "", 1, 256,
       "Drop radius classes, log-spaced from --min-radius-mm to --max-radius-mm (more: finer sizes, slower)"},
@@ -78,8 +80,7 @@ const Field<RainOptions> kRain[] = {
     {fog_medium_param("size_alpha"), HYDROLUX_PARAM_MEMBER(fog.size_alpha)},
     {fog_medium_param("wavelength_nm"), HYDROLUX_PARAM_MEMBER(fog.wavelength_nm)},
     {fog_medium_param("glow"), HYDROLUX_PARAM_MEMBER(fog.glow)},
-    {{"seed", "--seed", "rain", K::integer, "", 0, double(kMaxSeed),
-      "Random seed: the same seed gives the same rain, bytes for bytes"},
+    {seed_param("rain", "Random seed: the same seed gives the same rain, bytes for bytes"),
      HYDROLUX_PARAM_MEMBER(settings.seed)},
 };
 

@@ -24,6 +24,12 @@ constexpr double kTiny = std::numeric_limits<double>::min();
 void check_radius(const char* name, double r) { require_in_range(name, r, kTiny, kMaxRadius); }
 void check_width(double w) { require_in_range("relative_width", w, kMinRelativeWidth, 1.0); }
 void check_number(double n) { require_in_range("number_per_m3", n, kTiny, kMaxConcentration); }
+// The arguments of a spread of radii around a mean (gamma, log-normal).
+void check_spread(double mean_radius_m, double relative_width, double number_per_m3) {
+  check_radius("mean_radius_m", mean_radius_m);
+  check_width(relative_width);
+  check_number(number_per_m3);
+}
 void check_nodes(int nodes) { require_in_range("quadrature_nodes", nodes, 1, kMaxQuadratureNodes); }
 
 // ln(Gamma(a + k) / Gamma(a)) for a > 0, a + k > 0, accurate also for large a: lgamma for small a,
@@ -148,9 +154,7 @@ SizeDistribution SizeDistribution::monodisperse(double radius_m, double number_p
 
 SizeDistribution SizeDistribution::gamma(double mean_radius_m, double relative_width,
                                          double number_per_m3) {
-  check_radius("mean_radius_m", mean_radius_m);
-  check_width(relative_width);
-  check_number(number_per_m3);
+  check_spread(mean_radius_m, relative_width, number_per_m3);
   SizeDistribution d;
   d.kind_ = SizeDistributionKind::gamma;
   d.alpha_ = 1 / (relative_width * relative_width);
@@ -162,9 +166,7 @@ SizeDistribution SizeDistribution::gamma(double mean_radius_m, double relative_w
 
 SizeDistribution SizeDistribution::log_normal(double mean_radius_m, double relative_width,
                                               double number_per_m3) {
-  check_radius("mean_radius_m", mean_radius_m);
-  check_width(relative_width);
-  check_number(number_per_m3);
+  check_spread(mean_radius_m, relative_width, number_per_m3);
   SizeDistribution d;
   d.kind_ = SizeDistributionKind::log_normal;
   const double s2 = std::log1p(relative_width * relative_width);
