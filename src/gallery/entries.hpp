@@ -7,6 +7,8 @@
 
 #include "hydrolux/core/image.hpp"
 #include "hydrolux/gallery/gallery.hpp"
+#include "hydrolux/io/svg_plot.hpp"
+#include "hydrolux/rain/rain.hpp"
 
 namespace hydrolux::gallery::detail {
 
@@ -18,11 +20,24 @@ struct Entry {
   std::function<std::string()> render;  // the file's bytes: SVG text, or an encoded PNG
 };
 
+// The one way to declare a figure: its file, title and caption, and how it is made. Each figure is
+// a function `Entry <file>_figure()` in the file of its part of the gallery.
 // A figure made as an image, written as PNG (the sRGB curve applied).
 Entry image_entry(std::string file, std::string title, std::string caption, std::function<Image()> make);
+// A figure drawn as a plot, written as SVG.
+Entry plot_entry(std::string file, std::string title, std::string caption, std::function<io::Plot()> make);
 
+// Pictures (pictures.cpp).
 // Panels side by side (equal heights, RGB), `gap` pixels apart on a dark grey background.
 Image side_by_side(const std::vector<Image>& panels, int gap);
+// Rows top to bottom, each centred, `gap` pixels apart on side_by_side's dark grey.
+Image stacked(const std::vector<Image>& rows, int gap);
+// A w x h crop of `img` from (x0, y0), RGB (a one-channel image as grey).
+Image crop(const Image& img, int x0, int y0, int w, int h);
+// A mask as --mask-out writes it (PNG codes = the mask's values), grey.
+Image mask_picture(const Image& mask);
+// The camera of the frame figures (rain, fog, lens drops) over the built-in street: a 35 mm lens.
+rain::RainCamera street_camera(int width, int height);
 
 // The rain drop's figures (issue #4): rendered pictures, the exact tracer beside the model, the
 // undistorted view, Beard & Chuang's shapes.

@@ -14,18 +14,10 @@ namespace {
 
 constexpr int kWidth = 400, kHeight = 225, kGap = 6;
 
-rain::RainCamera camera() {
-  rain::RainCamera c;
-  c.width = kWidth;
-  c.height = kHeight;
-  c.focal_mm = 35;
-  return c;
-}
-
 // The built-in street at dusk (a fifth of its light) with six lamps of radiance 40 beside the road,
 // from about 20 to 90 m away (rows below the horizon: on the ground plane).
 Image dusk_street() {
-  Image img = rain::builtin_scene(camera());
+  Image img = rain::builtin_scene(street_camera(kWidth, kHeight));
   for (auto& v : img.pixels) v *= 0.2f;
   const int lamps[][2] = {{70, 140}, {120, 127}, {155, 120}, {330, 140}, {280, 127}, {245, 120}};
   for (const auto& l : lamps)
@@ -39,30 +31,11 @@ rain::FogFrame foggy(const Image& clear, double visibility_m, bool glow) {
   rain::FogSettings s;
   s.visibility_m = visibility_m;
   s.glow = glow;
-  return rain::render_fog(clear, nullptr, camera(), s, rain::fog_optics(s));
+  return rain::render_fog(clear, nullptr, street_camera(kWidth, kHeight), s, rain::fog_optics(s));
 }
 
-Image gray(const Image& one) {
-  Image out(one.width, one.height, 3);
-  for (int y = 0; y < one.height; ++y)
-    for (int x = 0; x < one.width; ++x)
-      for (int k = 0; k < 3; ++k) out.at(x, y, k) = one.at(x, y, 0);
-  return out;
-}
-
-Image crop(const Image& img, int x0, int y0, int w, int h) {
-  Image out(w, h, 3);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      for (int k = 0; k < 3; ++k) out.at(x, y, k) = img.at(x0 + x, y0 + y, k);
-  return out;
-}
-
-}  // namespace
-
-std::vector<Entry> fog_entries() {
-  std::vector<Entry> e;
-  e.push_back(image_entry(
+Entry fog_figure() {
+  return image_entry(
       "fog.png", "Fog over the street at dusk: clear, 300 m and 80 m visibility (1:1)",
       "hydrolux fog over the built-in street at a fifth of its light with six lamps (400x225, 35 mm on 36 mm, "
       "camera 1.7 m above the ground plane, backdrop 1000 m): clear (left), visibility 300 m (middle) and 80 m "
@@ -75,8 +48,11 @@ std::vector<Entry> fog_entries() {
       [] {
         const Image clear = dusk_street();
         return side_by_side({clear, foggy(clear, 300, true).image, foggy(clear, 80, true).image}, kGap);
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry fog_glow_figure() {
+  return image_entry(
       "fog_glow.png", "The lamps' glow and the mask (1:1 crops)",
       "The left lamps of the street at dusk in fog of 150 m visibility, 1:1 crops of 160x70 pixels: without the "
       "glow (left: attenuation and airlight only), with it (middle), and the mask 1 - t of the whole crop "
@@ -86,10 +62,13 @@ std::vector<Entry> fog_entries() {
         const Image clear = dusk_street();
         const auto with = foggy(clear, 150, true), without = foggy(clear, 150, false);
         return side_by_side({crop(without.image, 40, 100, 160, 70), crop(with.image, 40, 100, 160, 70),
-                             crop(gray(with.alpha), 40, 100, 160, 70)},
+                             crop(with.alpha, 40, 100, 160, 70)},
                             kGap);
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry rain_fog_figure() {
+  return image_entry(
       "rain_fog.png", "Rain and fog in one pass: rain alone, fog alone, both as one veil (1:1 crops)",
       "hydrolux rain over the built-in street in daylight at 1280x720 (35 mm on 36 mm, backdrop 1000 m), 1:1 "
       "crops of 400x225 pixels of the road: rain of 100 mm/h with a 3 m/s wind (left), fog of 150 m visibility "
@@ -99,9 +78,7 @@ std::vector<Entry> fog_entries() {
       "seen through the fog in front of it and against the fogged road behind it, so the streaks lose most of "
       "their contrast, lit as they are by the fogged scene.",
       [] {
-        rain::RainCamera cam = camera();
-        cam.width = 1280;
-        cam.height = 720;
+        const rain::RainCamera cam = street_camera(1280, 720);
         const Image clear = rain::builtin_scene(cam);
         rain::RainSettings s;
         s.rain_rate_mmh = 100;
@@ -117,8 +94,11 @@ std::vector<Entry> fog_entries() {
                              crop(fog_alone, 340, 380, 400, 225),
                              crop(fogged.render(clear, nullptr, 0).image, 340, 380, 400, 225)},
                             kGap);
-      }));
-  return e;
+      });
 }
+
+}  // namespace
+
+std::vector<Entry> fog_entries() { return {fog_figure(), fog_glow_figure(), rain_fog_figure()}; }
 
 }  // namespace hydrolux::gallery::detail

@@ -34,19 +34,12 @@ detail::Entry detail::image_entry(std::string file, std::string title, std::stri
   return e;
 }
 
-Image detail::side_by_side(const std::vector<Image>& panels, int gap) {
-  int w = 0;
-  for (const auto& p : panels) w += p.width + gap;
-  Image out(w - gap, panels.front().height, 3);
-  std::fill(out.pixels.begin(), out.pixels.end(), 0.02f);
-  int x0 = 0;
-  for (const auto& p : panels) {
-    for (int y = 0; y < p.height; ++y)
-      for (int x = 0; x < p.width; ++x)
-        for (int c = 0; c < 3; ++c) out.at(x0 + x, y, c) = p.at(x, y, c);
-    x0 += p.width + gap;
-  }
-  return out;
+detail::Entry detail::plot_entry(std::string file, std::string title, std::string caption,
+                                 std::function<io::Plot()> make) {
+  Entry e;
+  e.figure = {std::move(file), std::move(title), std::move(caption)};
+  e.render = [make = std::move(make)] { return io::render_svg(make()); };
+  return e;
 }
 
 namespace {
@@ -64,6 +57,7 @@ constexpr const char* kPurple = "#9467bd";
 constexpr const char* kBrown = "#8c564b";
 
 using detail::Entry;
+using detail::plot_entry;
 
 struct Axis {
   double min, max, tick;
@@ -132,234 +126,282 @@ Plot fresnel_plot(const std::string& title, double n1, std::complex<double> n2) 
   return p;
 }
 
+// A water drop in air, its radius in um, at a vacuum wavelength in nm.
+scatter::SphereProblem water_drop(double radius_um, double lambda_nm) {
+  return scatter::sphere_problem(radius_um, lambda_nm, *optics::find_medium("water"), *optics::find_medium("air"));
+}
+
 std::string n_text(std::complex<double> n) {
   return n.imag() > 0 ? fmt::format("{:.4f} + {:.4f}i", n.real(), n.imag()) : fmt::format("{:.5f}", n.real());
 }
 
-std::vector<Entry> entries() {
-  std::vector<Entry> e;
-  const auto water = optics::find_medium("water");
-  const auto bk7 = optics::find_medium("bk7");
-  const auto gold = optics::find_medium("gold");
-  const double lw = 589.3;
+// The indices of the Fresnel figures: water at the sodium D line and 20 C (IAPWS R9-97), N-BK7 at
+// the helium d line, gold at 550 nm.
+constexpr double kWaterNm = 589.3;
+double water_n() { return optics::find_medium("water")->n(kWaterNm, 20.0); }
+double bk7_n() { return optics::find_medium("bk7")->n(587.6); }
+std::complex<double> gold_n() { return optics::find_medium("gold")->index(550.0); }
 
-  const double n_w = water->n(lw, 20.0);
-  e.push_back({{"fresnel_air_water.svg", "Fresnel: air to water",
-                fmt::format("Reflectance of a still water surface seen from air at {} nm, 20 C (n = {}, "
-                            "IAPWS R9-97). R_p vanishes at Brewster's angle; every curve rises to 1 "
-                            "at grazing incidence.",
-                            lw, n_text(n_w))},
-               [=] {
-                 return io::render_svg(fresnel_plot(
-                     fmt::format("Air to water, {} nm (n = {:.4f})", lw, n_w), 1.0, n_w));
-               }});
-  e.push_back({{"fresnel_water_air.svg", "Fresnel: water to air (inside a drop)",
-                fmt::format("The same interface seen from inside the water, as by light inside a rain "
-                            "drop: past the critical angle asin(1/n) = {:.2f} degrees all light is "
-                            "reflected (total internal reflection).",
-                            rad_to_deg(*optics::critical_angle(n_w, 1.0)))},
-               [=] {
-                 auto p = fresnel_plot(fmt::format("Water to air, {} nm (n = {:.4f})", lw, n_w), n_w, 1.0);
-                 p.legend = io::LegendCorner::BottomRight;
-                 return io::render_svg(p);
-               }});
-  const double n_g = bk7->n(587.6);
-  e.push_back({{"fresnel_air_glass.svg", "Fresnel: air to glass (N-BK7)",
-                fmt::format("Crown glass N-BK7 at 587.6 nm (n = {}, SCHOTT Sellmeier, made absolute). "
-                            "At normal incidence about 4% is reflected.",
-                            n_text(n_g))},
-               [=] {
-                 return io::render_svg(
-                     fresnel_plot(fmt::format("Air to N-BK7 glass, 587.6 nm (n = {:.4f})", n_g), 1.0, n_g));
-               }});
-  const auto n_au = gold->index(550.0);
-  e.push_back({{"fresnel_air_gold.svg", "Fresnel: air to gold",
-                fmt::format("Gold at 550 nm (n = {}, Johnson & Christy 1972), exact complex Fresnel "
-                            "equations. R_p dips at the principal angle but never reaches zero; "
-                            "what is not reflected is absorbed.",
-                            n_text(n_au))},
-               [=] {
-                 auto p = fresnel_plot("Air to gold, 550 nm", 1.0, n_au);
-                 p.legend = io::LegendCorner::BottomLeft;
-                 return io::render_svg(p);
-               }});
-  e.push_back({{"rough_water_albedo.svg", "Rough water surface (microfacet BSDF)",
-                fmt::format("Light arriving from air on a rough water surface (n = {:.4f}): the "
-                            "fractions reflected (rising at grazing) and transmitted, from the Walter "
-                            "et al. (2007) BSDF with a GGX distribution, by importance sampling (20000 "
-                            "samples per point). Smooth Fresnel in black. At roughness 0.6 the sum "
-                            "falls below 1 at grazing incidence: single-scattering microfacet models lose the "
-                            "light that masking blocks.",
-                            n_w)},
-               [n_w] {
-                 Plot p = axes("Rough air-water interface: reflected and transmitted power",
-                               "angle of incidence (degrees)", "fraction of incident power",
-                               {0, 90, 10}, {0, 1, 0.1}, io::LegendCorner::CenterLeft);
-                 const auto smooth = [n_w](double a) {
-                   return optics::fresnel_dielectric(std::cos(deg_to_rad(a)), 1.0, n_w).R;
-                 };
-                 p.series = {curve("smooth: R (Fresnel)", kBlack, 0, 89, 0.5, smooth),
-                             curve("smooth: T = 1 - R", kBlack, 0, 89, 0.5,
-                                   [&](double a) { return 1 - smooth(a); }, true)};
-                 const std::pair<double, const char*> roughness[] = {{0.1, kBlue}, {0.3, kGreen}, {0.6, kRed}};
-                 for (const auto& [alpha, colour] : roughness) {
-                   const optics::RoughDielectric bsdf(
-                       optics::MicrofacetDistribution::trowbridge_reitz(alpha, alpha), n_w);
-                   PlotSeries r{fmt::format("GGX alpha {:g}: reflected", alpha), {}, {}, colour};
-                   PlotSeries t{fmt::format("GGX alpha {:g}: transmitted", alpha), {}, {}, colour, true};
-                   for (int i = 0; i <= 44; ++i) {
-                     const double a = 2.0 * i;
-                     const auto alb = optics::directional_albedo(
-                         bsdf, spherical_direction(deg_to_rad(a), 0.0), 20000, 1000 + i);
-                     r.x.push_back(a), r.y.push_back(alb.reflected);
-                     t.x.push_back(a), t.y.push_back(alb.transmitted);
-                   }
-                   p.series.push_back(r);
-                   p.series.push_back(t);
-                 }
-                 return io::render_svg(p);
-               }});
-  e.push_back({{"mie_phase_functions.svg", "Mie phase functions of water drops",
-                "Lorenz-Mie phase function p(theta) (normalised: its mean over the sphere is 1) of "
-                "single water drops in air at 550 nm, unpolarised light. Larger drops throw more light "
-                "forward (diffraction); the primary rainbow near 138 degrees and the glory towards 180 "
-                "degrees grow out of the oscillations as the drop grows."},
-               [water] {
-                 Plot p = axes("Mie phase function, water drops at 550 nm", "scattering angle (degrees)",
-                               "phase function p(theta)", {0, 180, 20}, {1e-3, 1e6, 1},
-                               io::LegendCorner::TopRight);
-                 p.y_log = true;
-                 const auto air = optics::find_medium("air");
-                 std::vector<double> theta, mu;
-                 for (int i = 0; i <= 1800; ++i) {
-                   theta.push_back(0.1 * i);
-                   mu.push_back(std::cos(deg_to_rad(0.1 * i)));
-                 }
-                 const std::pair<double, const char*> drops[] = {{1, kGreen}, {10, kBlue}, {100, kRed}};
-                 for (const auto& [radius_um, colour] : drops) {
-                   const auto sp = scatter::sphere_problem(radius_um, 550.0, *water, *air);
-                   PlotSeries s{fmt::format("r = {:g} um (x = {:.0f})", radius_um, sp.x), theta,
-                                scatter::mie_phase_function(scatter::mie_coefficients(sp.m, sp.x), mu), colour};
-                   p.series.push_back(s);
-                 }
-                 return io::render_svg(p);
-               }});
-  e.push_back({{"rainbow_theories.svg", "The primary rainbow of one drop, four theories",
-                "A 250 um water drop in air at 650 nm (x = 2415), perpendicular polarisation, near the "
-                "primary rainbow. Lorenz-Mie is exact; its Debye p = 2 term keeps only the light "
-                "reflected once inside the drop (the rainbow rays) and follows Mie's main bow and "
-                "supernumeraries, while the full Mie curve adds the ripple of the other orders. Airy "
-                "theory reproduces the main bow and supernumeraries. Geometric optics with interference "
-                "(rays of orders 0-2, so it has the ripple too) diverges at the caustic, the "
-                "geometric rainbow angle (dotted)."},
-               [water] {
-                 Plot p = axes("Primary rainbow, r = 250 um, 650 nm, perpendicular polarisation",
-                               "scattering angle (degrees)", "intensity i1 / x^2", {136, 142, 1},
-                               {0, 1.2, 0.1}, io::LegendCorner::TopRight);
-                 const auto air = optics::find_medium("air");
-                 const auto sp = scatter::sphere_problem(250.0, 650.0, *water, *air);
-                 std::vector<double> deg, rad;
-                 for (int i = 0; i <= 1200; ++i) {
-                   deg.push_back(136.0 + 0.005 * i);
-                   rad.push_back(deg_to_rad(deg.back()));
-                 }
-                 const std::tuple<const char*, const char*, const char*, bool> theories[] = {
-                     {"mie", "Lorenz-Mie (exact)", kBlack, false},
-                     {"debye:2", "Debye p = 2", kBlue, false},
-                     {"airy", "Airy theory", kOrange, true},
-                     {"geometric:2", "geometric optics, orders 0-2", kGreen, true}};
-                 for (const auto& [name, label, colour, dashed] : theories) {
-                   std::vector<scatter::Complex> s1(rad.size()), s2(rad.size());
-                   scatter::amplitudes(scatter::parse_theory(name), sp.m, sp.x, rad, s1, s2);
-                   PlotSeries s{label, deg, {}, colour, dashed};
-                   for (const auto& v : s1) s.y.push_back(std::norm(v) / (sp.x * sp.x));
-                   p.series.push_back(s);
-                 }
-                 const double geometric = rad_to_deg(scatter::rainbow_angle(sp.m.real(), 2));
-                 p.markers.push_back({geometric, fmt::format("geometric {:.2f} deg", geometric), kGreen});
-                 return io::render_svg(p);
-               }});
-  e.push_back({{"drop_radiance_profile.svg", "A rain drop's radiance, path by path (Garg & Nayar Fig. 4)",
-                fmt::format("Radiance leaving a water drop (mu = 1.333) towards the camera along each path, for "
-                            "a uniform environment (Le = 1) and the drop on the optical axis, against the "
-                            "distance rho from the centre of the drop's image (1 = rim). Refraction carries "
-                            "96% of the light everywhere but at the rim, where reflection takes over. The "
-                            "refracted rays see a {:.1f} degree field of view (the paper: about 165). "
-                            "Checked against an exact ray trace of the sphere.",
-                            drop::field_of_view_deg(1.333))},
-               [] {
-                 Plot p = axes("Drop radiance by path, Le = 1, mu = 1.333", "rho (0 = centre, 1 = rim)",
-                               "radiance", {0, 1, 0.1}, {1e-4, 2, 1}, io::LegendCorner::BottomLeft);
-                 p.y_log = true;
-                 const auto f = drop::radiance_profile(1.333, 501);
-                 p.series = {{"refraction (1-k)^2", f.rho, f.refraction, kBlue},
-                             {"specular reflection k", f.rho, f.reflection, kRed},
-                             {"1 internal reflection k(1-k)^2", f.rho, f.internal[0], kGreen},
-                             {"2 internal reflections k^2(1-k)^2", f.rho, f.internal[1], kOrange}};
-                 return io::render_svg(p);
-               }});
-  e.push_back({{"metals_normal_incidence.svg", "Metals at normal incidence",
-                "Normal-incidence reflectance R = ((n-1)^2 + k^2) / ((n+1)^2 + k^2) of the built-in "
-                "metals across the visible: gold and copper reflect red better than blue, which is "
-                "their colour; aluminium dips near 800 nm (interband absorption)."},
-               [] {
-                 Plot p = axes("Normal-incidence reflectance of metals", "vacuum wavelength (nm)",
-                               "reflectance", {300, 1000, 100}, {0, 1, 0.1},
-                               io::LegendCorner::BottomRight);
-                 const std::pair<const char*, const char*> metals[] = {
-                     {"silver", "#7f7f7f"}, {"aluminium", kBlue}, {"gold", "#c9a000"}, {"copper", kBrown}};
-                 for (const auto& [name, colour] : metals) {
-                   const auto m = optics::find_medium(name);
-                   p.series.push_back(curve(name, colour, 300, 1000, 2.5, [&](double l) {
-                     return optics::fresnel_conductor(1.0, 1.0, m->index(l)).R;
-                   }));
-                 }
-                 return io::render_svg(p);
-               }});
-  e.push_back({{"dispersion.svg", "Dispersion n(lambda)",
-                "Refractive index against wavelength of the built-in transparent media, each within "
-                "its source's valid range (PMMA's fit starts at 436.8 nm). Water's dispersion is what "
-                "separates the colours of a rainbow."},
-               [] {
-                 // The y range leaves room for the legend between water and fused silica.
-                 Plot p = axes("Refractive index of transparent media", "vacuum wavelength (nm)",
-                               "refractive index n", {400, 1000, 100}, {1.26, 1.54, 0.02},
-                               io::LegendCorner::CenterRight);
-                 const std::tuple<const char*, const char*, const char*> media[] = {
-                     {"bk7", "N-BK7 glass", kRed},
-                     {"pmma", "PMMA (acrylic)", kPurple},
-                     {"fused-silica", "fused silica", kGreen},
-                     {"water", "water, 20 C", kBlue},
-                     {"ice", "ice Ih, -7 C", "#17becf"}};
-                 for (const auto& [name, label, colour] : media) {
-                   const auto m = optics::find_medium(name);
-                   const double from = std::ceil(std::max(400.0, m->info().lambda_min_nm) / 2) * 2;
-                   const double to = std::min(1000.0, m->info().lambda_max_nm);
-                   p.series.push_back(curve(label, colour, from, to, 2, [&](double l) { return m->n(l); }));
-                 }
-                 return io::render_svg(p);
-               }});
-  e.push_back({{"water_temperature.svg", "Water: index against temperature",
-                "IAPWS R9-97 refractive index of liquid water at 0.1 MPa from 0 to 100 C at three "
-                "wavelengths; the density comes from Kell (1975). Warmer water is less dense and "
-                "refracts less."},
-               [water] {
-                 Plot p = axes("Liquid water: n against temperature (IAPWS R9-97)", "temperature (C)",
-                               "refractive index n", {0, 100, 10}, {1.315, 1.345, 0.005},
-                               io::LegendCorner::TopRight);
-                 const std::pair<double, const char*> lines[] = {{450, kBlue}, {550, kGreen}, {650, kRed}};
-                 for (const auto& [l, colour] : lines)
-                   p.series.push_back(curve(fmt::format("{:g} nm", l), colour, 0, 100, 1,
-                                            [&](double t) { return water->n(l, t); }));
-                 return io::render_svg(p);
-               }});
-  for (auto& d : detail::drop_entries()) e.push_back(std::move(d));
-  for (auto& d : detail::lee_entries()) e.push_back(std::move(d));
-  for (auto& d : detail::shape_entries()) e.push_back(std::move(d));
-  for (auto& d : detail::sky_entries()) e.push_back(std::move(d));
-  for (auto& d : detail::rain_entries()) e.push_back(std::move(d));
-  for (auto& d : detail::lens_drops_entries()) e.push_back(std::move(d));
-  for (auto& d : detail::fog_entries()) e.push_back(std::move(d));
+Entry fresnel_air_water_figure() {
+  return plot_entry(
+      "fresnel_air_water.svg", "Fresnel: air to water",
+      fmt::format("Reflectance of a still water surface seen from air at {} nm, 20 C (n = {}, "
+                  "IAPWS R9-97). R_p vanishes at Brewster's angle; every curve rises to 1 "
+                  "at grazing incidence.",
+                  kWaterNm, n_text(water_n())),
+      [] {
+        const double n_w = water_n();
+        return fresnel_plot(fmt::format("Air to water, {} nm (n = {:.4f})", kWaterNm, n_w), 1.0, n_w);
+      });
+}
+
+Entry fresnel_water_air_figure() {
+  return plot_entry(
+      "fresnel_water_air.svg", "Fresnel: water to air (inside a drop)",
+      fmt::format("The same interface seen from inside the water, as by light inside a rain "
+                  "drop: past the critical angle asin(1/n) = {:.2f} degrees all light is "
+                  "reflected (total internal reflection).",
+                  rad_to_deg(*optics::critical_angle(water_n(), 1.0))),
+      [] {
+        const double n_w = water_n();
+        auto p = fresnel_plot(fmt::format("Water to air, {} nm (n = {:.4f})", kWaterNm, n_w), n_w, 1.0);
+        p.legend = io::LegendCorner::BottomRight;
+        return p;
+      });
+}
+
+Entry fresnel_air_glass_figure() {
+  return plot_entry(
+      "fresnel_air_glass.svg", "Fresnel: air to glass (N-BK7)",
+      fmt::format("Crown glass N-BK7 at 587.6 nm (n = {}, SCHOTT Sellmeier, made absolute). "
+                  "At normal incidence about 4% is reflected.",
+                  n_text(bk7_n())),
+      [] {
+        const double n_g = bk7_n();
+        return fresnel_plot(fmt::format("Air to N-BK7 glass, 587.6 nm (n = {:.4f})", n_g), 1.0, n_g);
+      });
+}
+
+Entry fresnel_air_gold_figure() {
+  return plot_entry(
+      "fresnel_air_gold.svg", "Fresnel: air to gold",
+      fmt::format("Gold at 550 nm (n = {}, Johnson & Christy 1972), exact complex Fresnel "
+                  "equations. R_p dips at the principal angle but never reaches zero; "
+                  "what is not reflected is absorbed.",
+                  n_text(gold_n())),
+      [] {
+        auto p = fresnel_plot("Air to gold, 550 nm", 1.0, gold_n());
+        p.legend = io::LegendCorner::BottomLeft;
+        return p;
+      });
+}
+
+Entry rough_water_albedo_figure() {
+  return plot_entry(
+      "rough_water_albedo.svg", "Rough water surface (microfacet BSDF)",
+      fmt::format("Light arriving from air on a rough water surface (n = {:.4f}): the "
+                  "fractions reflected (rising at grazing) and transmitted, from the Walter "
+                  "et al. (2007) BSDF with a GGX distribution, by importance sampling (20000 "
+                  "samples per point). Smooth Fresnel in black. At roughness 0.6 the sum "
+                  "falls below 1 at grazing incidence: single-scattering microfacet models lose the "
+                  "light that masking blocks.",
+                  water_n()),
+      [] {
+        const double n_w = water_n();
+        Plot p = axes("Rough air-water interface: reflected and transmitted power",
+                      "angle of incidence (degrees)", "fraction of incident power",
+                      {0, 90, 10}, {0, 1, 0.1}, io::LegendCorner::CenterLeft);
+        const auto smooth = [n_w](double a) {
+          return optics::fresnel_dielectric(std::cos(deg_to_rad(a)), 1.0, n_w).R;
+        };
+        p.series = {curve("smooth: R (Fresnel)", kBlack, 0, 89, 0.5, smooth),
+                    curve("smooth: T = 1 - R", kBlack, 0, 89, 0.5,
+                          [&](double a) { return 1 - smooth(a); }, true)};
+        const std::pair<double, const char*> roughness[] = {{0.1, kBlue}, {0.3, kGreen}, {0.6, kRed}};
+        for (const auto& [alpha, colour] : roughness) {
+          const optics::RoughDielectric bsdf(
+              optics::MicrofacetDistribution::trowbridge_reitz(alpha, alpha), n_w);
+          PlotSeries r{fmt::format("GGX alpha {:g}: reflected", alpha), {}, {}, colour};
+          PlotSeries t{fmt::format("GGX alpha {:g}: transmitted", alpha), {}, {}, colour, true};
+          for (int i = 0; i <= 44; ++i) {
+            const double a = 2.0 * i;
+            const auto alb = optics::directional_albedo(
+                bsdf, spherical_direction(deg_to_rad(a), 0.0), 20000, 1000 + i);
+            r.x.push_back(a), r.y.push_back(alb.reflected);
+            t.x.push_back(a), t.y.push_back(alb.transmitted);
+          }
+          p.series.push_back(r);
+          p.series.push_back(t);
+        }
+        return p;
+      });
+}
+
+Entry mie_phase_functions_figure() {
+  return plot_entry(
+      "mie_phase_functions.svg", "Mie phase functions of water drops",
+      "Lorenz-Mie phase function p(theta) (normalised: its mean over the sphere is 1) of "
+      "single water drops in air at 550 nm, unpolarised light. Larger drops throw more light "
+      "forward (diffraction); the primary rainbow near 138 degrees and the glory towards 180 "
+      "degrees grow out of the oscillations as the drop grows.",
+      [] {
+        Plot p = axes("Mie phase function, water drops at 550 nm", "scattering angle (degrees)",
+                      "phase function p(theta)", {0, 180, 20}, {1e-3, 1e6, 1},
+                      io::LegendCorner::TopRight);
+        p.y_log = true;
+        std::vector<double> theta, mu;
+        for (int i = 0; i <= 1800; ++i) {
+          theta.push_back(0.1 * i);
+          mu.push_back(std::cos(deg_to_rad(0.1 * i)));
+        }
+        const std::pair<double, const char*> drops[] = {{1, kGreen}, {10, kBlue}, {100, kRed}};
+        for (const auto& [radius_um, colour] : drops) {
+          const auto sp = water_drop(radius_um, 550.0);
+          PlotSeries s{fmt::format("r = {:g} um (x = {:.0f})", radius_um, sp.x), theta,
+                       scatter::mie_phase_function(scatter::mie_coefficients(sp.m, sp.x), mu), colour};
+          p.series.push_back(s);
+        }
+        return p;
+      });
+}
+
+Entry rainbow_theories_figure() {
+  return plot_entry(
+      "rainbow_theories.svg", "The primary rainbow of one drop, four theories",
+      "A 250 um water drop in air at 650 nm (x = 2415), perpendicular polarisation, near the "
+      "primary rainbow. Lorenz-Mie is exact; its Debye p = 2 term keeps only the light "
+      "reflected once inside the drop (the rainbow rays) and follows Mie's main bow and "
+      "supernumeraries, while the full Mie curve adds the ripple of the other orders. Airy "
+      "theory reproduces the main bow and supernumeraries. Geometric optics with interference "
+      "(rays of orders 0-2, so it has the ripple too) diverges at the caustic, the "
+      "geometric rainbow angle (dotted).",
+      [] {
+        Plot p = axes("Primary rainbow, r = 250 um, 650 nm, perpendicular polarisation",
+                      "scattering angle (degrees)", "intensity i1 / x^2", {136, 142, 1},
+                      {0, 1.2, 0.1}, io::LegendCorner::TopRight);
+        const auto sp = water_drop(250.0, 650.0);
+        std::vector<double> deg, rad;
+        for (int i = 0; i <= 1200; ++i) {
+          deg.push_back(136.0 + 0.005 * i);
+          rad.push_back(deg_to_rad(deg.back()));
+        }
+        const std::tuple<const char*, const char*, const char*, bool> theories[] = {
+            {"mie", "Lorenz-Mie (exact)", kBlack, false},
+            {"debye:2", "Debye p = 2", kBlue, false},
+            {"airy", "Airy theory", kOrange, true},
+            {"geometric:2", "geometric optics, orders 0-2", kGreen, true}};
+        for (const auto& [name, label, colour, dashed] : theories) {
+          std::vector<scatter::Complex> s1(rad.size()), s2(rad.size());
+          scatter::amplitudes(scatter::parse_theory(name), sp.m, sp.x, rad, s1, s2);
+          PlotSeries s{label, deg, {}, colour, dashed};
+          for (const auto& v : s1) s.y.push_back(std::norm(v) / (sp.x * sp.x));
+          p.series.push_back(s);
+        }
+        const double geometric = rad_to_deg(scatter::rainbow_angle(sp.m.real(), 2));
+        p.markers.push_back({geometric, fmt::format("geometric {:.2f} deg", geometric), kGreen});
+        return p;
+      });
+}
+
+Entry drop_radiance_profile_figure() {
+  return plot_entry(
+      "drop_radiance_profile.svg", "A rain drop's radiance, path by path (Garg & Nayar Fig. 4)",
+      fmt::format("Radiance leaving a water drop (mu = 1.333) towards the camera along each path, for "
+                  "a uniform environment (Le = 1) and the drop on the optical axis, against the "
+                  "distance rho from the centre of the drop's image (1 = rim). Refraction carries "
+                  "96% of the light everywhere but at the rim, where reflection takes over. The "
+                  "refracted rays see a {:.1f} degree field of view (the paper: about 165). "
+                  "Checked against an exact ray trace of the sphere.",
+                  drop::field_of_view_deg(1.333)),
+      [] {
+        Plot p = axes("Drop radiance by path, Le = 1, mu = 1.333", "rho (0 = centre, 1 = rim)",
+                      "radiance", {0, 1, 0.1}, {1e-4, 2, 1}, io::LegendCorner::BottomLeft);
+        p.y_log = true;
+        const auto f = drop::radiance_profile(1.333, 501);
+        p.series = {{"refraction (1-k)^2", f.rho, f.refraction, kBlue},
+                    {"specular reflection k", f.rho, f.reflection, kRed},
+                    {"1 internal reflection k(1-k)^2", f.rho, f.internal[0], kGreen},
+                    {"2 internal reflections k^2(1-k)^2", f.rho, f.internal[1], kOrange}};
+        return p;
+      });
+}
+
+Entry metals_normal_incidence_figure() {
+  return plot_entry(
+      "metals_normal_incidence.svg", "Metals at normal incidence",
+      "Normal-incidence reflectance R = ((n-1)^2 + k^2) / ((n+1)^2 + k^2) of the built-in "
+      "metals across the visible: gold and copper reflect red better than blue, which is "
+      "their colour; aluminium dips near 800 nm (interband absorption).",
+      [] {
+        Plot p = axes("Normal-incidence reflectance of metals", "vacuum wavelength (nm)",
+                      "reflectance", {300, 1000, 100}, {0, 1, 0.1},
+                      io::LegendCorner::BottomRight);
+        const std::pair<const char*, const char*> metals[] = {
+            {"silver", "#7f7f7f"}, {"aluminium", kBlue}, {"gold", "#c9a000"}, {"copper", kBrown}};
+        for (const auto& [name, colour] : metals) {
+          const auto m = optics::find_medium(name);
+          p.series.push_back(curve(name, colour, 300, 1000, 2.5, [&](double l) {
+            return optics::fresnel_conductor(1.0, 1.0, m->index(l)).R;
+          }));
+        }
+        return p;
+      });
+}
+
+Entry dispersion_figure() {
+  return plot_entry(
+      "dispersion.svg", "Dispersion n(lambda)",
+      "Refractive index against wavelength of the built-in transparent media, each within "
+      "its source's valid range (PMMA's fit starts at 436.8 nm). Water's dispersion is what "
+      "separates the colours of a rainbow.",
+      [] {
+        // The y range leaves room for the legend between water and fused silica.
+        Plot p = axes("Refractive index of transparent media", "vacuum wavelength (nm)",
+                      "refractive index n", {400, 1000, 100}, {1.26, 1.54, 0.02},
+                      io::LegendCorner::CenterRight);
+        const std::tuple<const char*, const char*, const char*> media[] = {
+            {"bk7", "N-BK7 glass", kRed},
+            {"pmma", "PMMA (acrylic)", kPurple},
+            {"fused-silica", "fused silica", kGreen},
+            {"water", "water, 20 C", kBlue},
+            {"ice", "ice Ih, -7 C", "#17becf"}};
+        for (const auto& [name, label, colour] : media) {
+          const auto m = optics::find_medium(name);
+          const double from = std::ceil(std::max(400.0, m->info().lambda_min_nm) / 2) * 2;
+          const double to = std::min(1000.0, m->info().lambda_max_nm);
+          p.series.push_back(curve(label, colour, from, to, 2, [&](double l) { return m->n(l); }));
+        }
+        return p;
+      });
+}
+
+Entry water_temperature_figure() {
+  return plot_entry(
+      "water_temperature.svg", "Water: index against temperature",
+      "IAPWS R9-97 refractive index of liquid water at 0.1 MPa from 0 to 100 C at three "
+      "wavelengths; the density comes from Kell (1975). Warmer water is less dense and "
+      "refracts less.",
+      [] {
+        const auto water = optics::find_medium("water");
+        Plot p = axes("Liquid water: n against temperature (IAPWS R9-97)", "temperature (C)",
+                      "refractive index n", {0, 100, 10}, {1.315, 1.345, 0.005},
+                      io::LegendCorner::TopRight);
+        const std::pair<double, const char*> lines[] = {{450, kBlue}, {550, kGreen}, {650, kRed}};
+        for (const auto& [l, colour] : lines)
+          p.series.push_back(curve(fmt::format("{:g} nm", l), colour, 0, 100, 1,
+                                   [&](double t) { return water->n(l, t); }));
+        return p;
+      });
+}
+
+std::vector<Entry> entries() {
+  std::vector<Entry> e = {fresnel_air_water_figure(), fresnel_water_air_figure(), fresnel_air_glass_figure(),
+                          fresnel_air_gold_figure(), rough_water_albedo_figure(), mie_phase_functions_figure(),
+                          rainbow_theories_figure(), drop_radiance_profile_figure(), metals_normal_incidence_figure(),
+                          dispersion_figure(), water_temperature_figure()};
+  for (const auto part : {detail::drop_entries, detail::lee_entries, detail::shape_entries, detail::sky_entries,
+                          detail::rain_entries, detail::lens_drops_entries, detail::fog_entries})
+    for (auto& d : part()) e.push_back(std::move(d));
   return e;
 }
 

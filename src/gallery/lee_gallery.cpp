@@ -90,12 +90,8 @@ Image sky_disk(const atmos::LeeTable& t, bool from_antisolar, double max_deg, in
   return out;
 }
 
-}  // namespace
-
-std::vector<Entry> lee_entries() {
-  std::vector<Entry> e;
-
-  e.push_back(image_entry(
+Entry lee_theories_figure() {
+  return image_entry(
       "lee_theories.png", "Lee diagrams: Mie, Airy and geometric optics",
       fmt::format("hydrolux lee with --theory mie, airy and geometric, side by side. In each panel the drop radius "
                   "runs from 5 um (left) to 800 um (right, log scale) and the scattering angle from 90 degrees (top) "
@@ -117,9 +113,11 @@ std::vector<Entry> lee_entries() {
           panels.push_back(display_image(atmos::compute_lee_table(gallery_spec(th, atmos::kSunDiskDeg, 0.1)),
                                          scale.exposure, scale.white));
         return side_by_side(panels, kGap);
-      }));
+      });
+}
 
-  e.push_back(image_entry(
+Entry lee_disk_spread_figure() {
+  return image_entry(
       "lee_disk_spread.png", "The sun's disk and a size spread",
       "The Mie Lee diagram (5-800 um, 90-180 degrees) four ways, from left: a point sun and one radius per column; the "
       "sun's 0.53 degree disk; a 10% gamma spread of radii under a point sun; both. The disk blurs the bows of "
@@ -135,10 +133,12 @@ std::vector<Entry> lee_entries() {
         std::vector<Image> panels;
         for (const auto& t : tables) panels.push_back(display_image(t, scale.exposure, scale.white));
         return side_by_side(panels, kGap);
-      }));
+      });
+}
 
-  // Colour against angle: three radii, one strip each, on one scale; and their luminance.
-  e.push_back(image_entry(
+// Colour against angle: three radii, one strip each, on one scale; and their luminance.
+Entry lee_colour_strips_figure() {
+  return image_entry(
       "lee_colour_strips.png", "Rainbow colour against angle: 10, 100 and 1000 um drops",
       "Each strip is one drop radius (top to bottom: 10, 100, 1000 um; Mie, the sun's disk, white sunlight), "
       "scattering angle from 120 degrees (left) to 160 (right), all at one exposure. 1000 um: a bright, saturated "
@@ -159,39 +159,44 @@ std::vector<Entry> lee_entries() {
                 out.at(x, int(k) * (kStrip + kGap) + y, c) = im.display[std::size_t(x) * 3 + std::size_t(c)];
         }
         return out;
-      }));
+      });
+}
 
-  e.push_back({{"lee_profiles.svg", "Luminance against angle: 10, 100 and 1000 um drops",
-                "The luminance (Y, sr^-1: radiance per unit irradiance per unit projected-area optical depth) of "
-                "the strips above, on a log scale. The primary's peak near 138 degrees for large drops, 139 for "
-                "100 um with its supernumeraries inside, the fogbow's broad hump near 142 degrees at 10 um; the "
-                "secondary near 129 and the dark band between."},
-               [] {
-                 io::Plot p;
-                 p.title = "Lee profiles: Y against scattering angle (Mie, sun's disk)";  // not "luminance": test_gallery refuses "nan" in an SVG
-                 p.x_label = "scattering angle (degrees)";
-                 p.y_label = "Y, sr^-1";
-                 p.x_min = 120;
-                 p.x_max = 160;
-                 p.x_tick = 5;
-                 p.y_log = true;
-                 p.y_min = 1e-3;
-                 p.y_max = 1;
-                 p.legend = io::LegendCorner::TopRight;
-                 const char* colours[] = {"#7f7f7f", "#1f77b4", "#d62728"};
-                 for (std::size_t k = 0; k < 3; ++k) {
-                   const atmos::LeeTable& t = profiles()[k];
-                   io::PlotSeries s{fmt::format("{:g} um", kProfileRadiiUm[k]), {}, {}, colours[k]};
-                   for (int i = 0; i < t.rows(); ++i) {
-                     s.x.push_back(t.angle_deg[std::size_t(i)]);
-                     s.y.push_back(t.at(i, 0).Y);
-                   }
-                   p.series.push_back(std::move(s));
-                 }
-                 return io::render_svg(p);
-               }});
+Entry lee_profiles_figure() {
+  return plot_entry(
+      "lee_profiles.svg", "Luminance against angle: 10, 100 and 1000 um drops",
+      "The luminance (Y, sr^-1: radiance per unit irradiance per unit projected-area optical depth) of "
+      "the strips above, on a log scale. The primary's peak near 138 degrees for large drops, 139 for "
+      "100 um with its supernumeraries inside, the fogbow's broad hump near 142 degrees at 10 um; the "
+      "secondary near 129 and the dark band between.",
+      [] {
+        io::Plot p;
+        p.title = "Lee profiles: Y against scattering angle (Mie, sun's disk)";  // not "luminance": test_gallery refuses "nan" in an SVG
+        p.x_label = "scattering angle (degrees)";
+        p.y_label = "Y, sr^-1";
+        p.x_min = 120;
+        p.x_max = 160;
+        p.x_tick = 5;
+        p.y_log = true;
+        p.y_min = 1e-3;
+        p.y_max = 1;
+        p.legend = io::LegendCorner::TopRight;
+        const char* colours[] = {"#7f7f7f", "#1f77b4", "#d62728"};
+        for (std::size_t k = 0; k < 3; ++k) {
+          const atmos::LeeTable& t = profiles()[k];
+          io::PlotSeries s{fmt::format("{:g} um", kProfileRadiiUm[k]), {}, {}, colours[k]};
+          for (int i = 0; i < t.rows(); ++i) {
+            s.x.push_back(t.angle_deg[std::size_t(i)]);
+            s.y.push_back(t.at(i, 0).Y);
+          }
+          p.series.push_back(std::move(s));
+        }
+        return p;
+      });
+}
 
-  e.push_back(image_entry(
+Entry corona_glory_10um_figure() {
+  return image_entry(
       "corona_glory_10um.png", "Corona and glory of 10 um droplets",
       "Left: the corona around the sun (the sun itself not drawn), +-8 degrees, from hydrolux lee --table corona for 10 "
       "um droplets (Mie, the sun's disk): a bluish-white aureole and coloured rings whose red parts lie near "
@@ -202,8 +207,14 @@ std::vector<Entry> lee_entries() {
         const atmos::LeeTable corona = profile(atmos::LeeTableKind::corona, 10, 0, 8, 801);
         const atmos::LeeTable glory = profile(atmos::LeeTableKind::glory, 10, 172, 180, 801);
         return side_by_side({sky_disk(corona, false, 8, 360), sky_disk(glory, true, 8, 360)}, kGap);
-      }));
-  return e;
+      });
+}
+
+}  // namespace
+
+std::vector<Entry> lee_entries() {
+  return {lee_theories_figure(), lee_disk_spread_figure(), lee_colour_strips_figure(), lee_profiles_figure(),
+          corona_glory_10um_figure()};
 }
 
 }  // namespace hydrolux::gallery::detail

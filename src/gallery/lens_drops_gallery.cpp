@@ -1,11 +1,9 @@
 // The gallery's drops on the lens (hydrolux lens-drops, docs/lens-drops.md): the built-in street
 // before and after, with the mask, at 1:1; and the same drops sharp (a pinhole) against the
 // aperture's defocus.
-#include <algorithm>
 #include <vector>
 
 #include "entries.hpp"
-#include "hydrolux/color/srgb.hpp"
 #include "hydrolux/rain/lens_drops.hpp"
 #include "hydrolux/rain/rain.hpp"
 
@@ -15,36 +13,10 @@ namespace {
 
 constexpr int kWidth = 640, kHeight = 360, kGap = 6;
 
-Image street() {
-  rain::RainCamera c;
-  c.width = kWidth;
-  c.height = kHeight;
-  c.focal_mm = 35;
-  return rain::builtin_scene(c);
-}
+Image street() { return rain::builtin_scene(street_camera(kWidth, kHeight)); }
 
-Image crop(const Image& img, int x0, int y0, int w, int h) {
-  Image out(w, h, 3);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      for (int k = 0; k < 3; ++k) out.at(x, y, k) = img.at(x0 + x, y0 + y, std::min(k, img.channels - 1));
-  return out;
-}
-
-// The mask as --mask-out writes it (PNG codes = coverage), grey.
-Image mask_picture(const Image& mask) {
-  Image out(mask.width, mask.height, 3);
-  for (int y = 0; y < mask.height; ++y)
-    for (int x = 0; x < mask.width; ++x)
-      for (int k = 0; k < 3; ++k) out.at(x, y, k) = float(color::srgb_decode(double(mask.at(x, y, 0))));
-  return out;
-}
-
-}  // namespace
-
-std::vector<Entry> lens_drops_entries() {
-  std::vector<Entry> e;
-  e.push_back(image_entry(
+Entry lens_drops_figure() {
+  return image_entry(
       "lens_drops.png", "Drops on the windshield: before, after and the mask (1:1)",
       "hydrolux lens-drops with its defaults (seed 2) over the built-in street (640x360): 150 drops of 0.4-2 mm "
       "footprint radius and 60 degree contact angle on glass 10 cm before a 6 mm lens (6.17 mm sensor) at f/2 "
@@ -64,19 +36,12 @@ std::vector<Entry> lens_drops_entries() {
         const Image row = side_by_side({crop(clean, x0, y0, w, h), crop(r.image, x0, y0, w, h),
                                         crop(mask_picture(r.mask), x0, y0, w, h)},
                                        kGap);
-        // The full frame above the crops, centred on the same dark grey.
-        Image out(row.width, kHeight + kGap + row.height, 3);
-        std::fill(out.pixels.begin(), out.pixels.end(), 0.02f);
-        const int off = std::max(0, (row.width - kWidth) / 2);
-        for (int y = 0; y < kHeight; ++y)
-          for (int x = 0; x < std::min(kWidth, row.width); ++x)
-            for (int k = 0; k < 3; ++k) out.at(off + x, y, k) = r.image.at(x, y, k);
-        for (int y = 0; y < row.height; ++y)
-          for (int x = 0; x < row.width; ++x)
-            for (int k = 0; k < 3; ++k) out.at(x, kHeight + kGap + y, k) = row.at(x, y, k);
-        return out;
-      }));
-  e.push_back(image_entry(
+        return stacked({r.image, row}, kGap);  // the full frame above the crops
+      });
+}
+
+Entry lens_drops_defocus_figure() {
+  return image_entry(
       "lens_drops_defocus.png", "Drops on the lens: sharp and defocused (1:1)",
       "The same drops (seed 5, 40 drops of 1.5-3 mm footprint radius, 60 degrees) at 1:1 over the horizon of the "
       "built-in street: a pinhole (f-number 0, left), f/2 (middle) and f/8 (right), focused at 10 m. Sharp, each "
@@ -96,8 +61,11 @@ std::vector<Entry> lens_drops_entries() {
           p.push_back(crop(rain::render_lens_drops(clean, s).image, 200, 100, 210, 150));
         }
         return side_by_side(p, kGap);
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry lens_drops_trails_figure() {
+  return image_entry(
       "lens_drops_trails.png", "Drops that ran down the glass (1:1)",
       "--trail-fraction 0.4 (seed 3) at f/8 over the built-in street, a 1:1 crop of the horizon: four drops in ten "
       "have run down and left a trail of small drops above them, 30 mm long on the glass 10 cm away (about 190 px "
@@ -111,8 +79,13 @@ std::vector<Entry> lens_drops_entries() {
         s.trail_fraction = 0.4;
         s.f_number = 8;
         return crop(rain::render_lens_drops(street(), s).image, 160, 60, 320, 240);
-      }));
-  return e;
+      });
+}
+
+}  // namespace
+
+std::vector<Entry> lens_drops_entries() {
+  return {lens_drops_figure(), lens_drops_defocus_figure(), lens_drops_trails_figure()};
 }
 
 }  // namespace hydrolux::gallery::detail

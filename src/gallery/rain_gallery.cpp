@@ -1,13 +1,11 @@
 // The gallery's rain (hydrolux rain, docs/rain.md): the built-in street before and after rain of 5, 25
 // and 100 mm/h; a short exposure (drops) against a long one (streaks); the wind's slant; and the mask
 // that pairs a rainy frame with its clear one.
-#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <vector>
 
 #include "entries.hpp"
-#include "hydrolux/color/srgb.hpp"
 #include "hydrolux/rain/rain.hpp"
 
 namespace hydrolux::gallery::detail {
@@ -15,14 +13,6 @@ namespace hydrolux::gallery::detail {
 namespace {
 
 constexpr int kWidth = 400, kHeight = 225, kGap = 6;
-
-rain::RainCamera camera() {
-  rain::RainCamera c;
-  c.width = kWidth;
-  c.height = kHeight;
-  c.focal_mm = 35;
-  return c;
-}
 
 rain::RainFrame rainy(const rain::RainSettings& s, const rain::RainCamera& c) {
   rain::RainRenderer r(rain::RainField(s, c));
@@ -38,23 +28,6 @@ Image crop_zoom(const Image& img, int x0, int y0, int w, int h, int zoom) {
   return out;
 }
 
-// Images of equal width stacked, `gap` pixels apart on the same dark grey as side_by_side.
-Image stacked(const std::vector<Image>& rows, int gap) {
-  int h = 0;
-  for (const auto& r : rows) h += r.height;
-  h += gap * int(rows.size() - 1);
-  Image out(rows.front().width, h, 3);
-  std::fill(out.pixels.begin(), out.pixels.end(), 0.02f);
-  int y0 = 0;
-  for (const auto& r : rows) {
-    for (int y = 0; y < r.height; ++y)
-      for (int x = 0; x < std::min(r.width, out.width); ++x)
-        for (int k = 0; k < 3; ++k) out.at(x, y0 + y, k) = r.at(x, y, k);
-    y0 += r.height + gap;
-  }
-  return out;
-}
-
 // The road below the horizon, where streaks show against the asphalt: a crop at 2x.
 Image road(const Image& img) { return crop_zoom(img, 120, 130, 200, 94, 2); }
 
@@ -64,18 +37,15 @@ Image road_panels(std::initializer_list<double> values, Set set) {
   std::vector<Image> p;
   for (const double v : values) {
     rain::RainSettings s;
-    auto c = camera();
+    auto c = street_camera(kWidth, kHeight);
     set(s, c, v);
     p.push_back(road(rainy(s, c).image));
   }
   return side_by_side(p, kGap);
 }
 
-}  // namespace
-
-std::vector<Entry> rain_entries() {
-  std::vector<Entry> e;
-  e.push_back(image_entry(
+Entry rain_rates_figure() {
+  return image_entry(
       "rain_rates.png", "Rain over a frame: 0, 5, 25 and 100 mm/h",
       "hydrolux rain over the built-in street (400x225, a 35 mm lens on a 36 mm sensor, 1/125 s, wind 2 m/s to the "
       "right, seed 1): clear, then 5, 25 and 100 mm/h (left to right), and below each a 2x crop of the road. "
@@ -85,17 +55,20 @@ std::vector<Entry> rain_entries() {
       "by a few per cent, as Garg & Nayar measured. Farther rain that no single drop resolves veils the distance "
       "(its extinction and airlight), more as the rate rises.",
       [] {
-        std::vector<Image> full{rain::builtin_scene(camera())}, crops{road(full.front())};
+        std::vector<Image> full{rain::builtin_scene(street_camera(kWidth, kHeight))}, crops{road(full.front())};
         for (const double rate : {5.0, 25.0, 100.0}) {
           rain::RainSettings s;
           s.rain_rate_mmh = rate;
           s.wind_mps = 2;
-          full.push_back(rainy(s, camera()).image);
+          full.push_back(rainy(s, street_camera(kWidth, kHeight)).image);
           crops.push_back(road(full.back()));
         }
         return stacked({side_by_side(full, kGap), side_by_side(crops, kGap)}, kGap);
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry rain_exposure_figure() {
+  return image_entry(
       "rain_exposure.png", "Drops and streaks: the exposure time",
       "25 mm/h, wind 2 m/s, a 2x crop of the road: exposures of 1/2000 s, 1/250 s and 1/30 s (left to right). A "
       "short exposure freezes the drops into dots; a longer one smears each drop over v t f / z pixels into a "
@@ -108,8 +81,11 @@ std::vector<Entry> rain_entries() {
           c.exposure_s = t;
           c.fps = 30;
         });
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry rain_wind_figure() {
+  return image_entry(
       "rain_wind.png", "The wind slants the streaks",
       "100 mm/h at 1/60 s, a 2x crop of the road: calm (left), 5 m/s blowing to the right (middle) and 10 m/s to "
       "the left (right). Drops move with the air, so a streak leans by the wind speed over the fall speed: about 40 "
@@ -121,8 +97,11 @@ std::vector<Entry> rain_entries() {
           s.wind_dir_deg = w < 0 ? -90 : 90;
           c.exposure_s = 1.0 / 60;
         });
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry rain_mask_figure() {
+  return image_entry(
       "rain_mask.png", "The rain layer's mask",
       "The 25 mm/h frame (left) and its mask (right, --mask-out): the rain's alpha, so that rainy = clear (1 - "
       "alpha) + layer holds exactly for a de-raining dataset. The streaks are the drops; the veil growing towards "
@@ -131,15 +110,15 @@ std::vector<Entry> rain_entries() {
         rain::RainSettings s;
         s.rain_rate_mmh = 25;
         s.wind_mps = 2;
-        const auto f = rainy(s, camera());
-        Image mask(kWidth, kHeight, 3);
-        for (int y = 0; y < kHeight; ++y)
-          for (int x = 0; x < kWidth; ++x)
-            for (int k = 0; k < 3; ++k)  // PNG codes = alpha, as --mask-out writes it
-              mask.at(x, y, k) = float(color::srgb_decode(double(f.alpha.at(x, y, 0))));
-        return side_by_side({f.image, mask}, kGap);
-      }));
-  return e;
+        const auto f = rainy(s, street_camera(kWidth, kHeight));
+        return side_by_side({f.image, mask_picture(f.alpha)}, kGap);
+      });
+}
+
+}  // namespace
+
+std::vector<Entry> rain_entries() {
+  return {rain_rates_figure(), rain_exposure_figure(), rain_wind_figure(), rain_mask_figure()};
 }
 
 }  // namespace hydrolux::gallery::detail

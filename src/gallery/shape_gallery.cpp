@@ -104,6 +104,17 @@ Image picture(const Arc& a, double exposure, int size) {
   return out;
 }
 
+// The drops of a figure: `columns` radii from `radius_min_um` to `radius_max_um` (log spaced), each
+// with a gamma spread of relative width `size_spread`.
+atmos::LeeSpec drops(double radius_min_um, double radius_max_um, int columns, double size_spread) {
+  atmos::LeeSpec s;
+  s.radius_min_um = radius_min_um;
+  s.radius_max_um = radius_max_um;
+  s.columns = columns;
+  s.size_spread = size_spread;
+  return s;
+}
+
 // The exposure that puts the brightest point of the first arc's profiles at `level`.
 double exposure_for(const Arc& a, double level) {
   double peak = 0;
@@ -112,11 +123,8 @@ double exposure_for(const Arc& a, double level) {
   return peak > 0 ? level / peak : 1;
 }
 
-}  // namespace
-
-std::vector<Entry> shape_entries() {
-  std::vector<Entry> e;
-  e.push_back(image_entry(
+Entry bow_real_drops_figure() {
+  return image_entry(
       "bow_real_drops.png", "The same rain, spherical drops and real (Beard-Chuang) drops",
       "The upper half of the primary bow around the antisolar point (out to a bow radius of 52 degrees; the top of the bow "
       "at the top, its sides at left and right), the sun 2 degrees up, Marshall-Palmer rain of 5 mm/h with drops "
@@ -129,11 +137,7 @@ std::vector<Entry> shape_entries() {
       "natural rainbow, supernumeraries at the top and none at the sides (compare the photographs in Haussmann, "
       "Appl. Opt. 54(4), B117, 2015, and Koennen's explanation there).",
       [] {
-        atmos::LeeSpec s;
-        s.radius_min_um = 100;
-        s.radius_max_um = 1100;
-        s.columns = 48;
-        s.size_spread = 0;
+        atmos::LeeSpec s = drops(100, 1100, 48, 0);
         s.sun_elevation_deg = 2;
         const double lambda = 8200 * std::pow(5.0, -0.21);  // Marshall-Palmer at 5 mm/h, m^-1
         const auto mp = [lambda](double r_um) {            // n(a) a (per ln a) x a^2, log columns
@@ -145,8 +149,11 @@ std::vector<Entry> shape_entries() {
         const Arc real = arc(s, mp);
         const double exposure = exposure_for(sphere, 0.9);
         return side_by_side({picture(sphere, exposure, 720), picture(real, exposure, 720)}, kGap);
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry bow_twinned_figure() {
+  return image_entry(
       "bow_twinned.png", "A twinned rainbow: two populations of drops",
       "The upper half of the primary bow (as above), the sun on the horizon, from two equal populations (by "
       "projected area) of Beard-Chuang drops: 200 um (axis ratio 0.997) and 600 um (0.974), each with a 5% spread "
@@ -156,16 +163,15 @@ std::vector<Entry> shape_entries() {
       "share their feet: a twinned rainbow, the extra bow inside, as in the photographs Haussmann (Appl. Opt. "
       "54(4), B117, 2015) reconstructs from a bimodal drop population.",
       [] {
-        atmos::LeeSpec s;
-        s.radius_min_um = 200;
-        s.radius_max_um = 600;
-        s.columns = 2;
-        s.size_spread = 0.05;
+        atmos::LeeSpec s = drops(200, 600, 2, 0.05);
         s.shape = atmos::parse_drop_shape("beard-chuang");
         const Arc twin = arc(s, [](double) { return 1.0; });
         return picture(twin, exposure_for(twin, 0.9), 720);
-      }));
-  return e;
+      });
 }
+
+}  // namespace
+
+std::vector<Entry> shape_entries() { return {bow_real_drops_figure(), bow_twinned_figure()}; }
 
 }  // namespace hydrolux::gallery::detail

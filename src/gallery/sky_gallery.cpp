@@ -111,11 +111,8 @@ Image polarization_map(double sun_elevation_deg, double p90) {
   return side_by_side({dolp, aop}, kGap);
 }
 
-}  // namespace
-
-std::vector<Entry> sky_entries() {
-  std::vector<Entry> e;
-  e.push_back(image_entry(
+Entry sky_sun_elevation_figure() {
+  return image_entry(
       "sky_sun_elevation.png", "A rainbow as the sun climbs",
       "hydrolux sky, 500 um drops (10% spread), rain of 5 mm/h between 1 and 3 km, Preetham's sky (turbidity 2.5) "
       "and a grass ground, looking north 10 degrees up with a 90 degree lens; the sun behind the camera at 10, 25 "
@@ -123,23 +120,32 @@ std::vector<Entry> sky_entries() {
       "the sun climbs: at 40 degrees only its top clears the horizon, and above 42 there is no bow. The secondary "
       "(51 degrees, colours reversed) stands outside, Alexander's dark band between, and the sky inside the primary "
       "is brighter. Each panel exposed for its own daylight (docs/sky.md's tone map); the low sun is redder.",
-      [] { return panels({10.0, 25.0, 40.0}, [](scene::SkySettings& s, double el) { s.sun_elevation_deg = el; }); }));
-  e.push_back(image_entry(
+      [] { return panels({10.0, 25.0, 40.0}, [](scene::SkySettings& s, double el) { s.sun_elevation_deg = el; }); });
+}
+
+Entry sky_radius_figure() {
+  return image_entry(
       "sky_radius.png", "Rain, drizzle and fog: the drop radius",
       "The same scene (sun 25 degrees up) with drops of 1000, 100 and 20 um radius (left to right), each a 10% "
       "gamma spread. Large drops give narrow saturated bows; at 100 um the bands widen and supernumerary arcs "
       "appear inside the primary; 20 um drops give the broad, nearly white fogbow a few degrees inside the "
       "rainbow's radius, with faint inner rings and only a broad, faint secondary. Brightness is absolute: the same rain optical depth in each "
       "panel, the same exposure.",
-      [] { return panels({1000.0, 100.0, 20.0}, [](scene::SkySettings& s, double r) { s.radius_um = r; }); }));
-  e.push_back(image_entry(
+      [] { return panels({1000.0, 100.0, 20.0}, [](scene::SkySettings& s, double r) { s.radius_um = r; }); });
+}
+
+Entry sky_rain_rate_figure() {
+  return image_entry(
       "sky_rain_rate.png", "Drizzle, shower, downpour: the rain rate",
       "500 um drops with the curtain's optical depth from Marshall and Palmer's drop-size distribution at 0.5, 5 "
       "and 50 mm/h (projected-area optical depth 0.24, 1.0 and 4.3 over the 2 km curtain). Attenuation plus "
       "in-scattering: a drizzle gives a faint bow over a bright sky, a downpour dims the sky behind the rain and "
       "the bow saturates at E_sun T / 2. Same exposure in every panel.",
-      [] { return panels({0.5, 5.0, 50.0}, [](scene::SkySettings& s, double rate) { s.rain_rate_mmh = rate; }); }));
-  e.push_back(image_entry(
+      [] { return panels({0.5, 5.0, 50.0}, [](scene::SkySettings& s, double rate) { s.rain_rate_mmh = rate; }); });
+}
+
+Entry sky_corona_figure() {
+  return image_entry(
       "sky_corona.png", "A corona around the sun",
       "Looking at the sun (25 degrees up) through a thin veil of 10 um droplets (hydrolux sky's corona table, "
       "0-90 degrees; projected-area optical depth 0.03) with a 24 degree lens. Left, the physical blend: the sun's disk and its "
@@ -160,8 +166,11 @@ std::vector<Entry> sky_entries() {
           s.curtain_far_m = 1060;
           s.blend = blend;
         });
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry sky_optimisations_figure() {
+  return image_entry(
       "sky_optimisations.png", "Seed 002's shortcuts against the per-pixel answer",
       "The top of a 500 um bow through a 30 degree lens, three ways (left to right): per pixel (the reference), "
       "from a cube map of 64 x 64 texels per face, and from a half dome of 12 rings x 24 segments, both far "
@@ -178,8 +187,11 @@ std::vector<Entry> sky_entries() {
           s.dome_rings = 12;
           s.dome_segments = 24;
         });
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry sky_polarizer_figure() {
+  return image_entry(
       "sky_polarizer.png", "The bow through a polarising filter",
       "The scene of the first figure (500 um drops, sun 10 degrees up, 5 mm/h) without a filter and through a "
       "linear polariser whose axis is horizontal (0), diagonal (45) and vertical (90 degrees), left to right "
@@ -196,8 +208,11 @@ std::vector<Entry> sky_entries() {
                         s.sun_elevation_deg = 10;
                         s.polarizer_deg = a;
                       });
-      }));
-  e.push_back(image_entry(
+      });
+}
+
+Entry sky_polarization_figure() {
+  return image_entry(
       "sky_polarization.png", "The sky's polarisation",
       "The model of the polarised sky (Rayleigh single scattering with depolarisation, P90 = 0.8; docs/sky.md) looking "
       "up, an equidistant fisheye from the zenith (centre) to the horizon (rim), north up, east right, the sun 30 "
@@ -209,8 +224,14 @@ std::vector<Entry> sky_entries() {
       "horizontal line through the centre), and every hue once around the sun, the pattern's singular point; the "
       "pattern Rayleigh's sky shows in all-sky polarimetry (Horvath and Varju, Polarized Light in Animal Vision, "
       "2004, ch. 18), without the real sky's Arago and Babinet points.",
-      [] { return side_by_side({polarization_map(30, 0.8), polarization_map(45, 0.8)}, 3 * kGap); }));
-  return e;
+      [] { return side_by_side({polarization_map(30, 0.8), polarization_map(45, 0.8)}, 3 * kGap); });
+}
+
+}  // namespace
+
+std::vector<Entry> sky_entries() {
+  return {sky_sun_elevation_figure(), sky_radius_figure(), sky_rain_rate_figure(), sky_corona_figure(),
+          sky_optimisations_figure(), sky_polarizer_figure(), sky_polarization_figure()};
 }
 
 }  // namespace hydrolux::gallery::detail
