@@ -31,10 +31,7 @@ class FogEffect final : public FrameEffect {
  public:
   explicit FogEffect(const FogJob& a) : a_(a) {}
 
-  const EffectTraits& traits() const override {
-    static const EffectTraits t{.noun = "foggy frames", .folder_input_key = "input_dir"};
-    return t;
-  }
+  const EffectTraits& traits() const override { return fog_traits(); }
   // The library's quantity names -> the flags (a DomainError from validate() names the quantity).
   void validate() override {
     const auto& s = a_.options.settings;
@@ -98,6 +95,17 @@ class FogEffect final : public FrameEffect {
 };
 
 }  // namespace
+
+const EffectTraits& fog_traits() {
+  static const EffectTraits t{
+      .noun = "foggy frames",
+      .folder_input_key = "input_dir",
+      .words = {.folder = " (one sky colour, from the first)",
+                .video = ", one sky colour from the first frame",
+                .mask = "The fog's coverage 1 - t for --image: .png (16-bit linear) or .exr; foggy = clear t + sky (1 - t) + glow",
+                .stats = "The fog's optics, the camera and per-frame statistics as JSON"}};
+  return t;
+}
 
 FogJobResult run_fog_job(const FogJob& a, const FogJobHooks& hooks) {
   FogEffect effect(a);

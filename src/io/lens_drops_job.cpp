@@ -21,10 +21,7 @@ class LensDropsEffect final : public FrameEffect {
  public:
   explicit LensDropsEffect(const LensDropsJob& a) : a_(a) {}
 
-  const EffectTraits& traits() const override {
-    static const EffectTraits t{.noun = "frames with drops", .one_size = false, .depth = false};
-    return t;
-  }
+  const EffectTraits& traits() const override { return lens_drops_traits(); }
   // The settings are checked before any folder is made (a frame's size is not needed for that).
   void validate() override { (void)rain::place_lens_drops(a_.settings, 1, 1); }
   void check_memory(const std::string& origin, int width, int height, int channels, bool,
@@ -80,6 +77,18 @@ class LensDropsEffect final : public FrameEffect {
 };
 
 }  // namespace
+
+const EffectTraits& lens_drops_traits() {
+  static const EffectTraits t{
+      .noun = "frames with drops",
+      .one_size = false,
+      .depth = false,
+      .words = {.folder = " (frame k: the drops of --seed + k)",
+                .video = " (frame k: the drops of --seed + k)",
+                .mask = "The drops' defocused coverage for --image: .png (16-bit linear) or .exr; out = clean (1 - mask) + drops",
+                .stats = "The drops' settings and per-frame statistics as JSON"}};
+  return t;
+}
 
 LensDropsJobResult run_lens_drops_job(const LensDropsJob& a, const FrameHooks& hooks) {
   LensDropsEffect effect(a);

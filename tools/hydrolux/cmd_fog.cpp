@@ -38,19 +38,7 @@ int run_fog(FogArgs& a, const CLI::App& sub) {
 Command add_fog(CLI::App& app) {
   auto a = std::make_shared<FogArgs>();
   auto* sub = add_job_command(app, "fog");
-  sub->add_option("--image", a->job->image, "Input photograph (PNG, JPEG, EXR, TIFF, ...)");
-  sub->add_option("--input-dir", a->job->input_dir, "A folder of frames in name order (one sky colour, from the first)");
-  sub->add_option("--video", a->job->video,
-                  "Input video (MP4, MOV, MKV, ...); frame rate and count are kept, one sky colour from the first frame");
-  sub->add_option("-o,--output", a->job->output, "Output: .png/.exr with --image, .mp4/.mov/.mkv with --video");
-  sub->add_option("--output-dir", a->job->output_dir, "Output folder for --input-dir (created; never the input folder)");
-  sub->add_option("--depth", a->job->depth,
-                  "Depth map for --image: camera z in metres (EXR), or a 16-bit PNG times --depth-scale-m; 0/inf = sky");
-  sub->add_option("--depth-dir", a->job->depth_dir, "Depth maps for --input-dir: each frame's stem as .exr or .png");
-  sub->add_option("--mask-out", a->job->mask_out,
-                  "The fog's coverage 1 - t for --image: .png (16-bit linear) or .exr; foggy = clear t + sky (1 - t) + glow");
-  sub->add_option("--mask-dir", a->job->mask_dir, "Folder for the masks of --input-dir (same names as the frames)");
-  sub->add_option("--stats-json", a->job->stats_json, "The fog's optics, the camera and per-frame statistics as JSON");
+  add_frame_paths(*sub, a->job, io::fog_traits());
   Command cmd{sub, {}, {}};
   add_params(*sub, std::shared_ptr<rain::FogOptions>(a->job, &a->job->options), rain::fog_params(), cmd.flags_for_quantity);
   add_params(*sub, std::shared_ptr<rain::FogFileOptions>(a->job, &a->job->files), rain::fog_file_params(),

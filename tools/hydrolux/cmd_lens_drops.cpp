@@ -29,16 +29,7 @@ struct LensDropsArgs {
 Command add_lens_drops(CLI::App& app) {
   auto a = std::make_shared<LensDropsArgs>();
   auto* sub = add_job_command(app, "lens_drops");
-  sub->add_option("--image", a->job->image, "Input photograph (PNG, JPEG, EXR, TIFF, ...)");
-  sub->add_option("--input-dir", a->job->input_dir, "A folder of frames in name order (frame k: the drops of --seed + k)");
-  sub->add_option("--video", a->job->video,
-                  "Input video (MP4, MOV, MKV, ...); frame rate and count are kept (frame k: the drops of --seed + k)");
-  sub->add_option("-o,--output", a->job->output, "Output: .png/.exr with --image, .mp4/.mov/.mkv with --video");
-  sub->add_option("--output-dir", a->job->output_dir, "Output folder for --input-dir (created; never the input folder)");
-  sub->add_option("--mask-out", a->job->mask_out,
-                  "The drops' defocused coverage for --image: .png (16-bit linear) or .exr; out = clean (1 - mask) + drops");
-  sub->add_option("--mask-dir", a->job->mask_dir, "Folder for the masks of --input-dir (same names as the frames)");
-  sub->add_option("--stats-json", a->job->stats_json, "The drops' settings and per-frame statistics as JSON");
+  add_frame_paths(*sub, a->job, io::lens_drops_traits());
   Command cmd{sub, {}, {}};
   add_params(*sub, std::shared_ptr<rain::LensDropSettings>(a->job, &a->job->settings), rain::lens_drops_params(),
              cmd.flags_for_quantity);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "hydrolux/io/frame_paths.hpp"
 #include "hydrolux/jobs.hpp"
 
 namespace hydrolux::cli {
@@ -40,6 +41,10 @@ CLI::App* add_job_command(CLI::App& parent, std::string_view job) {
   const JobSpec& spec = job_spec(job);
   const std::string_view command = spec.command.substr(spec.command.rfind(' ') + 1);
   return parent.add_subcommand(std::string(command), std::string(spec.description));
+}
+
+void add_frame_paths(CLI::App& sub, const std::shared_ptr<io::FramePaths>& paths, const io::EffectTraits& traits) {
+  for (const auto& p : io::frame_path_params(traits)) sub.add_option(std::string(p.flag), (*paths).*(p.path), p.help);
 }
 
 CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(double)> store) {

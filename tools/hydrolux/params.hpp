@@ -12,11 +12,19 @@
 #include "common.hpp"
 #include "hydrolux/core/params.hpp"
 
+namespace hydrolux::io {
+struct FramePaths;
+struct EffectTraits;
+}  // namespace hydrolux::io
+
 namespace hydrolux::cli {
 
 // The subcommand of `parent` for the library's job `job` (hydrolux/jobs.hpp): named by the last word
 // of the job's command ("hydrolux drop render": render), its help the job's description.
 CLI::App* add_job_command(CLI::App& parent, std::string_view job);
+
+// The files the frame job of `traits` takes (io/frame_paths.hpp), as flags storing into *paths.
+void add_frame_paths(CLI::App& sub, const std::shared_ptr<io::FramePaths>& paths, const io::EffectTraits& traits);
 
 // One flag for a declared parameter; `store` receives the parsed, range-checked value. A parameter
 // with a deprecated name also takes its old flag (hidden from --help; a warning when given).

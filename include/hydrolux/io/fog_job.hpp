@@ -30,6 +30,8 @@ struct FogJobResult : FrameRunResult {
 // Error (bad input, before anything is written, or a folder's first frame), IoError, IoFailure as
 // io/files.hpp says. A folder's or a video's sky colour is estimated from its first frame and kept
 // for all; a video's frames lie on the ground plane (depth maps are for --image and --input-dir).
+// What the fog names and takes (its files: io/frame_paths.hpp).
+const EffectTraits& fog_traits();
 FogJobResult run_fog_job(const FogJob& job, const FogJobHooks& hooks);
 std::string fog_summary(const FogJobResult& result);
 

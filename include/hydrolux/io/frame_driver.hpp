@@ -80,6 +80,16 @@ struct SequenceStart {
   double extra_bytes_per_pixel = 0;  // what the pipeline holds besides one frame (memory checks)
 };
 
+// How an effect words its files in help (io/frame_paths.hpp): image, folder and video follow the
+// text every effect shares; mask and stats are the whole help of --mask-out and --stats-json.
+struct FramePathWords {
+  std::string_view image = {};   // after "Input photograph (PNG, JPEG, EXR, TIFF, ...)"
+  std::string_view folder = {};  // after "A folder of frames in name order"
+  std::string_view video = {};   // after "Input video (MP4, MOV, MKV, ...); frame rate and count are kept"
+  std::string_view mask = {};
+  std::string_view stats = {};
+};
+
 // What an effect names and supports.
 struct EffectTraits {
   std::string noun;                // "rainy frames": "--output-dir: give the folder for the <noun> ..."
@@ -87,6 +97,7 @@ struct EffectTraits {
   bool layer = false;              // --layer-out (a premultiplied RGBA .exr with --image)
   bool depth = true;               // --depth, --depth-dir (else the paths must be unset)
   std::string folder_input_key = "input";  // the statistics' key for --input-dir's path
+  FramePathWords words = {};
 };
 
 // One effect over frames. The driver calls, in order: check_options, check_mode (once the mode is

@@ -35,6 +35,8 @@ struct LensDropsJobResult : FrameRunResult {
 // says. Frame k of a folder or a video gets the drops of seed + k (each frame its own drops); a
 // folder's frame that cannot be read is named and left out once one frame is written, as for rain
 // and fog (the first frame's failure is bad input: Error, nothing written).
+// What the lens drops name and take (their files: io/frame_paths.hpp).
+const EffectTraits& lens_drops_traits();
 LensDropsJobResult run_lens_drops_job(const LensDropsJob& job, const FrameHooks& hooks);
 
 std::string lens_drops_summary(const LensDropsJobResult& result);
