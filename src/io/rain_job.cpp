@@ -37,10 +37,7 @@ class RainEffect final : public FrameEffect {
  public:
   explicit RainEffect(const RainJob& a) : a_(a) {}
 
-  const EffectTraits& traits() const override {
-    static const EffectTraits t{.noun = "rainy frames", .layer = true};
-    return t;
-  }
+  const EffectTraits& traits() const override { return rain_traits(); }
   void check_options(const FrameRequest&) const override {
     if (const auto name = rain::fog_setting_without_fog(a_.options); !name.empty())
       throw Error(fmt::format("{}: sets the fog; give --visibility-m or --lwc-g-m3 with it", rain::rain_param(name).flag));
@@ -125,6 +122,17 @@ class RainEffect final : public FrameEffect {
 };
 
 }  // namespace
+
+const EffectTraits& rain_traits() {
+  static const EffectTraits t{
+      .noun = "rainy frames",
+      .layer = true,
+      .words = {.image = ", or 'builtin' for the built-in street scene",
+                .folder = ": one rain field across them",
+                .mask = "The rain's alpha for --image: .png (16-bit linear) or .exr; rainy = clear (1 - alpha) + layer",
+                .stats = "Parameters, seed, the field and per-frame statistics as JSON"}};
+  return t;
+}
 
 RainJobResult run_rain_job(const RainJob& a, const RainJobHooks& hooks) {
   RainEffect effect(a);

@@ -38,18 +38,8 @@ int run_rain(RainArgs& a, const CLI::App& sub) {
 Command add_rain(CLI::App& app) {
   auto a = std::make_shared<RainArgs>();
   auto* sub = add_job_command(app, "rain");
-  sub->add_option("--image", a->job->image, "Input photograph (PNG, JPEG, EXR, TIFF, ...), or 'builtin' for the built-in street scene");
+  add_frame_paths(*sub, a->job, io::rain_traits());
   sub->add_option("--size", a->job->size, "Size WxH of --image builtin [1280x720]")->check(size_validator());
-  sub->add_option("--input-dir", a->job->input_dir, "A folder of frames in name order: one rain field across them");
-  sub->add_option("--video", a->job->video, "Input video (MP4, MOV, MKV, ...); frame rate and count are kept");
-  sub->add_option("-o,--output", a->job->output, "Output: .png/.exr with --image, .mp4/.mov/.mkv with --video");
-  sub->add_option("--output-dir", a->job->output_dir, "Output folder for --input-dir (created; never the input folder)");
-  sub->add_option("--depth", a->job->depth, "Depth map for --image: camera z in metres (EXR), or a 16-bit PNG times --depth-scale-m; 0/inf = sky");
-  sub->add_option("--depth-dir", a->job->depth_dir, "Depth maps for --input-dir: each frame's stem as .exr or .png (as --depth)");
-  sub->add_option("--mask-out", a->job->mask_out, "The rain's alpha for --image: .png (16-bit linear) or .exr; rainy = clear (1 - alpha) + layer");
-  sub->add_option("--mask-dir", a->job->mask_dir, "Folder for the masks of --input-dir (same names as the frames)");
-  sub->add_option("--layer-out", a->job->layer_out, "The rain layer for --image as a premultiplied RGBA .exr (linear)");
-  sub->add_option("--stats-json", a->job->stats_json, "Parameters, seed, the field and per-frame statistics as JSON");
   Command cmd{sub, {}, {}};
   // The declared parameters store straight into the job (shared_ptr aliasing its members).
   add_params(*sub, std::shared_ptr<rain::RainOptions>(a->job, &a->job->options), rain::rain_params(),

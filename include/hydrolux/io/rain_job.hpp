@@ -39,6 +39,8 @@ struct RainJobResult : FrameRunResult {
 
 // Runs the job. Error (bad input, before anything is written, or a folder's first frame), IoError,
 // IoFailure (the system failed midway; nothing replaced) as io/files.hpp says.
+// What the rain names and takes (its files: io/frame_paths.hpp).
+const EffectTraits& rain_traits();
 RainJobResult run_rain_job(const RainJob& job, const RainJobHooks& hooks);
 
 // The one line a run's summary is (the CLI prints it unless quiet).
