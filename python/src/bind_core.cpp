@@ -149,6 +149,8 @@ void bind_core(py::module_& m) {
           d["range"] = p.range_text(), d["help"] = std::string(p.help), d["excludes"] = std::string(p.excludes);
           // The name it had before (taken for one release with a warning), or None.
           d["deprecated"] = p.deprecated.empty() ? py::object(py::none()) : py::object(py::str(std::string(p.deprecated)));
+          // Where it has an effect (Param::only_with, not_with: words between '|'; "" where always).
+          d["only_with"] = std::string(p.only_with), d["not_with"] = std::string(p.not_with);
           d["default_text"] = info.default_text();
           if (std::isnan(info.default_value)) d["default"] = py::none();
           else if (p.kind == ParamKind::real) d["default"] = info.default_value;
@@ -159,6 +161,22 @@ void bind_core(py::module_& m) {
         return out;
       },
       py::arg("job"));
+  // The library's one refusal of a parameter given where the run leaves it unused (ParamUse::report_unused,
+  // by the table's conditions), in the batch jobs' words (flags): `given` maps names to the values as
+  // written, `held` lists the states the run is in ("video", "depth_dir"). ValueError "--crf 20: ...".
+  m.def(
+      "report_unused",
+      [](const std::string& job, const std::map<std::string, std::string>& given, const std::vector<std::string>& held) {
+        ParamUse use(Door::cli);
+        for (const auto& info : hydrolux::job_spec(job).params) {
+          const auto it = given.find(std::string(info.param->name));
+          if (it == given.end()) use.declare(*info.param);
+          else use.give(*info.param, info.param->kind == ParamKind::flag ? std::string() : it->second);
+        }
+        for (const auto& state : held) use.hold(state);
+        use.report_unused();
+      },
+      py::arg("job"), py::arg("given"), py::arg("held"));
   // The warning for a deprecated spelling `old` of `now` (a quantity in `unit`), in the library's words
   // (Param::deprecation_warning): the keywords and the batch flags say it as the CLI does.
   m.def(

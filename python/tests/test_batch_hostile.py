@@ -354,8 +354,9 @@ def test_a_setting_out_of_its_derived_range_names_the_flags(frames, tmp_path, ca
     for extra, text in ((["--fov-deg", "1"], "--fov-deg = 1 is outside [1.0313, 170], the valid range of a 36 mm "
                                              "wide sensor (focal lengths 1-2000 mm)"),
                         (["--near-m", "5", "--far-m", "2"], "(beyond --near-m)"),
-                        (["--crf", "20"], "--crf: sets the H.264 quality of --video's output"),
-                        (["--depth-scale-m", "0.01"], "--depth-scale-m: scales PNG maps of --depth-dir; none is given")):
+                        (["--crf", "20"], "--crf 20: sets the H.264 quality of --video's output; pictures have none"),
+                        (["--depth-scale-m", "0.01"], "--depth-scale-m 0.01: scales the codes of PNG depth maps "
+                                                      "(--depth, --depth-dir); none is given")):
         assert main(argv + extra) == 2, extra
         line = one_line(capfd.readouterr().err)
         assert text in line, line

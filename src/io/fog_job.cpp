@@ -109,8 +109,8 @@ const EffectTraits& fog_traits() {
 
 FogJobResult run_fog_job(const FogJob& a, const FogJobHooks& hooks) {
   FogEffect effect(a);
-  return detail::run_frame_job<FogJobResult>(frame_request(a, a.files.png_compression, a.video_files.crf, a.crf_given,
-                                                           a.files.depth_scale_m, a.depth_scale_given),
+  return detail::run_frame_job<FogJobResult>(frame_request(a, a.files.png_compression, a.video_files.crf, a.given,
+                                                           a.files.depth_scale_m),
                                              effect, hooks);
 }
 

@@ -88,7 +88,7 @@ struct Driver {
     const std::string origin = fmt::format("{} {}", flag, path);
     const auto format = sniff_image_format(bytes);
     if (format == ImageFormat::jpeg) throw Error(origin + kJpegDepthRefusal);
-    if (a.depth_scale_given && (format == ImageFormat::exr || format == ImageFormat::hdr))
+    if (a.given.given("depth_scale_m") && (format == ImageFormat::exr || format == ImageFormat::hdr))
       throw Error(fmt::format("--depth-scale-m: scales the codes of a PNG depth map; {} holds metres already", origin));
     auto decoded = decode(bytes, origin);
     for (const auto& w : decoded.warnings) sink(fmt::format("{}: {}", origin, w));
@@ -104,24 +104,14 @@ struct Driver {
   }
 };
 
-// The flags that only some modes use: given by the user, the mode must use them. The one place
-// that says which mode uses which.
+// The parameters given that the run leaves unused, by the table's conditions (crf only with a video,
+// depth_scale_m only with depth maps, rain's fps not with a video): refused in ParamUse's one format.
 void check_unused_flags(const FrameRequest& a, FrameMode mode) {
-  switch (mode) {
-    case FrameMode::image:
-      if (a.crf_given) throw Error("--crf: sets the H.264 quality of --video's output; --image writes one picture");
-      if (a.depth_scale_given && !a.depth) throw Error("--depth-scale-m: scales a PNG --depth map; none is given");
-      break;
-    case FrameMode::folder:
-      if (a.crf_given) throw Error("--crf: sets the H.264 quality of --video's output; --input-dir writes pictures");
-      if (a.depth_scale_given && !a.depth_dir)
-        throw Error("--depth-scale-m: scales PNG maps of --depth-dir; none is given");
-      break;
-    case FrameMode::video:
-      if (a.depth_scale_given)
-        throw Error("--depth-scale-m: scales PNG depth maps, which are for --image and --input-dir");
-      break;
-  }
+  ParamUse use = a.given;
+  if (mode == FrameMode::video) use.hold("video");
+  if (a.depth) use.hold("depth");
+  if (a.depth_dir) use.hold("depth_dir");
+  use.report_unused();
 }
 
 // The negative input values read as 0 over a run, said once at its end (not a line a frame).
@@ -632,15 +622,14 @@ FrameRunResult run_frames(const FrameRequest& a, FrameEffect& effect, const Fram
   return run_video(run);
 }
 
-FrameRequest frame_request(const FramePaths& paths, int png_compression, int crf, bool crf_given,
-                           double depth_scale_m, bool depth_scale_given) {
+FrameRequest frame_request(const FramePaths& paths, int png_compression, int crf, const ParamUse& given,
+                           double depth_scale_m) {
   FrameRequest r;
-  r.FramePaths::operator=(paths);
+  static_cast<FramePaths&>(r) = paths;
   r.png_compression = png_compression;
   r.crf = crf;
-  r.crf_given = crf_given;
+  r.given = given;
   r.depth_scale_m = depth_scale_m;
-  r.depth_scale_given = depth_scale_given;
   return r;
 }
 

@@ -93,7 +93,7 @@ const EffectTraits& lens_drops_traits() {
 LensDropsJobResult run_lens_drops_job(const LensDropsJob& a, const FrameHooks& hooks) {
   LensDropsEffect effect(a);
   return detail::run_frame_job<LensDropsJobResult>(
-      frame_request(a, a.files.png_compression, a.video_files.crf, a.crf_given), effect, hooks);
+      frame_request(a, a.files.png_compression, a.video_files.crf, a.given), effect, hooks);
 }
 
 std::string lens_drops_summary(const LensDropsJobResult& r) {

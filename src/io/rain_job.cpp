@@ -45,7 +45,6 @@ class RainEffect final : public FrameEffect {
   void check_mode(const FrameRequest& r, FrameMode mode) const override {
     if (mode == FrameMode::image && a_.size && !synthetic(r))
       throw Error("--size: goes with --image builtin (a photograph has its own size)");
-    if (mode == FrameMode::video && a_.options.fps) throw Error("--fps: a video's frame rate is its own");
   }
   bool synthetic(const FrameRequest& r) const override { return r.image && *r.image == "builtin"; }
   Image make_synthetic(const FrameRequest&, bool with_layer) const override {
@@ -136,8 +135,8 @@ const EffectTraits& rain_traits() {
 
 RainJobResult run_rain_job(const RainJob& a, const RainJobHooks& hooks) {
   RainEffect effect(a);
-  return detail::run_frame_job<RainJobResult>(frame_request(a, a.files.png_compression, a.files.crf, a.crf_given,
-                                                            a.files.depth_scale_m, a.depth_scale_given),
+  return detail::run_frame_job<RainJobResult>(frame_request(a, a.files.png_compression, a.files.crf, a.given,
+                                                            a.files.depth_scale_m),
                                               effect, hooks);
 }
 

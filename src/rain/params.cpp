@@ -42,7 +42,8 @@ const Field<RainOptions> kRain[] = {
     {{"focus_m", "--focus-m", "camera", K::real, "m", 0.01, 1e4, "Focus distance, m (with --f-number)"},
      HYDROLUX_PARAM_MEMBER(camera.focus_m)},
     {{"fps", "--fps", "camera", K::real, "1/s", 0.01, 1000,
-      "Frame rate of --image / --input-dir frames (frame k is exposed from k / fps)"},
+      "Frame rate of --image / --input-dir frames (frame k is exposed from k / fps)", {}, {}, "video",
+      "a video's frame rate is its own"},
      [](const RainOptions& o) { return o.fps.value_or(o.camera.fps); },
      [](RainOptions& o, double v) { o.fps = v; }},
     {{"camera_height_m", "--camera-height-m", "camera", K::real, "m", 0, 1000, "Camera height above the ground plane, m"},
@@ -88,14 +89,16 @@ const Field<RainFileOptions> kRainFiles[] = {
     {{"frame_index", "--frame-index", "files", K::integer, "", 0, 1e9, "Index of the first frame in the rain field's time"},
      HYDROLUX_PARAM_MEMBER(frame_index)},
     {{"crf", "--crf", "files", K::integer, "", 0, 51,
-      "H.264 quality of --video's output (0 lossless .. 51; 18 visually lossless)"},
+      "H.264 quality of --video's output (0 lossless .. 51; 18 visually lossless)", {}, "video", {},
+      "sets the H.264 quality of {video}'s output; pictures have none"},
      HYDROLUX_PARAM_MEMBER(crf)},
     {{"png_compression", "--png-compression", "files", K::integer, "", 0, 9,
       "Deflate level of PNG outputs (libdeflate): 0 stored, 1 fastest, 9 smallest; the same pixels at "
       "every level (BENCHMARKS.md: time and size)"},
      HYDROLUX_PARAM_MEMBER(png_compression)},
     {{"depth_scale_m", "--depth-scale-m", "files", K::real, "m", 1e-6, 1e3,
-      "Metres per code of a PNG depth map (--depth, --depth-dir)"},
+      "Metres per code of a PNG depth map (--depth, --depth-dir)", {}, "depth|depth_dir", {},
+      "scales the codes of PNG depth maps ({depth}, {depth_dir}); none is given"},
      HYDROLUX_PARAM_MEMBER(depth_scale_m)},
 };
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "hydrolux/rain/params.hpp"
 #include "support/cli.hpp"
 
 namespace {
@@ -121,6 +122,35 @@ TEST(FrameVideo, FlagsAVideoDoesNotUseAreRefusedInOneLine) {
   EXPECT_FALSE(fs::exists(dir() / "never.mp4"));
   EXPECT_FALSE(fs::exists(dir() / "outs"));
   EXPECT_FALSE(fs::exists(dir() / "masks"));
+}
+
+// Where a file parameter has an effect is the library's table (Param::only_with, not_with), read by the
+// driver for every effect and door: --crf only with --video, --depth-scale-m only with depth maps, rain's
+// --fps not with a video. The refusal is one line in ParamUse's format, the value as given, the reason
+// from the table (the texts below are the declared ones, written out).
+TEST(FrameVideo, WhereAFileParameterHasAnEffectIsTheTables) {
+  EXPECT_EQ(hydrolux::rain::rain_param("crf").only_with, "video");
+  EXPECT_EQ(hydrolux::rain::rain_param("depth_scale_m").only_with, "depth|depth_dir");
+  EXPECT_EQ(hydrolux::rain::rain_param("fps").not_with, "video");
+  const std::string v = " --video " + fading_video().string(), png = " -o " + (dir() / "never.png").string();
+  const std::string crf = ": --crf 20: sets the H.264 quality of --video's output; pictures have none\n";
+  const std::string scale = ": --depth-scale-m 0.01: scales the codes of PNG depth maps (--depth, --depth-dir); none is given\n";
+  const std::pair<std::string, std::string> cases[] = {
+      {"fog --image " + (dir() / "last.png").string() + " --visibility-m 100 --crf 20" + png, "hydrolux fog" + crf},
+      {"lens-drops --image " + (dir() / "last.png").string() + " --crf 20" + png, "hydrolux lens-drops" + crf},
+      {"rain --image builtin --size 32x24 --crf 20" + png, "hydrolux rain" + crf},
+      {"rain --image builtin --size 32x24 --depth-scale-m 0.01" + png, "hydrolux rain" + scale},
+      {"fog" + v + " --visibility-m 100 --depth-scale-m 0.01 -o " + (dir() / "never.mp4").string(), "hydrolux fog" + scale},
+      {"rain" + v + " --fps 30 -o " + (dir() / "never.mp4").string(),
+       "hydrolux rain: --fps 30: a video's frame rate is its own\n"},
+  };
+  for (const auto& [args, message] : cases) {
+    const auto r = run(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_EQ(r.err, message) << args;
+  }
+  EXPECT_FALSE(fs::exists(dir() / "never.png"));
+  EXPECT_FALSE(fs::exists(dir() / "never.mp4"));
 }
 
 }  // namespace

@@ -25,8 +25,10 @@ struct FogArgs {
 
 int run_fog(FogArgs& a, const CLI::App& sub) {
   io::FogJob& job = *a.job;
-  job.depth_scale_given = given(sub, rain::fog_param("depth_scale_m"));
-  job.crf_given = given(sub, rain::rain_param("crf"));
+  job.given = ParamUse(Door::cli);
+  record_given(sub, rain::fog_params(), job.given);
+  record_given(sub, rain::fog_file_params(), job.given);
+  record_given(sub, io::video_file_params(), job.given);
   ProgressBar bar("fog", a.quiet);
   const io::FogJobResult r = io::run_fog_job(job, frame_hooks(bar));
   if (!a.quiet) fmt::print(stderr, "{}\n", io::fog_summary(r));

@@ -39,7 +39,10 @@ Command add_lens_drops(CLI::App& app) {
              cmd.flags_for_quantity);
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
   cmd.run = [a, sub] {
-    a->job->crf_given = given(*sub, rain::rain_param("crf"));
+    a->job->given = ParamUse(Door::cli);
+    record_given(*sub, rain::lens_drops_params(), a->job->given);
+    record_given(*sub, rain::lens_drops_file_params(), a->job->given);
+    record_given(*sub, io::video_file_params(), a->job->given);
     ProgressBar bar("lens-drops", a->quiet);
     const auto r = io::run_lens_drops_job(*a->job, frame_hooks(bar));
     if (!a->quiet) fmt::print(stderr, "{}\n", io::lens_drops_summary(r));

@@ -25,8 +25,9 @@ struct RainArgs {
 
 int run_rain(RainArgs& a, const CLI::App& sub) {
   io::RainJob& job = *a.job;
-  job.crf_given = given(sub, rain::rain_param("crf"));
-  job.depth_scale_given = given(sub, rain::rain_param("depth_scale_m"));
+  job.given = ParamUse(Door::cli);
+  record_given(sub, rain::rain_params(), job.given);
+  record_given(sub, rain::rain_file_params(), job.given);
   ProgressBar bar("rain", a.quiet);
   const io::RainJobResult r = io::run_rain_job(job, frame_hooks(bar));
   if (!a.quiet) fmt::print(stderr, "{}\n", io::rain_summary(r));

@@ -17,7 +17,7 @@ struct FogJob : FramePaths {
   rain::FogOptions options;
   rain::FogFileOptions files;
   VideoFileOptions video_files;  // --crf, for --video's output
-  bool depth_scale_given = false, crf_given = false;
+  ParamUse given;  // what the door was given (FrameRequest::given)
 };
 
 using FogJobHooks = FrameHooks;

@@ -41,9 +41,11 @@ struct FrameRequest : FramePaths {
   int png_compression = 1;      // the deflate level of PNG outputs (kDefaultPngCompression)
   int crf = 18;                 // the H.264 quality of a video's output
   double depth_scale_m = 0.001; // metres per code of a PNG depth map
-  // Flags whose defaults mean nothing in some modes: given by the user, they must be used there
-  // (check_unused_flags in frame_driver.cpp: the one place that says which mode uses which).
-  bool crf_given = false, depth_scale_given = false;
+  // What the door was given of the job's parameters (the CLI records every flag): the driver refuses,
+  // by the table's conditions (Param::only_with, not_with; ParamUse::report_unused), one the run
+  // leaves unused. The states it holds: "video" in the video mode, "depth" and "depth_dir" where
+  // those paths are given.
+  ParamUse given;
 };
 
 enum class FrameMode { image, folder, video };
@@ -135,8 +137,8 @@ class FrameEffect {
 };
 
 // A job's request: its paths and how its files are encoded (the flags only some modes use, given or not).
-FrameRequest frame_request(const FramePaths& paths, int png_compression, int crf, bool crf_given,
-                           double depth_scale_m = 0.001, bool depth_scale_given = false);
+FrameRequest frame_request(const FramePaths& paths, int png_compression, int crf, const ParamUse& given,
+                           double depth_scale_m = 0.001);
 
 // What every run reports; each job's result adds its effect's summary.
 struct FrameRunResult {

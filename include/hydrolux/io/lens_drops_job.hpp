@@ -22,7 +22,7 @@ struct LensDropsJob : FramePaths {
   rain::LensDropSettings settings;
   rain::LensDropsFileOptions files;
   VideoFileOptions video_files;  // --crf, for --video's output
-  bool crf_given = false;
+  ParamUse given;  // what the door was given (FrameRequest::given)
 };
 
 struct LensDropsJobResult : FrameRunResult {

@@ -23,7 +23,7 @@ struct RainJob : FramePaths {
   rain::RainOptions options;
   rain::RainFileOptions files;
   // Options whose defaults mean nothing in some modes: given by the user, they must be used.
-  bool crf_given = false, depth_scale_given = false;
+  ParamUse given;  // what the door was given (FrameRequest::given)
 };
 
 // The doors' hooks (frame_driver.hpp): the codec, warnings, progress.

@@ -148,6 +148,27 @@ def _text(value) -> str:
     return value if isinstance(value, str) else repr(value)
 
 
+def refuse_unused(job: str, a, held: Iterable[str]) -> None:
+    """UsageError for a flag of ``job`` given (``a.<name>_given``) where the run leaves it unused, by the
+    table's conditions (only with --video, not with --video, only with depth maps): the library's one
+    message, as the CLI says it ("--crf 20: sets the H.264 quality of --video's output; ...")."""
+    given = {}
+    for p in native("_core").params(job):
+        if getattr(a, p["name"] + "_given", False):
+            v = getattr(a, p["name"])
+            given[p["name"]] = format(v, "g") if isinstance(v, float) else str(v)
+    try:
+        native("_core").report_unused(job, given, list(held))
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+
+
+def conditional(params: Iterable[dict]) -> set:
+    """The names of the parameters that have an effect only in some runs (the table's only_with /
+    not_with): their argparse default is None, so that a run can tell whether they were given."""
+    return {p["name"] for p in params if p.get("only_with") or p.get("not_with")}
+
+
 def _core_parse(kind: str, text: str):
     _core = native("_core")
     try:  # bytes, so that a word of argv that is not UTF-8 reaches the parser as it is (and fails there)

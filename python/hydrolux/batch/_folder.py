@@ -238,8 +238,7 @@ def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
     if not a.output_dir:
         raise UsageError(f"--output-dir: give the folder for the {fj.noun} (with --input-dir)")
     _parse_numbers(a, fj)
-    if fj.depth and a.depth_scale_m_given and not depth_dir_arg:
-        raise UsageError("--depth-scale-m: scales PNG maps of --depth-dir; none is given")
+    _common.refuse_unused(fj.job, a, ["depth_dir"] if depth_dir_arg else [])
     opts = _options(a, fj)
     if fj.require:
         fj.require(opts)

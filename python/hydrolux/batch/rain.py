@@ -30,9 +30,9 @@ from ._folder import TASK_BYTES_PER_PIXEL  # what a task holds per pixel of its 
 
 # The rain job's parameters are the library's declared ones (src/rain/params.cpp), read through
 # _core.params("rain") on first use: each one's flag, range, unit, default and help come from there, as
-# the CLI's and the Python functions' do. These flags, given where nothing uses them, are refused rather
-# than ignored (as the CLI refuses them), so they stay None until parse_numbers notes whether they were given.
-_REFUSED_WHERE_UNUSED = ("fps", "crf", "depth_scale_m")
+# the CLI's and the Python functions' do. The flags the table declares an effect for only in some runs
+# (only_with, not_with: --fps, --crf, --depth-scale-m) are refused where unused, as the CLI refuses them,
+# so they stay None until parse_numbers notes whether they were given.
 # What the library's messages name that is no flag.
 _NAMED = {"width": "the frames' width", "height": "the frames' height"}
 
@@ -65,7 +65,7 @@ def parser_default(p: dict) -> Any:
     [25.0, None, None]
     """
     replaced = any(q["excludes"] == p["name"] for q in params())
-    return None if replaced or p["name"] in _REFUSED_WHERE_UNUSED else p["default"]
+    return None if replaced or p["name"] in _common.conditional(params()) else p["default"]
 
 
 def parse_numbers(a: argparse.Namespace) -> None:
@@ -94,7 +94,7 @@ def parse_numbers(a: argparse.Namespace) -> None:
         if p["kind"] == "flag":
             continue
         value = getattr(a, name, None)
-        if name in _REFUSED_WHERE_UNUSED:
+        if name in _common.conditional(params()):
             setattr(a, name + "_given", value is not None)
         if value is None and p["group"] == "files":  # the job's own settings, not the renderer's: always set
             value = p["default"]
@@ -271,14 +271,10 @@ def run(a: argparse.Namespace, after_result=None) -> int:
     if (a.input_dir is None) == (getattr(a, "video", None) is None):
         raise UsageError("give exactly one of --input-dir and --video")
     parse_numbers(a)
-    if getattr(a, "video", None) is not None:
-        if a.depth_scale_m_given:
-            raise UsageError("--depth-scale-m: scales PNG depth maps, which are for --input-dir")
+    video = getattr(a, "video", None) is not None
+    _common.refuse_unused("rain", a, ["video"] if video else ["depth_dir"] if a.depth_dir else [])
+    if video:
         return run_video(a, after_result)
-    if a.crf_given:
-        raise UsageError("--crf: sets the H.264 quality of --video's output; --input-dir writes pictures")
-    if a.depth_scale_m_given and not a.depth_dir:
-        raise UsageError("--depth-scale-m: scales PNG maps of --depth-dir; none is given")
     if getattr(a, "output", None):
         raise UsageError("-o: with --input-dir the frames go to --output-dir")
     if not a.output_dir:
@@ -394,8 +390,6 @@ def run_video(a: argparse.Namespace, after_result=None) -> int:
         raise UsageError("-o: give the output video (.mp4, .mov or .mkv)")
     if os.path.splitext(a.output)[1].lower() not in (".mp4", ".mov", ".mkv"):
         raise UsageError(f"-o {a.output}: expected a .mp4, .mov or .mkv file")
-    if a.fps_given:
-        raise UsageError("--fps: a video's frame rate is its own")
     video, output = os.path.abspath(a.video), os.path.abspath(a.output)
     if not os.path.isfile(video):
         raise UsageError(f"--video {a.video}: not a file")
