@@ -79,9 +79,9 @@ def test_marshall_palmer_old_keyword_warns_and_gives_the_same_distribution():
 
 def test_marshall_palmer_takes_the_one_range():
     assert h.SizeDistribution.marshall_palmer(500).number_concentration > 0
-    assert h.SizeDistribution.marshall_palmer(0.01).number_concentration > 0
-    for rate in (600, 1000, 0.005, 0):
-        with pytest.raises(ValueError, match=r"rain_rate_mmh = .* is outside \[0\.01, 500\]"):
+    assert h.SizeDistribution.marshall_palmer(0.005).number_concentration > 0
+    for rate in (600, 1000, 0, -1):
+        with pytest.raises(ValueError, match=r"rain_rate_mmh = .* is outside .*500"):
             h.SizeDistribution.marshall_palmer(rate)
 
 

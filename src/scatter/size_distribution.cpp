@@ -178,7 +178,10 @@ SizeDistribution SizeDistribution::log_normal(double mean_radius_m, double relat
 }
 
 SizeDistribution SizeDistribution::marshall_palmer(double rain_rate_mmh, double n0_per_m4) {
-  require_in_range("rain_rate_mmh", rain_rate_mmh, kMinDistributionRainRateMmh, kMaxRainRateMmh, "Marshall-Palmer");
+  // Any positive rate up to the one upper limit: the rain and the sky take rates below the doors'
+  // floor for a size distribution (kMinDistributionRainRateMmh), as they did before issue 38.
+  if (!(rain_rate_mmh > 0 && rain_rate_mmh <= kMaxRainRateMmh))
+    throw DomainError("rain_rate_mmh", rain_rate_mmh, 0, kMaxRainRateMmh, "Marshall-Palmer");
   require_in_range("n0_per_m4", n0_per_m4, kTiny, kMaxN0, "Marshall-Palmer");
   SizeDistribution d;
   d.kind_ = SizeDistributionKind::marshall_palmer;

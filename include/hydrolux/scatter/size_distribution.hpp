@@ -53,8 +53,9 @@ enum class SizeDistributionKind { monodisperse, gamma, log_normal, marshall_palm
 
 // Valid domain (DomainError outside): radii in (0, 1] m (mean_radius_m, radius_m), relative widths
 // in [1e-4, 1] (narrower is monodisperse to 1e-8 in any average a drop's optics can resolve: use
-// monodisperse), number concentrations in (0, 1e30] m^-3, rain rates in [kMinDistributionRainRateMmh,
-// kMaxRainRateMmh] = [0.01, 500] mm/h (core/params.hpp: one range for every job), N0 in (0, 1e12] m^-4,
+// monodisperse), number concentrations in (0, 1e30] m^-3, rain rates in (0, kMaxRainRateMmh] = (0, 500]
+// mm/h (core/params.hpp: the one upper limit; the doors' size distributions take at least
+// kMinDistributionRainRateMmh), N0 in (0, 1e12] m^-4,
 // quadrature nodes in [1, 4096].
 inline constexpr int kMaxQuadratureNodes = 4096;
 inline constexpr double kMinRelativeWidth = 1e-4;
@@ -66,7 +67,7 @@ class SizeDistribution {
                                 double number_per_m3 = 1.0);
   static SizeDistribution log_normal(double mean_radius_m, double relative_width,
                                      double number_per_m3 = 1.0);
-  // DomainError naming rain_rate_mmh outside [kMinDistributionRainRateMmh, kMaxRainRateMmh] mm/h.
+  // DomainError naming rain_rate_mmh outside (0, kMaxRainRateMmh] mm/h.
   static SizeDistribution marshall_palmer(double rain_rate_mmh, double n0_per_m4 = 8e6);
 
   SizeDistributionKind kind() const { return kind_; }
