@@ -46,14 +46,7 @@ int run_export(const ExportArgs& a) {
 
 Command add_export(CLI::App& app) {
   auto a = std::make_shared<ExportArgs>();
-  auto* sub = a->sub = app.add_subcommand(
-      "export",
-      "Engine assets for rainbows in a scene: the rainbow (5-800 um, 90-180 deg) and corona (1-50 um, 0-90 deg) Lee "
-      "tables as EXR, PNG, raw float32 and JSON axes; the sun and sky parameters for every sun elevation (sky.json); "
-      "GLSL and HLSL that evaluate the sky, the bow, the secondary, the corona and the blend, and a linear polariser "
-      "in front of the camera (the tables carry the Stokes Q: EXR channels Q.X, Q.Y, Q.Z and <name>_q.f32); a "
-      "README for integrators. With --shape, also the bow of non-spherical drops as a 3-D table (radius x angle x 19 position "
-      "angles, for one sun elevation) that the shaders read instead. The folder appears complete or not at all.");
+  auto* sub = a->sub = add_job_command(app, "export");
   sub->add_option("--dir", a->job->dir, "Output folder (created; files of the same names in it are replaced)")->required();
   Command cmd{sub, [a] { return run_export(*a); }, {}};
   // The declared parameters store straight into the job (shared_ptr aliasing its options).

@@ -61,13 +61,7 @@ int run_lee(const LeeArgs& a) {
 
 Command add_lee(CLI::App& app) {
   auto args = std::make_shared<LeeArgs>();
-  auto* sub = app.add_subcommand(
-      "lee",
-      "Lee diagram: the colour of sunlight scattered by water drops over drop radius (columns) and scattering angle "
-      "(rows), spectral and absolute (sr^-1: radiance per unit irradiance per unit projected-area optical depth), "
-      "averaged over the sun's disk and a size spread. Writes a linear EXR (R,G,B gamut-mapped; XYZ unmapped), a "
-      "display PNG and a JSON sidecar with the exact axes (docs/lee.md). --table corona/glory: forward and backward "
-      "tables of cloud droplets. --json with one radius prints its profile.");
+  auto* sub = add_job_command(app, "lee");
   args->sub = sub;
   Command cmd{sub, [args] { return run_lee(*args); }, {}};
   // The declared parameters store straight into the job (shared_ptr aliasing its request).

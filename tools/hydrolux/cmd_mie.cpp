@@ -77,11 +77,7 @@ int run_mie(const MieArgs& a) {
 
 Command add_mie(CLI::App& app) {
   auto args = std::make_shared<MieArgs>();
-  auto* sub = app.add_subcommand(
-      "mie",
-      "Lorenz-Mie scattering by a homogeneous sphere: efficiencies and the amplitudes S1, S2 "
-      "(Bohren & Huffman conventions). Give --m and --x, or the physical form --radius-um, "
-      "--wavelength-nm, --medium.");
+  auto* sub = add_job_command(app, "mie");
   Command cmd{sub,
               [args] { return run_mie(*args); },
               {{"x", "--x"},

@@ -111,16 +111,7 @@ int run_rainphys(const RainphysArgs& args) {
 
 Command add_rainphys(CLI::App& app) {
   auto args = std::make_shared<RainphysArgs>();
-  auto* sub = app.add_subcommand(
-      "rainphys",
-      "Physical properties of a rain drop (Garg & Nayar 2004, section 2): terminal velocity (the paper's "
-      "fit v = 200 sqrt(a) and Gunn & Kinzer's 1949 measurements), the Marshall-Palmer size density at "
-      "this radius, and the equilibrium shape r(theta) = a (1 + sum_n c_n cos(n theta)) with theta = 0 "
-      "along the fall (Chuang & Beard 1990 coefficients) and its axis ratio.\n"
-      "Density convention: N(a) = 8e6 exp(-8200 h^-0.21 a) m^-4, a the radius in metres, h the rain rate "
-      "in mm/h, as in the paper. It keeps Marshall & Palmer's N0 = 8e6 m^-4, which they defined per metre "
-      "of DIAMETER, with the radius: a strict per-radius density is twice this (and so is the number "
-      "density). number_density_per_m3 = N0 / Lambda counts all drops; mean_spacing_m = n^(-1/3).");
+  auto* sub = add_job_command(app, "rainphys");
   Command cmd{sub, [args] { return run_rainphys(*args); }, {}};
   add_params(*sub, args->r, drop::rainphys_params(), cmd.flags_for_quantity);
   sub->add_flag("--json", args->json,
