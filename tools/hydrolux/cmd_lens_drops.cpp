@@ -17,17 +17,8 @@
 
 namespace hydrolux::cli {
 
-namespace {
-
-struct LensDropsArgs {
-  std::shared_ptr<io::LensDropsJob> job = std::make_shared<io::LensDropsJob>();
-  bool quiet = false;
-};
-
-}  // namespace
-
 Command add_lens_drops(CLI::App& app) {
-  auto a = std::make_shared<LensDropsArgs>();
+  auto a = std::make_shared<FrameArgs<io::LensDropsJob>>();
   auto* sub = add_job_command(app, "lens_drops");
   add_frame_paths(*sub, a->job, io::lens_drops_traits());
   Command cmd{sub, {}, {}};
@@ -39,14 +30,8 @@ Command add_lens_drops(CLI::App& app) {
              cmd.flags_for_quantity);
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
   cmd.run = [a, sub] {
-    a->job->given = ParamUse(Door::cli);
-    record_given(*sub, rain::lens_drops_params(), a->job->given);
-    record_given(*sub, rain::lens_drops_file_params(), a->job->given);
-    record_given(*sub, io::video_file_params(), a->job->given);
-    ProgressBar bar("lens-drops", a->quiet);
-    const auto r = io::run_lens_drops_job(*a->job, frame_hooks(bar));
-    if (!a->quiet) fmt::print(stderr, "{}\n", io::lens_drops_summary(r));
-    return report_left_out(r.left_out, r.frames_total);
+    a->job->given = given_on(*sub, rain::lens_drops_params(), rain::lens_drops_file_params(), io::video_file_params());
+    return run_frame_command(*a, "lens-drops", io::run_lens_drops_job, io::lens_drops_summary);
   };
   return cmd;
 }

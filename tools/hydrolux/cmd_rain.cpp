@@ -16,28 +16,8 @@
 
 namespace hydrolux::cli {
 
-namespace {
-
-struct RainArgs {
-  std::shared_ptr<io::RainJob> job = std::make_shared<io::RainJob>();
-  bool quiet = false;
-};
-
-int run_rain(RainArgs& a, const CLI::App& sub) {
-  io::RainJob& job = *a.job;
-  job.given = ParamUse(Door::cli);
-  record_given(sub, rain::rain_params(), job.given);
-  record_given(sub, rain::rain_file_params(), job.given);
-  ProgressBar bar("rain", a.quiet);
-  const io::RainJobResult r = io::run_rain_job(job, frame_hooks(bar));
-  if (!a.quiet) fmt::print(stderr, "{}\n", io::rain_summary(r));
-  return report_left_out(r.left_out, r.frames_total);
-}
-
-}  // namespace
-
 Command add_rain(CLI::App& app) {
-  auto a = std::make_shared<RainArgs>();
+  auto a = std::make_shared<FrameArgs<io::RainJob>>();
   auto* sub = add_job_command(app, "rain");
   add_frame_paths(*sub, a->job, io::rain_traits());
   sub->add_option("--size", a->job->size, "Size WxH of --image builtin [1280x720]")->check(size_validator());
@@ -48,7 +28,10 @@ Command add_rain(CLI::App& app) {
   add_params(*sub, std::shared_ptr<rain::RainFileOptions>(a->job, &a->job->files), rain::rain_file_params(),
              cmd.flags_for_quantity);
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
-  cmd.run = [a, sub] { return run_rain(*a, *sub); };
+  cmd.run = [a, sub] {
+    a->job->given = given_on(*sub, rain::rain_params(), rain::rain_file_params());
+    return run_frame_command(*a, "rain", io::run_rain_job, io::rain_summary);
+  };
   // The quantities the library names that are not a flag of their own.
   cmd.flags_for_quantity["width"] = "the input's width";
   cmd.flags_for_quantity["height"] = "the input's height";
