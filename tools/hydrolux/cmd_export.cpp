@@ -67,11 +67,7 @@ Command add_export(CLI::App& app) {
       ->capture_default_str();
   add_params(*sub, options, params.subspan(1), cmd.flags_for_quantity);
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
-  cmd.flags_for_quantity.insert({{"columns", "--size"},
-                                 {"shape", "--shape"},
-                                 {"rows", "--size"},
-                                 {"size_parameter", "--radius-um (the size parameter 2 pi r / lambda)"},
-                                 {"p", "--theory"}});
+  cmd.flags_for_quantity.insert(lee_table_quantities().begin(), lee_table_quantities().end());
   return cmd;
 }
 

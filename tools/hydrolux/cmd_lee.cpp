@@ -115,18 +115,14 @@ Command add_lee(CLI::App& app) {
                   "Output .exr (the .png and .json are written beside it), or .nc: one NetCDF-4 file with CF "
                   "attributes (xarray.open_dataset, ncdump)");
   sub->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
+  cmd.flags_for_quantity.insert(lee_table_quantities().begin(), lee_table_quantities().end());
   cmd.flags_for_quantity.insert({{"radius_um", "--radius-um"},
                                  {"angle_deg", "--angle-deg"},
-                                 {"columns", "--size"},
-                                 {"rows", "--size"},
                                  {"wavelength_nm", "--wavelengths-nm"},
                                  {"wavelengths", "--wavelengths-nm"},
-                                 {"size_parameter", "--radius-um (the size parameter 2 pi r / lambda)"},
                                  {"temperature_k", "--sun"},
                                  {"m_imag", "--medium (its index relative to air)"},
-                                 {"m_real", "--medium (its index relative to air)"},
-                                 {"p", "--theory"},
-                                 {"axis_ratio", "--shape"}});
+                                 {"m_real", "--medium (its index relative to air)"}});
   return cmd;
 }
 

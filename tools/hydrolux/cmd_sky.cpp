@@ -82,13 +82,10 @@ Command add_sky(CLI::App& app) {
   declared("cube_face_size", "sampling");
   sub->add_option("-o,--output", a->job->output, "Output .png (tone-mapped) or .exr (cd/m^2)");
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
-  cmd.flags_for_quantity.insert({{"width", "--size"},
-                                 {"shape", "--shape"},
-                                 {"height", "--size"},
-                                 {"curtain_near_m", "--curtain-distance-m"},
+  cmd.flags_for_quantity.insert(lee_table_quantities().begin(), lee_table_quantities().end());
+  cmd.flags_for_quantity.insert({{"curtain_near_m", "--curtain-distance-m"},
                                  {"curtain_far_m", "--curtain-distance-m"},
-                                 {"light_color", "--light-color"},
-                                 {"size_parameter", "--radius-um (the size parameter 2 pi r / lambda)"}});
+                                 {"light_color", "--light-color"}});
   return cmd;
 }
 

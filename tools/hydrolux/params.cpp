@@ -43,6 +43,19 @@ CLI::App* add_job_command(CLI::App& parent, std::string_view job) {
   return parent.add_subcommand(std::string(command), std::string(spec.description));
 }
 
+const std::map<std::string, std::string>& lee_table_quantities() {
+  static const std::map<std::string, std::string> names = {
+      {"size_parameter", "--radius-um (the size parameter 2 pi r / lambda)"},
+      {"shape", "--shape"},
+      {"axis_ratio", "--shape"},
+      {"p", "--theory"},
+      {"columns", "--size"},
+      {"rows", "--size"},
+      {"width", "--size"},
+      {"height", "--size"}};
+  return names;
+}
+
 void add_frame_paths(CLI::App& sub, const std::shared_ptr<io::FramePaths>& paths, const io::EffectTraits& traits) {
   for (const auto& p : io::frame_path_params(traits)) sub.add_option(std::string(p.flag), (*paths).*(p.path), p.help);
 }

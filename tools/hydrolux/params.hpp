@@ -26,6 +26,11 @@ CLI::App* add_job_command(CLI::App& parent, std::string_view job);
 // The files the frame job of `traits` takes (io/frame_paths.hpp), as flags storing into *paths.
 void add_frame_paths(CLI::App& sub, const std::shared_ptr<io::FramePaths>& paths, const io::EffectTraits& traits);
 
+// The quantities the Lee tables' computation (atmos/lee.hpp, scatter) names that no flag of lee, sky or
+// export sets by that name, with the flag that does: the size parameter (--radius-um), the drop
+// shape's axis ratio (--shape), the theory's order p (--theory), the table's size (--size).
+const std::map<std::string, std::string>& lee_table_quantities();
+
 // One flag for a declared parameter; `store` receives the parsed, range-checked value. A parameter
 // with a deprecated name also takes its old flag (hidden from --help; a warning when given).
 CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(double)> store);
