@@ -90,7 +90,8 @@ const std::vector<JobSpec>& job_specs() {
                  "when --no-background is given)."});
     v.push_back({"drop_undistort", "hydrolux drop undistort",
                  "A perspective view recovered from the picture inside a drop (Garg & Nayar Figure 9)",
-                 describe_fields(drop::undistort_params()), "hydrolux.drop_undistort",
+                 // hydrolux.drop_undistort takes these but width and height as size=(width, height).
+                 describe_fields(drop::undistort_params()), "",
                  "Undo a rain drop's distortion (Garg & Nayar Figure 9): the drop refracts a ~165 degree, inverted "
                  "view of the world into its image; inverting the refraction mapping gives the perspective view of a "
                  "pinhole camera at the drop. The drop is taken as a sphere seen head-on. Near the drop's rim the "
