@@ -373,9 +373,22 @@ def open_client(scheduler: Optional[str], workers: int, threads_per_worker: int,
     return Client(cluster), cluster
 
 
+def _quiet_worker_log() -> None:
+    """On a worker: only critical messages from here on (its own shutdown's)."""
+    for name in ("distributed", "distributed.worker", "distributed.nanny", "distributed.core"):
+        logging.getLogger(name).setLevel(logging.CRITICAL)
+
+
 def close_client(client, cluster) -> None:
-    """Closes the client, then the local cluster (its workers stop before this returns)."""
+    """Closes the client, then the local cluster (its workers stop before this returns). The local
+    workers' log is quieted first: a worker whose heartbeat crosses the scheduler's goodbye logs
+    "Scheduler was unaware of this worker" as an error on the terminal, after the job has ended."""
     try:
+        if cluster is not None:
+            try:
+                client.run(_quiet_worker_log)
+            except Exception:  # a worker already gone: nothing of it to quiet
+                pass
         client.close()
     finally:
         if cluster is not None:

@@ -108,9 +108,12 @@ def _options(a: argparse.Namespace, fj: FrameJob) -> Dict[str, Any]:
     return opts
 
 
-def flag_error(e: ValueError, fj: FrameJob) -> UsageError:
-    """The library's message naming a parameter, said with its flag."""
+def flag_error(e: ValueError, fj: FrameJob, named_too: Optional[Dict[str, str]] = None) -> UsageError:
+    """The library's message naming a parameter, said with its flag (and the names of ``named_too``, what
+    the message names that is no flag, in its words); every setting the message names is said so, the
+    one refused and those its range follows from ("beyond near_m")."""
     named = {p["name"]: p["flag"] for p in params(fj) if p["kind"] != "flag"}
+    named.update(named_too or {})
     text = str(e)
     for name in sorted(named, key=len, reverse=True):
         text = re.sub(r"(?<![\w-])" + re.escape(name) + r"(?![\w-])", named[name], text)

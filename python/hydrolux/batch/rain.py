@@ -150,15 +150,7 @@ def _options(a: argparse.Namespace) -> Dict[str, Any]:
 
 def _flag_error(e: ValueError) -> UsageError:
     """The library's message, with the Python argument named as the batch flag."""
-    import re
-
-    named = {p["name"]: p["flag"] for p in params() if p["group"] != "files" and p["kind"] != "flag"}
-    named.update(_NAMED)
-    text = str(e)
-    # Every setting the message names, the one refused and those its range follows from ("beyond near_m").
-    for name in sorted(named, key=len, reverse=True):
-        text = re.sub(r"(?<![\w-])" + re.escape(name) + r"(?![\w-])", named[name], text)
-    return UsageError(text)
+    return _folder.flag_error(e, RAIN, _NAMED)
 
 
 def plan_folder(input_dir: str, output_dir: str, mask_dir: Optional[str] = None,
