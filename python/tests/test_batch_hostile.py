@@ -355,8 +355,8 @@ def test_a_setting_out_of_its_derived_range_names_the_flags(frames, tmp_path, ca
                                              "wide sensor (focal lengths 1-2000 mm)"),
                         (["--near-m", "5", "--far-m", "2"], "(beyond --near-m)"),
                         (["--crf", "20"], "--crf 20: sets the H.264 quality of --video's output; pictures have none"),
-                        (["--depth-scale-m", "0.01"], "--depth-scale-m 0.01: scales the codes of PNG depth maps "
-                                                      "(--depth, --depth-dir); none is given")):
+                        (["--depth-scale-m", "0.01"], "--depth-scale-m 0.01: scales the codes of PNG depth maps; "
+                                                      "none is given")):
         assert main(argv + extra) == 2, extra
         line = one_line(capfd.readouterr().err)
         assert text in line, line

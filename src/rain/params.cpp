@@ -98,7 +98,7 @@ const Field<RainFileOptions> kRainFiles[] = {
      HYDROLUX_PARAM_MEMBER(png_compression)},
     {{"depth_scale_m", "--depth-scale-m", "files", K::real, "m", 1e-6, 1e3,
       "Metres per code of a PNG depth map (--depth, --depth-dir)", {}, "depth|depth_dir", {},
-      "scales the codes of PNG depth maps ({depth}, {depth_dir}); none is given"},
+      "scales the codes of PNG depth maps; none is given"},
      HYDROLUX_PARAM_MEMBER(depth_scale_m)},
 };
 

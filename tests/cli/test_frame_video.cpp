@@ -134,7 +134,7 @@ TEST(FrameVideo, WhereAFileParameterHasAnEffectIsTheTables) {
   EXPECT_EQ(hydrolux::rain::rain_param("fps").not_with, "video");
   const std::string v = " --video " + fading_video().string(), png = " -o " + (dir() / "never.png").string();
   const std::string crf = ": --crf 20: sets the H.264 quality of --video's output; pictures have none\n";
-  const std::string scale = ": --depth-scale-m 0.01: scales the codes of PNG depth maps (--depth, --depth-dir); none is given\n";
+  const std::string scale = ": --depth-scale-m 0.01: scales the codes of PNG depth maps; none is given\n";
   const std::pair<std::string, std::string> cases[] = {
       {"fog --image " + (dir() / "last.png").string() + " --visibility-m 100 --crf 20" + png, "hydrolux fog" + crf},
       {"lens-drops --image " + (dir() / "last.png").string() + " --crf 20" + png, "hydrolux lens-drops" + crf},
