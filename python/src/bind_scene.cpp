@@ -62,13 +62,13 @@ py::dict sky(const std::pair<py::object, py::object>& size, const std::string& s
   set_texts(s, size, curtain_m, light_color, blend, mode);
   scene::validate(s);
   const atmos::DropShapeSpec shape = atmos::parse_drop_shape(o.shape);  // "shape 'egg': expected sphere, ..."
-  scene::check_sky_request(o, shape, /*tables_given=*/false, &Param::name);
+  scene::check_sky_request(o, shape, /*tables_given=*/false, Door::python);
   const auto given = [&](std::string_view name) {
     const std::string key(name);
     return options.contains(key) && !options[key.c_str()].is_none();
   };
-  scene::refuse_unused_sky_params(o, given, false, environment.has_value(), &Param::name);
-  scene::check_sky_memory(s, fmt::format("({}, {})", s.camera.width, s.camera.height), &Param::name);
+  scene::refuse_unused_sky_params(o, given, false, environment.has_value(), Door::python);
+  scene::check_sky_memory(s, fmt::format("({}, {})", s.camera.width, s.camera.height), Door::python);
   std::shared_ptr<const scene::Environment> env;
   if (environment) {
     try {

@@ -60,7 +60,7 @@ Vec3 parse_light_color(const std::string& text) {
 SkySlices given_tables(const SkyJob& a, const scene::SkySettings& s, const SkyJobHooks& h) {
   SkySlices t = read_sky_luts(h.codec, a.luts, s.radius_um, s.corona, warner(h));
   // A polariser or the Stokes images need the tables' Stokes Q: the compositor's one check.
-  scene::check_polarization(s, t.rainbow.has_q(), t.corona.empty() || t.corona.has_q(), &Param::flag);
+  scene::check_polarization(s, t.rainbow.has_q(), t.corona.empty() || t.corona.has_q(), Door::cli);
   return t;
 }
 
@@ -112,12 +112,12 @@ SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
     throw Error(fmt::format("--{}", e.what()));  // the library's message starts "shape '<value>': "
   }
   const bool tables_given = !a.luts.empty();
-  scene::check_sky_request(o, shape, tables_given, &Param::flag);
+  scene::check_sky_request(o, shape, tables_given, Door::cli);
   scene::refuse_unused_sky_params(
       o, [&](std::string_view name) { return a.given.count(name) > 0; }, tables_given, a.environment.has_value(),
-      &Param::flag);
+      Door::cli);
   if (a.output.empty()) throw Error("-o is required (a .png or .exr path)");
-  scene::check_sky_memory(s, a.size, &Param::flag);
+  scene::check_sky_memory(s, a.size, Door::cli);
 
   // Every file is checked before the work.
   FileSet files;

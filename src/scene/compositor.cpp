@@ -255,10 +255,10 @@ void validate(const SkySettings& s) {
   for (int k = 0; k < 3; ++k) check("light_color", s.light_color[k], 0, 1e3);
 }
 
-void check_polarization(const SkySettings& s, bool rainbow_q, bool corona_q, std::string_view Param::*words) {
-  const std::string stokes(sky_param("stokes").*words);
+void check_polarization(const SkySettings& s, bool rainbow_q, bool corona_q, Door door) {
+  const std::string stokes(spelled(sky_param("stokes"), door));
   const auto polarizer = [&] {
-    return fmt::format("{} {:g}", sky_param("polarizer_deg").*words, s.polarizer_deg.value_or(0));
+    return fmt::format("{} {:g}", spelled(sky_param("polarizer_deg"), door), s.polarizer_deg.value_or(0));
   };
   if (s.stokes && s.polarizer_deg)
     throw Error(fmt::format("{}: the Stokes images are the light before any filter: ask for them or for a polariser "

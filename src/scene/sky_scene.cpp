@@ -12,19 +12,19 @@
 
 namespace hydrolux::scene {
 
-std::string sky_word(std::string_view name, std::string_view Param::*words) {
-  if (const auto* f = find_field(sky_params(), name)) return std::string(f->param.*words);
-  if (name == "lut" && words != &Param::flag) return "hydrolux sky --lut";  // tables from files: the CLI's only
-  if (words != &Param::flag) return std::string(name);
+std::string sky_word(std::string_view name, Door door) {
+  if (const auto* f = find_field(sky_params(), name)) return std::string(spelled(f->param, door));
+  if (name == "lut" && door != Door::cli) return "hydrolux sky --lut";  // tables from files: the CLI's only
+  if (door != Door::cli) return std::string(name);
   std::string flag = "--" + std::string(name);
   std::replace(flag.begin(), flag.end(), '_', '-');
   return flag;
 }
 
 void check_sky_request(const SkyOptions& o, const atmos::DropShapeSpec& shape, bool tables_given,
-                       std::string_view Param::*words) {
+                       Door door) {
   const SkySettings& s = o.settings;
-  const auto word = [&](std::string_view name) { return sky_word(name, words); };
+  const auto word = [&](std::string_view name) { return sky_word(name, door); };
   if (!shape.spherical()) {
     // Non-spherical drops: their bow, which changes along its arc, is computed here for the scene's
     // sun at kShapePositions position angles (Airy theory of the plane section).
@@ -46,7 +46,7 @@ void check_sky_request(const SkyOptions& o, const atmos::DropShapeSpec& shape, b
                             "(Mie's size parameter limit at 380 nm); give tables that cover it with {}",
                             word("radius_um"), s.radius_um, atmos::kMinRadiusUm, max_sky_radius_um(), word("lut"),
                             word("lut")));
-  check_polarization(s, true, true, words);
+  check_polarization(s, true, true, door);
   if (s.corona && !tables_given && s.radius_um > kCoronaMaxRadiusUm)
     throw Error(fmt::format("{}: drops of {:g} um ({}) put their corona within 0.2 degrees of the sun, where nothing "
                             "is drawn; coronas come from cloud droplets of 1-{:g} um (try {} 10) or omit {}",
@@ -55,10 +55,10 @@ void check_sky_request(const SkyOptions& o, const atmos::DropShapeSpec& shape, b
 }
 
 void refuse_unused_sky_params(const SkyOptions& o, const std::function<bool(std::string_view)>& given,
-                              bool tables_given, bool environment_given, std::string_view Param::*words) {
+                              bool tables_given, bool environment_given, Door door) {
   // The rows' declared conditions (sky_params.cpp: only_with, why), checked by the library's usage
   // tracker in the door's spelling; a switch given off is as good as not given.
-  ParamUse use(words == &Param::flag ? Door::cli : Door::python);
+  ParamUse use(door);
   for (const auto& f : sky_params()) {
     const double v = f.get(o);
     if (given(f.param.name) && (f.param.kind != ParamKind::flag || v != 0))
@@ -74,7 +74,7 @@ void refuse_unused_sky_params(const SkyOptions& o, const std::function<bool(std:
   use.report_unused();
 }
 
-void check_sky_memory(const SkySettings& s, std::string_view size_text, std::string_view Param::*words,
+void check_sky_memory(const SkySettings& s, std::string_view size_text, Door door,
                       double available) {
   const double need = estimated_bytes(s), avail = available >= 0 ? available : double(available_memory_bytes());
   if (need <= avail) return;
@@ -86,17 +86,17 @@ void check_sky_memory(const SkySettings& s, std::string_view size_text, std::str
     const double fits = std::floor(std::sqrt(std::max(0.0, room - frame) / kSkyBytesPerCubeTexel));
     throw Error(fmt::format("{} {}: the frame and its cube map need about {} of memory and {} is available; faces of "
                             "at most {:g} texels fit",
-                            sky_word("cube_face_size", words), s.cube_face_size, format_bytes(need),
+                            sky_word("cube_face_size", door), s.cube_face_size, format_bytes(need),
                             format_bytes(avail), std::max(0.0, fits)));
   }
   const double pixels = double(s.camera.width) * s.camera.height;
   const double fit_pixels = std::max(0.0, room - cube) / kSkyBytesPerPixel;
   const double k = std::sqrt(fit_pixels / pixels);
   const double w = std::floor(s.camera.width * k), h = std::floor(s.camera.height * k);
-  const bool cli = words == &Param::flag;
+  const bool cli = door == Door::cli;
   throw Error(fmt::format("{} {}: the frame needs about {} of memory and {} is available; at most about {:.0f} "
                           "megapixels fit ({} at this aspect)",
-                          sky_word("size", words), size_text, format_bytes(need), format_bytes(avail), fit_pixels / 1e6,
+                          sky_word("size", door), size_text, format_bytes(need), format_bytes(avail), fit_pixels / 1e6,
                           cli ? fmt::format("--size {:.0f}x{:.0f}", w, h) : fmt::format("size=({:.0f}, {:.0f})", w, h)));
 }
 

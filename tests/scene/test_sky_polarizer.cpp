@@ -287,42 +287,42 @@ TEST(SkyPolarizer, RefusesWhatItCannotDo) {
 // The one polariser check (scene::check_polarization), which the compositor, hydrolux sky's job and
 // hydrolux.sky make: the compositor's sentences, each parameter spelled by the door.
 TEST(SkyPolarizer, OneCheckInEachDoorsSpelling) {
-  const auto message = [](const SkySettings& s, bool rainbow_q, bool corona_q, std::string_view Param::*words) {
+  const auto message = [](const SkySettings& s, bool rainbow_q, bool corona_q, Door door) {
     try {
-      scene::check_polarization(s, rainbow_q, corona_q, words);
+      scene::check_polarization(s, rainbow_q, corona_q, door);
     } catch (const Error& e) {
       return std::string(e.what());
     }
     return std::string("accepted");
   };
   SkySettings s;
-  EXPECT_EQ(message(s, false, false, &Param::name), "accepted");  // no filter: no Q needed
+  EXPECT_EQ(message(s, false, false, Door::python), "accepted");  // no filter: no Q needed
   s.stokes = true;
   s.polarizer_deg = 10;
-  EXPECT_EQ(message(s, true, true, &Param::flag),
+  EXPECT_EQ(message(s, true, true, Door::cli),
             "--stokes: the Stokes images are the light before any filter: ask for them or for a polariser "
             "(--polarizer-deg 10), not both");
-  EXPECT_EQ(message(s, true, true, &Param::name),
+  EXPECT_EQ(message(s, true, true, Door::python),
             "stokes: the Stokes images are the light before any filter: ask for them or for a polariser "
             "(polarizer_deg 10), not both");
   s.polarizer_deg.reset();
   s.blend = scene::Blend::whitepaper;
-  EXPECT_EQ(message(s, true, true, &Param::flag),
+  EXPECT_EQ(message(s, true, true, Door::cli),
             "--stokes: the Stokes images need the physical blend (the whitepaper's is not linear in the light)");
   s.blend = scene::Blend::physical;
-  EXPECT_EQ(message(s, false, true, &Param::name),
+  EXPECT_EQ(message(s, false, true, Door::python),
             "stokes: the Stokes images need the rainbow's Stokes Q, and its table has none (compute it with stokes "
             "on: hydrolux lee --stokes, or hydrolux export)");
   s.stokes = false;
   s.polarizer_deg = -30;
-  EXPECT_EQ(message(s, false, true, &Param::flag),
+  EXPECT_EQ(message(s, false, true, Door::cli),
             "--polarizer-deg -30: a polariser needs the rainbow's Stokes Q, and its table has none (compute it with "
             "stokes on: hydrolux lee --stokes, or hydrolux export)");
-  EXPECT_EQ(message(s, true, false, &Param::flag), "accepted");  // no corona drawn
+  EXPECT_EQ(message(s, true, false, Door::cli), "accepted");  // no corona drawn
   s.corona = true;
-  EXPECT_EQ(message(s, true, false, &Param::name).rfind("polarizer_deg -30: a polariser needs the corona's Stokes Q", 0),
+  EXPECT_EQ(message(s, true, false, Door::python).rfind("polarizer_deg -30: a polariser needs the corona's Stokes Q", 0),
             0u);
-  EXPECT_EQ(message(s, true, true, &Param::name), "accepted");
+  EXPECT_EQ(message(s, true, true, Door::python), "accepted");
 }
 
 }  // namespace

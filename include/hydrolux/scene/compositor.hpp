@@ -167,10 +167,10 @@ void validate(const SkySettings& s);
 // physical blend only; and with either, the tables' Stokes Q: `rainbow_q` whether every rainbow slice
 // carries it, `corona_q` whether the corona, when drawn, does (true for tables still to be computed
 // with it). Throws Error in the compositor's words, naming the parameter as the door spells it:
-// `words` is &Param::flag for the CLI ("--stokes", "--polarizer-deg 10"), &Param::name for the
+// `door` is Door::cli for the CLI ("--stokes", "--polarizer-deg 10"), Door::python (or library) for the
 // library and Python ("stokes", "polarizer_deg 10").
 void check_polarization(const SkySettings& s, bool rainbow_q = true, bool corona_q = true,
-                        std::string_view Param::*words = &Param::name);
+                        Door door = Door::library);
 
 // The peak memory, in bytes, of rendering `s` into a frame and writing it out (hydrolux sky), so
 // that a frame too large for the machine is refused before the work. Measured, not guessed: the

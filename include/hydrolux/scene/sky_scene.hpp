@@ -4,8 +4,8 @@
 // door spells its own way; the tables computed for one radius; the frame's memory. The compositor
 // (compositor.hpp) renders it.
 //
-// `words` names the parameters as the door does: &Param::flag for the CLI ("--radius-um",
-// "--shape"), &Param::name for the library and Python ("radius_um", "shape"). A text the table
+// `door` names the parameters as the door does: Door::cli for the CLI ("--radius-um",
+// "--shape"), Door::python for the library and Python ("radius_um", "shape"). A text the table
 // does not declare (the shape, the mode, the environment) is spelled the same way: "--mode" or
 // "mode"; the tables given from files, which only the CLI takes, are "--lut" or "hydrolux sky --lut".
 #include <functional>
@@ -20,8 +20,8 @@
 
 namespace hydrolux::scene {
 
-// `name` (a declared parameter's or a text's, "radius_um", "shape") as the door of `words` spells it.
-std::string sky_word(std::string_view name, std::string_view Param::*words);
+// `name` (a declared parameter's or a text's, "radius_um", "shape") as `door` spells it.
+std::string sky_word(std::string_view name, Door door);
 
 // The checks of a scene, its settings already validated (validate(SkySettings)), for drops of
 // `shape`, its tables given (hydrolux sky --lut: `tables_given`) or computed here: non-spherical
@@ -30,7 +30,7 @@ std::string sky_word(std::string_view name, std::string_view Param::*words);
 // computed here hold radii up to max_sky_radius_um(); a corona computed here needs drops of at most
 // kCoronaMaxRadiusUm; and check_polarization's settings. Error (DomainError for check_shape_radius).
 void check_sky_request(const SkyOptions& o, const atmos::DropShapeSpec& shape, bool tables_given,
-                       std::string_view Param::*words);
+                       Door door);
 
 // A declared parameter given where nothing uses it is refused (given: never its default), saying
 // why and what would use it: the tables' sampling with given tables, the sky's degree of
@@ -38,13 +38,13 @@ void check_sky_request(const SkyOptions& o, const atmos::DropShapeSpec& shape, b
 // environment, the cube map's and the dome's sizes in another mode. `given(name)` says whether the
 // user set the declared parameter `name`.
 void refuse_unused_sky_params(const SkyOptions& o, const std::function<bool(std::string_view)>& given,
-                              bool tables_given, bool environment_given, std::string_view Param::*words);
+                              bool tables_given, bool environment_given, Door door);
 
 // The frame too large for the memory left (available_memory_bytes(), or `available` when given) is
 // refused before the work (estimated_bytes): one line naming the cube map's face size when the cube
 // map is most of it, else the frame's size (`size_text`, as the door's syntax gives it: "1280x720"
 // for the CLI, "(1280, 720)" for Python), with what would fit.
-void check_sky_memory(const SkySettings& s, std::string_view size_text, std::string_view Param::*words,
+void check_sky_memory(const SkySettings& s, std::string_view size_text, Door door,
                       double available = -1);
 
 // The scene's tables computed for its radius (no tables given): the rainbow (of `shape` drops: the
