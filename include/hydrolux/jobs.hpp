@@ -20,7 +20,8 @@ const JobSpec& job_spec(std::string_view name);
 // ("real", "integer" or "flag"), "unit" ("" for a pure number), "lo", "hi" (both included), "default"
 // (null: none; true/false for a flag), "help", "excludes", "only_with" and "not_with" (lists of
 // words), "why", "deprecated" (null where none)}]}]}, one parameter a line, the jobs and parameters in
-// the tables' order: the same text on every run.
+// the tables' order: the same text on every run. Written by hydrolux_io (src/io/spec_json.cpp,
+// nlohmann-json), not by the physics library that holds the tables.
 std::string job_specs_json();
 std::string job_spec_json(const JobSpec& job);
 

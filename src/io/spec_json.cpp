@@ -1,0 +1,91 @@
+// The declared parameters as JSON (hydrolux/jobs.hpp), with nlohmann-json's escaping and shortest
+// round-trip numbers: in the tables' order, one parameter a line, the same text on every run and
+// every machine. It lives with the files (hydrolux_io, which links nlohmann-json); the tables it
+// reads are the physics library's.
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+
+#include "hydrolux/jobs.hpp"
+#include "hydrolux/version.hpp"
+
+namespace hydrolux {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json optional_text(std::string_view text) { return text.empty() ? Json(nullptr) : Json(std::string(text)); }
+
+// A number of `kind`: whole for an integer or a flag's 0/1, the real itself otherwise; null where it
+// is not finite (JSON has no infinity) or none (NaN).
+Json number(double v, ParamKind kind) {
+  if (!std::isfinite(v)) return nullptr;
+  if (kind != ParamKind::real && v == std::floor(v) && std::fabs(v) <= 9.007199254740992e15)  // to 2^53
+    return static_cast<long long>(v);
+  return v;
+}
+
+// "a|b" as ["a", "b"]; empty: [].
+Json word_list(std::string_view text) {
+  Json out = Json::array();
+  while (!text.empty()) {
+    const auto bar = text.find('|');
+    out.push_back(std::string(text.substr(0, bar)));
+    if (bar == std::string_view::npos) break;
+    text.remove_prefix(bar + 1);
+  }
+  return out;
+}
+
+const char* kind_name(ParamKind kind) {
+  switch (kind) {
+    case ParamKind::real: return "real";
+    case ParamKind::integer: return "integer";
+    case ParamKind::flag: return "flag";
+  }
+  return "real";
+}
+
+Json param_json(const ParamInfo& info) {
+  const Param& p = *info.param;
+  Json row;
+  row["name"] = std::string(p.name), row["flag"] = std::string(p.flag), row["group"] = std::string(p.group);
+  row["kind"] = kind_name(p.kind), row["unit"] = std::string(p.unit);
+  row["lo"] = number(p.lo, p.kind), row["hi"] = number(p.hi, p.kind);
+  row["default"] = std::isnan(info.default_value) ? Json(nullptr)
+                   : p.kind == ParamKind::flag    ? Json(info.default_value != 0)
+                                                  : number(info.default_value, p.kind);
+  row["help"] = std::string(p.help), row["excludes"] = optional_text(p.excludes);
+  row["only_with"] = word_list(p.only_with), row["not_with"] = word_list(p.not_with);
+  row["why"] = optional_text(p.why), row["deprecated"] = optional_text(p.deprecated);
+  return row;
+}
+
+// `value` on one line (UTF-8 as it is; bytes that are not UTF-8 replaced, never thrown on).
+std::string line(const Json& value) { return value.dump(-1, ' ', false, Json::error_handler_t::replace); }
+
+}  // namespace
+
+std::string job_spec_json(const JobSpec& job) {
+  Json head;
+  head["name"] = std::string(job.name), head["command"] = std::string(job.command);
+  head["summary"] = std::string(job.summary), head["python"] = optional_text(job.python);
+  std::string out = line(head);
+  out.pop_back();  // the closing brace: the parameters follow, one a line
+  out += ",\"params\":[";
+  for (std::size_t i = 0; i < job.params.size(); ++i)
+    out += (i == 0 ? "\n      " : ",\n      ") + line(param_json(job.params[i]));
+  return out + (job.params.empty() ? "]}" : "\n    ]}");
+}
+
+std::string job_specs_json() {
+  std::string out = "{\n  \"format\": \"hydrolux-spec\",\n  \"format_version\": 1,\n  \"hydrolux_version\": " +
+                    line(Json(std::string(kVersion))) + ",\n  \"jobs\": [";
+  const auto& jobs = job_specs();
+  for (std::size_t i = 0; i < jobs.size(); ++i) out += (i == 0 ? "\n    " : ",\n    ") + job_spec_json(jobs[i]);
+  return out + "\n  ]\n}\n";
+}
+
+}  // namespace hydrolux
