@@ -449,12 +449,6 @@ std::span<const Field<FogFileOptions>> fog_file_params() {
   return table;
 }
 
-const Param& fog_param(std::string_view name) {
-  if (const auto* f = find_field(fog_params(), name)) return f->param;
-  if (const auto* f = find_field(fog_file_params(), name)) return f->param;
-  throw std::logic_error("fog_param: no parameter " + std::string(name));
-}
-
 RainCamera fog_camera_for(const FogOptions& o, int width, int height) {
   RainCamera c = o.camera;
   c.width = width;

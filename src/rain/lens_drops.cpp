@@ -223,11 +223,6 @@ std::span<const Field<LensDropsFileOptions>> lens_drops_file_params() {
   return table;
 }
 
-const Param& lens_drops_param(std::string_view name) {
-  if (const auto* f = find_field(lens_drops_params(), name)) return f->param;
-  if (const auto* f = find_field(lens_drops_file_params(), name)) return f->param;
-  throw std::logic_error("lens_drops_param: no parameter " + std::string(name));
-}
 
 double LensCap::sphere_radius() const { return radius / std::sin(contact_angle); }
 double LensCap::height() const { return sphere_radius() * (1 - std::cos(contact_angle)); }

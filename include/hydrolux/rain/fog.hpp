@@ -196,7 +196,6 @@ struct FogFileOptions {
 };
 std::span<const Field<FogOptions>> fog_params();
 std::span<const Field<FogFileOptions>> fog_file_params();
-const Param& fog_param(std::string_view name);
 // The fog's own parameters (visibility_m, lwc_g_m3, mode_radius_um, size_alpha, wavelength_nm, glow),
 // which hydrolux rain's fog rows take too.
 const Param& fog_medium_param(std::string_view name);

@@ -55,8 +55,6 @@ struct LensDropsFileOptions {
 
 std::span<const Field<LensDropSettings>> lens_drops_params();
 std::span<const Field<LensDropsFileOptions>> lens_drops_file_params();
-// A parameter by name; throws std::logic_error for a name not declared.
-const Param& lens_drops_param(std::string_view name);
 
 // One drop on the glass.
 struct LensCap {

@@ -89,12 +89,13 @@ def parse_numbers(a: argparse.Namespace) -> None:
     """
     # A flag's text is a string; a value not given is its default (a number) or None.
     _common.take_deprecated_flags(a, params(), lambda q: isinstance(getattr(a, q["name"], None), str), "batch rain")
+    conditional = _common.conditional(params())
     for p in params():
         name = p["name"]
         if p["kind"] == "flag":
             continue
         value = getattr(a, name, None)
-        if name in _common.conditional(params()):
+        if name in conditional:
             setattr(a, name + "_given", value is not None)
         if value is None and p["group"] == "files":  # the job's own settings, not the renderer's: always set
             value = p["default"]
