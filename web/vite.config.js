@@ -42,7 +42,7 @@ function serveAssets() {
 }
 
 // The sky's rows of `hydrolux spec --json` as the module virtual:hydrolux-spec: {command, params:
-// [{name, flag, kind, unit, lo, hi, default}]}.
+// [{name, flag, kind, unit, lo, hi, default, words}]}.
 function hydroluxSpec() {
   const id = 'virtual:hydrolux-spec';
   return {
@@ -62,7 +62,7 @@ function hydroluxSpec() {
       const sky = JSON.parse(r.stdout).jobs.find((j) => j.name === 'sky');
       if (!sky) throw new Error(`${bin} spec --json lists no job "sky"`);
       this.addWatchFile(bin);
-      const params = sky.params.map(({ name, flag, kind, unit, lo, hi, default: d }) => ({ name, flag, kind, unit, lo, hi, default: d }));
+      const params = sky.params.map(({ name, flag, kind, unit, lo, hi, default: d, words }) => ({ name, flag, kind, unit, lo, hi, default: d, words }));
       return `export default ${JSON.stringify({ command: sky.command, params })};\n`;
     },
   };

@@ -12,7 +12,7 @@ import inspect
 import math
 import os
 import warnings
-from typing import Any, Optional, Sequence, Union
+from typing import Any, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -183,7 +183,7 @@ def _options_doc(params: list) -> str:
     """The options' reference for a docstring, from the declared table: name, range, default, help."""
     lines = []
     for p in params:
-        valid = "True or False" if p["kind"] == "flag" else p["range"]
+        valid = "True or False" if p["kind"] == "flag" else p["form"]
         default = f"; default {p['default']!r}" if p["default"] is not None else ""
         # A switch's help is its CLI flag's, which turns the default around (--no-unresolved).
         what = f"{not p['default']}: {p['help']}" if p["kind"] == "flag" else p["help"]
@@ -218,6 +218,11 @@ def _renamed(params: list, kw: dict, stacklevel: int = 2) -> dict:
     return kw
 
 
+# The Python type of each kind of declared parameter (hydrolux/core/params.hpp's ParamKind).
+_ANNOTATIONS = {"real": float, "integer": int, "flag": bool, "choice": str, "size": Tuple[int, int],
+                "span": Tuple[float, float], "colour": Tuple[float, float, float]}
+
+
 def _with_options(params: list, keep: int, positional: bool = False):
     """Gives a function taking ``**options`` the declared options as parameters in its signature
     (help(), IDEs and inspect show them) and their reference at the end of its docstring. The
@@ -231,7 +236,7 @@ def _with_options(params: list, keep: int, positional: bool = False):
         replaced = {p["excludes"] for p in params if p["excludes"]}
         kind = inspect.Parameter.POSITIONAL_OR_KEYWORD if positional else inspect.Parameter.KEYWORD_ONLY
         opts = [inspect.Parameter(p["name"], kind, default=None if p["name"] in replaced else p["default"],
-                                  annotation={"real": float, "integer": int, "flag": bool}[p["kind"]])
+                                  annotation=_ANNOTATIONS[p["kind"]])
                 for p in params]
         full = sig.replace(parameters=head + opts)
         doc = (fn.__doc__ or "").rstrip() + "\n\n    Options (the CLI's flags of the same names):\n\n" + \

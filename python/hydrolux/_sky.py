@@ -10,11 +10,13 @@ from typing import Any, NamedTuple, Optional, Sequence
 import numpy as np
 
 from hydrolux import _core
-from hydrolux._args import _array_arg, _pair, _with_options
+from hydrolux._args import _array_arg, _with_options
 
 # The sky's declared parameters (the library's one table): sky()'s keyword options, defaults and ranges.
 _SKY_PARAMS = _core.params("sky")
 _SKY_OPTIONS = tuple(p["name"] for p in _SKY_PARAMS)
+# sky()'s first argument is the table's size (its default too); the others are keyword options.
+_SIZE_DEFAULT = next(p["default"] for p in _SKY_PARAMS if p["name"] == "size")
 
 
 class SkyResult(NamedTuple):
@@ -30,10 +32,8 @@ class SkyResult(NamedTuple):
     stats: dict
 
 
-@_with_options(_SKY_PARAMS, 8)
-def sky(size: Sequence[int] = (1280, 720), shape: str = "sphere", *, blend: str = "physical",
-        mode: str = "per-pixel", curtain_distance_m: Sequence[float] = (1000.0, 3000.0),
-        light_color: Sequence[float] = (1.0, 1.0, 1.0), environment: Optional[np.ndarray] = None,
+@_with_options([p for p in _SKY_PARAMS if p["name"] != "size"], 4)
+def sky(size: Sequence[int] = _SIZE_DEFAULT, shape: str = "sphere", *, environment: Optional[np.ndarray] = None,
         moisture: Optional[np.ndarray] = None, **options: Any) -> SkyResult:
     """A rainbow in a daylight scene, per pixel on the CPU (``hydrolux sky``; docs/sky.md): the view
     ray's angle to the sun looked up in the Lee tables computed for ``radius_um`` (Mie for spheres;
@@ -56,18 +56,11 @@ def sky(size: Sequence[int] = (1280, 720), shape: str = "sphere", *, blend: str 
     ((36, 64, 3), (36, 64, 3))
     """
     for k in options:
-        if k not in _SKY_OPTIONS:
-            raise TypeError(f"unknown sky option '{k}' (options: {', '.join(_SKY_OPTIONS)})")
-    for name, value in (("shape", shape), ("blend", blend), ("mode", mode)):
-        if not isinstance(value, str):
-            raise TypeError(f"{name}: expected a str, got {type(value).__name__}")
-    colour = np.asarray(light_color, dtype=float)
-    if colour.shape != (3,):
-        raise TypeError(f"light_color: expected three values (R, G, B), got {light_color!r}")
-    near_far = _pair(curtain_distance_m, "curtain_distance_m", "(near, far) in metres")
-    d = _core.sky(_pair(size, "size", "(width, height) in pixels"), shape, blend, mode,
-                  (float(near_far[0]), float(near_far[1])), tuple(colour),
-                  None if environment is None else _array_arg(environment, "environment"),
+        if k not in _SKY_OPTIONS or k == "size":
+            raise TypeError(f"unknown sky option '{k}' (options: {', '.join(o for o in _SKY_OPTIONS if o != 'size')})")
+    if not isinstance(shape, str):
+        raise TypeError(f"shape: expected a str, got {type(shape).__name__}")
+    d = _core.sky(shape, None if environment is None else _array_arg(environment, "environment"),
                   None if moisture is None else _array_arg(moisture, "moisture"),
-                  {k: v for k, v in options.items() if v is not None})
+                  {"size": size, **{k: v for k, v in options.items() if v is not None}})
     return SkyResult(d["image"], d["display"], d["stats"])

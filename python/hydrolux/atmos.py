@@ -91,8 +91,9 @@ def _span(value, name):
 _LEE = {p["name"]: p for p in _core.params("lee")}
 
 
-def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=None,
-        size: Optional[Tuple[int, int]] = None, radius_scale: str = "log", axis: str = "angle",
+def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=None, angle_deg=None,
+        size: Optional[Tuple[int, int]] = None, radius_scale: str = _LEE["radius_scale"]["default"],
+        axis: str = _LEE["axis"]["default"],
         sun_disk_deg: float = _LEE["sun_disk_deg"]["default"], limb_darkening: bool = _LEE["limb_darkening"]["default"],
         size_spread: float = _LEE["size_spread"]["default"], wavelengths_nm: Tuple[float, float] = (380.0, 780.0),
         wavelengths: int = 0, temperature_c: Optional[float] = _LEE["temperature_c"]["default"],
@@ -135,12 +136,11 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     """
     arguments = dict(locals())  # the call as given, for the labelled form's history
     # Each argument's type is checked in the signature's order; the declared ones go to _core by name.
-    table = _text(table, "table", "rainbow, corona or glory")
     theory = _text(theory, "theory", "mie, debye:P, airy, airy:3 or geometric[:P]")
     radius_um, angle_deg = _span(radius_um, "radius_um"), _span(angle_deg, "angle_deg")
     size = None if size is None else _pair(size, "size", "(columns, rows), two whole numbers")
-    radius_scale, axis = _text(radius_scale, "radius_scale", "log or linear"), _text(axis, "axis", "angle or cos")
-    options = {"sun_disk_deg": _real(sun_disk_deg, "sun_disk_deg"),
+    options = {"table": table, "radius_scale": radius_scale, "axis": axis,
+               "sun_disk_deg": _real(sun_disk_deg, "sun_disk_deg"),
                "limb_darkening": _flag(limb_darkening, "limb_darkening"),
                "size_spread": _real(size_spread, "size_spread")}
     wavelengths_nm = _span(wavelengths_nm, "wavelengths_nm")
@@ -153,8 +153,8 @@ def lee(table: str = "rainbow", theory: str = "mie", radius_um=None, angle_deg=N
     options.update(sun_elevation_deg=_real(sun_elevation_deg, "sun_elevation_deg"),
                    position_deg=_real(position_deg, "position_deg"), canting_deg=_real(canting_deg, "canting_deg"))
     options["stokes"] = _flag(stokes, "stokes")
-    d = _core.lee(table, theory, radius_um, angle_deg, size, radius_scale, axis, wavelengths_nm, wavelengths, shape,
-                  medium, sun, color_space, options)
+    d = _core.lee(theory, radius_um, angle_deg, size, wavelengths_nm, wavelengths, shape, medium, sun, color_space,
+                  options)
     info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape", "dataset")}
     info["history"] = _history(lee, arguments)
     return LeeTable(d["rgb"], d["xyz"], d["display"], d["radius_um"], d["angle_deg"], d["cos_angle"],

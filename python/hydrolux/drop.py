@@ -23,7 +23,7 @@ def drop_render(env: Optional[np.ndarray] = None, radius_mm: float = _DROP["radi
                 medium: str = "water", temperature_c: Optional[float] = _DROP["temperature_c"],
                 wavelength_nm: float = _DROP["wavelength_nm"], dispersion: bool = _DROP["dispersion"],
                 background_blur: bool = _DROP["background_blur"], background: bool = _DROP["background"],
-                exposure_ev: float = _DROP["exposure_ev"], method: str = "model", shape: str = "sphere",
+                exposure_ev: float = _DROP["exposure_ev"], method: str = _DROP["method"], shape: str = _DROP["shape"],
                 depth: int = _DROP["depth"]) -> np.ndarray:
     """A rain drop rendered from an environment (``hydrolux drop render``; Garg & Nayar's Figure 8).
 
@@ -52,9 +52,8 @@ def drop_render(env: Optional[np.ndarray] = None, radius_mm: float = _DROP["radi
                    wavelength_nm=_real(wavelength_nm, "wavelength_nm"), dispersion=_flag(dispersion, "dispersion"),
                    background_blur=_flag(background_blur, "background_blur"),
                    background=_flag(background, "background"), exposure_ev=_real(exposure_ev, "exposure_ev"),
-                   depth=depth)
-    return _core.drop_render(env, medium, _text(method, "method", "model or exact"),
-                             _text(shape, "shape", "sphere or beard-chuang"), options)
+                   method=method, shape=shape, depth=depth)
+    return _core.drop_render(env, medium, options)
 
 
 def drop_undistort(image: np.ndarray, drop_center: Tuple[float, float], drop_radius_px: float,

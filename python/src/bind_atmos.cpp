@@ -21,10 +21,10 @@ namespace {
 
 // ---- Lee tables -----------------------------------------------------------------------------
 
-py::dict lee(const std::string& table, const std::string& theory, std::optional<std::pair<double, double>> radius_um,
+py::dict lee(const std::string& theory, std::optional<std::pair<double, double>> radius_um,
              std::optional<std::pair<double, double>> angle_deg,
-             std::optional<std::pair<py::object, py::object>> size_arg, const std::string& radius_scale,
-             const std::string& axis, std::pair<double, double> wavelengths_nm, py::handle wavelengths_arg,
+             std::optional<std::pair<py::object, py::object>> size_arg, std::pair<double, double> wavelengths_nm,
+             py::handle wavelengths_arg,
              const std::string& shape, const std::string& medium, const std::string& sun,
              const std::string& color_space, const py::dict& options) {
   // The table's named values (atmos::LeeRequest), whose rules and errors the CLI shares
@@ -45,7 +45,6 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
                                                         !std::isnan(f.get(atmos::LeeRequest{})))
       (void)param_value(f.param, options[key]);  // "seed: expected a whole number in [0, 2^53], got None"
   apply_kwargs(req, options, atmos::lee_params(), RealRanges::by_library);
-  req.table = atmos::parse_table_kind(table);
   req.theory = scatter::parse_theory(theory);  // its errors name the theory and its value, and list the valid ones
   if (radius_um) {
     if (radius_um->second < radius_um->first) throw Error("radius_um: expected (A, B) with A <= B, micrometres");
@@ -55,7 +54,6 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
     if (angle_deg->second < angle_deg->first) throw Error("angle_deg: expected (A, B) with A <= B, degrees");
     req.angle_deg = {angle_deg->first, angle_deg->second};
   }
-  req.radius_scale = radius_scale, req.axis = axis;
   req.shape = shape;
   atmos::LeeSpec s = atmos::make_lee_spec(req);
   if (wavelengths_nm.second < wavelengths_nm.first) throw Error("wavelengths_nm: expected (A, B) with A <= B");
@@ -131,8 +129,8 @@ py::dict lee(const std::string& table, const std::string& theory, std::optional<
 }  // namespace
 
 void bind_atmos(py::module_& m) {
-  m.def("lee", &lee, py::arg("table"), py::arg("theory"), py::arg("radius_um"), py::arg("angle_deg"), py::arg("size"),
-        py::arg("radius_scale"), py::arg("axis"), py::arg("wavelengths_nm"), py::arg("wavelengths"),
+  m.def("lee", &lee, py::arg("theory"), py::arg("radius_um"), py::arg("angle_deg"), py::arg("size"),
+        py::arg("wavelengths_nm"), py::arg("wavelengths"),
         py::arg("shape"), py::arg("medium"), py::arg("sun"), py::arg("color_space"), py::arg("options"));
 }
 

@@ -144,8 +144,14 @@ void bind_core(py::module_& m) {
           const Param& p = *info.param;
           py::dict d;
           d["name"] = std::string(p.name), d["flag"] = std::string(p.flag), d["group"] = std::string(p.group);
-          d["kind"] = p.kind == ParamKind::real ? "real" : p.kind == ParamKind::integer ? "integer" : "flag";
+          d["kind"] = std::string(kind_name(p.kind));
+          // A choice's words, or the names of a size's, span's or colour's parts ("W", "H"); empty otherwise.
+          py::list words;
+          for (const auto w : p.word_list()) words.append(std::string(w));
+          d["words"] = words;
           d["unit"] = std::string(p.unit), d["lo"] = p.lo, d["hi"] = p.hi;
+          // How Python takes a value: "[0, 500] mm/h", "physical or whitepaper", "(W, H), each a whole number in ...".
+          d["form"] = p.form(Door::python);
           d["range"] = p.range_text(), d["help"] = std::string(p.help), d["excludes"] = std::string(p.excludes);
           // The name it had before (taken for one release with a warning), or None.
           d["deprecated"] = p.deprecated.empty() ? py::object(py::none()) : py::object(py::str(std::string(p.deprecated)));
@@ -155,7 +161,17 @@ void bind_core(py::module_& m) {
           if (std::isnan(info.default_value)) d["default"] = py::none();
           else if (p.kind == ParamKind::real) d["default"] = info.default_value;
           else if (p.kind == ParamKind::integer) d["default"] = (long long)info.default_value;
-          else d["default"] = info.default_value != 0;
+          else if (p.kind == ParamKind::flag) d["default"] = info.default_value != 0;
+          else if (p.kind == ParamKind::choice) d["default"] = p.value_text(info.default_value);
+          else {  // a tuple of the parts, as Python takes them: (1280, 720)
+            py::list parts;
+            for (int i = 0; i < p.parts(); ++i) {
+              const double v = info.default_parts[std::size_t(i)];
+              if (p.kind == ParamKind::size) parts.append((long long)v);
+              else parts.append(v);
+            }
+            d["default"] = py::tuple(parts);
+          }
           out.append(d);
         }
         return out;

@@ -13,7 +13,6 @@
 #include "hydrolux/drop/render.hpp"
 #include "hydrolux/drop/undistort.hpp"
 #include "hydrolux/optics/media.hpp"
-#include "hydrolux/scatter/drop_shape.hpp"
 #include "hydrolux/scene/environment.hpp"
 #include "params.hpp"
 
@@ -23,9 +22,8 @@ namespace {
 // ---- the drop -------------------------------------------------------------------------------
 
 // The numbers and switches as hydrolux drop render takes its flags: the declared parameters
-// (drop/params.hpp), checked in the table's order; the medium, method and shape by name.
-py::array_t<float> drop_render(std::optional<py::array> env, const std::string& medium, const std::string& method,
-                               const std::string& shape, const py::dict& kw) {
+// (drop/params.hpp), checked in the table's order; the medium by name.
+py::array_t<float> drop_render(std::optional<py::array> env, const std::string& medium, const py::dict& kw) {
   drop::DropRenderRequest r;
   // None is the default only of the values that have none of their own (frame_mm, temperature_c):
   // for the others it is refused, as their converters refuse it.
@@ -34,11 +32,6 @@ py::array_t<float> drop_render(std::optional<py::array> env, const std::string& 
     if (kw.contains(key) && kw[key.c_str()].is_none() && !std::isnan(f.get(r))) param_value(f.param, py::none());
   }
   apply_kwargs(r, kw, drop::drop_render_params());
-  if (method != "model" && method != "exact") throw UnknownNameError("method '" + method + "': expected model or exact");
-  if (shape != "sphere" && shape != "beard-chuang")
-    throw UnknownNameError("shape '" + shape + "': expected sphere or beard-chuang");
-  r.method = method == "model" ? drop::RenderMethod::model : drop::RenderMethod::exact;
-  r.shape = shape == "sphere" ? drop::DropShapeKind::sphere : drop::DropShapeKind::beard_chuang;
   const auto water = medium_arg("medium", medium);
   const auto air = optics::find_medium("air");
   if (r.temperature_c && water->info().temperature_dependent)
@@ -48,12 +41,7 @@ py::array_t<float> drop_render(std::optional<py::array> env, const std::string& 
     throw Error(fmt::format("temperature_c {:g}: {} has no temperature model; leave it None", *r.temperature_c,
                             water->info().name));
   drop::check_clearance(r, drop::ParamWords::names);
-  if (shape == "beard-chuang") {
-    const auto range = scatter::drop_shape_radius_range_m();
-    require_arg("radius_mm (Beard & Chuang shape)", r.radius_mm, range[0] * 1e3, range[1] * 1e3, "mm");
-  }
-  if (method == "model" && shape != "sphere")
-    throw Error("shape " + shape + ": the model is for a sphere; use method='exact' for other shapes");
+  drop::check_shape(r, drop::ParamWords::names);
   const double blur_rad = drop::background_blur_rad(r, drop::ParamWords::names);
   const drop::ChannelIndex mu = drop::relative_index(r, *water, *air);
   std::unique_ptr<scene::Environment> environment;
@@ -101,7 +89,7 @@ py::array_t<float> drop_undistort(const py::array& image, std::pair<double, doub
 }  // namespace
 
 void bind_drop(py::module_& m) {
-  m.def("drop_render", &drop_render, py::arg("env"), py::arg("medium"), py::arg("method"), py::arg("shape"),
+  m.def("drop_render", &drop_render, py::arg("env"), py::arg("medium"),
         py::arg("options"));
   m.def("drop_undistort", &drop_undistort, py::arg("image"), py::arg("drop_center"), py::arg("drop_radius_px"),
         py::arg("mu"), py::arg("fov_deg"), py::arg("yaw_deg"), py::arg("pitch_deg"), py::arg("size"),

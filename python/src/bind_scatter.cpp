@@ -110,7 +110,7 @@ std::vector<double> angles_from_text(const std::string& text) {
 py::dict mie(std::complex<double> m, py::handle x_arg, py::handle angles_arg, py::handle threads_arg,
              bool mueller) {
   // threads and x as hydrolux mie takes --threads and --x: the declared parameters (scatter/params.hpp).
-  const int threads = int(param_value(scatter::mie_param("threads"), threads_arg));
+  const int threads = int(param_value(scatter::mie_param("threads"), threads_arg)[0]);
   const DoubleArray x = c_array<double>(x_arg, "x");
   std::optional<DoubleArray> angles_deg;
   if (!angles_arg.is_none()) angles_deg = c_array<double>(angles_arg, "angles_deg");
@@ -203,7 +203,7 @@ py::dict mie(std::complex<double> m, py::handle x_arg, py::handle angles_arg, py
 
 py::dict bulk_optics(std::complex<double> m, double wavenumber_per_m, py::handle radius_arg, py::handle weight_arg,
                      py::handle threads_arg) {
-  const int threads = int(param_value(scatter::mie_param("threads"), threads_arg));
+  const int threads = int(param_value(scatter::mie_param("threads"), threads_arg)[0]);
   require_arg("wavenumber_per_m", wavenumber_per_m, 1e-300, 1e300);
   const DoubleArray radius_m = c_array<double>(radius_arg, "radius_m"), weight = c_array<double>(weight_arg, "weight");
   if (radius_m.ndim() != 1 || weight.ndim() != 1 || radius_m.size() != weight.size())

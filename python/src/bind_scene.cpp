@@ -21,45 +21,15 @@ namespace hydrolux::py_bind {
 
 namespace {
 
-// The settings the undeclared arguments give, each checked in its own name (the CLI's --size,
-// --curtain-distance-m, --light-color, --blend and --mode, with their ranges).
-void set_texts(scene::SkySettings& s, const std::pair<py::object, py::object>& size,
-               const std::pair<double, double>& curtain_m, const std::array<double, 3>& light_color,
-               const std::string& blend, const std::string& mode) {
-  s.camera.width = int(whole_arg(size.first, "size[0] (width)", 1, 16384, "px"));
-  s.camera.height = int(whole_arg(size.second, "size[1] (height)", 1, 16384, "px"));
-  const auto [near, far] = curtain_m;
-  if (!(near >= 0) || !(far >= near) || !(far <= 1e6))
-    throw Error(fmt::format("curtain_distance_m ({:g}, {:g}): expected (NEAR, FAR) in metres, 0 <= NEAR <= FAR <= 1e6",
-                            near, far));
-  s.curtain_near_m = near, s.curtain_far_m = far;
-  for (double c : light_color)
-    if (!(c >= 0 && c <= 1000))
-      throw Error(fmt::format("light_color ({:g}, {:g}, {:g}): expected three linear multipliers in [0, 1000]",
-                              light_color[0], light_color[1], light_color[2]));
-  s.light_color = {light_color[0], light_color[1], light_color[2]};
-  if (blend != "physical" && blend != "whitepaper")
-    throw Error(fmt::format("blend '{}': expected physical or whitepaper", blend));
-  s.blend = blend == "whitepaper" ? scene::Blend::whitepaper : scene::Blend::physical;
-  if (mode != "per-pixel" && mode != "cube-map" && mode != "half-dome")
-    throw Error(fmt::format("mode '{}': expected per-pixel, cube-map or half-dome", mode));
-  s.mode = mode == "cube-map"    ? scene::BowMode::cube_map
-           : mode == "half-dome" ? scene::BowMode::half_dome
-                                 : scene::BowMode::per_pixel;
-}
-
 // hydrolux sky's frame as arrays: the radiance (cd/m^2; the Stokes images' 9 channels with stokes)
 // and the display values its PNG holds (tone-mapped, linear; none with stokes), with the numbers its
 // summary states. The checks are the job's (scene/sky_scene.hpp), in the keywords' names.
-py::dict sky(const std::pair<py::object, py::object>& size, const std::string& shape_name, const std::string& blend,
-             const std::string& mode, const std::pair<double, double>& curtain_m,
-             const std::array<double, 3>& light_color, std::optional<py::array> environment,
-             std::optional<py::array> moisture, const py::dict& options) {
+py::dict sky(const std::string& shape_name, std::optional<py::array> environment, std::optional<py::array> moisture,
+             const py::dict& options) {
   scene::SkyOptions o;
   apply_kwargs(o, options, scene::sky_params());
   o.shape = shape_name;
-  scene::SkySettings& s = o.settings;
-  set_texts(s, size, curtain_m, light_color, blend, mode);
+  const scene::SkySettings& s = o.settings;
   scene::validate(s);
   const atmos::DropShapeSpec shape = atmos::parse_drop_shape(o.shape);  // "shape 'egg': expected sphere, ..."
   scene::check_sky_request(o, shape, /*tables_given=*/false, Door::python);
@@ -68,7 +38,7 @@ py::dict sky(const std::pair<py::object, py::object>& size, const std::string& s
     return options.contains(key) && !options[key.c_str()].is_none();
   };
   scene::refuse_unused_sky_params(o, given, false, environment.has_value(), Door::python);
-  scene::check_sky_memory(s, fmt::format("({}, {})", s.camera.width, s.camera.height), Door::python);
+  scene::check_sky_memory(s, Door::python);
   std::shared_ptr<const scene::Environment> env;
   if (environment) {
     try {
@@ -118,9 +88,7 @@ py::dict sky(const std::pair<py::object, py::object>& size, const std::string& s
 }  // namespace
 
 void bind_scene(py::module_& m) {
-  m.def("sky", &sky, py::arg("size"), py::arg("shape"), py::arg("blend"), py::arg("mode"),
-        py::arg("curtain_distance_m"), py::arg("light_color"), py::arg("environment"), py::arg("moisture"),
-        py::arg("options"));
+  m.def("sky", &sky, py::arg("shape"), py::arg("environment"), py::arg("moisture"), py::arg("options"));
 }
 
 }  // namespace hydrolux::py_bind

@@ -90,8 +90,8 @@ def test_refuses_bad_values_with_the_clis_range(cli, tmp_path):
     assert words.startswith("radius_um 4000 is outside the valid range [")
     assert words.replace("radius_um", "--radius-um").replace("hydrolux sky --lut", "--lut") in \
         refusal(cli, tmp_path, "--radius-um", "4000")
-    # The texts of the CLI's own syntax, named by their keywords, with the CLI's ranges.
-    with pytest.raises(ValueError, match=r"^size\[0\] \(width\): 0 is outside the valid range \[1, 16384\]"):
+    # The size, span, colour and choices, declared as the CLI's flags, named by their keywords.
+    with pytest.raises(ValueError, match=r"^size\[0\]: 0 is outside the valid range \[1, 16384\] px"):
         sky((0, 10))
     with pytest.raises(ValueError, match=r"^curtain_distance_m \(10, 5\): expected \(NEAR, FAR\)"):
         sky(SIZE, curtain_distance_m=(10, 5))

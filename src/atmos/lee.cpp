@@ -370,11 +370,8 @@ LeeSpec make_lee_spec(const LeeRequest& r) {
   }
   if (s.rows > 1 && s.angle_min_deg == s.angle_max_deg)
     throw LeeShapeError(LeeShapeError::Rule::one_angle_rows, s.columns, s.rows);
-  if (r.radius_scale != "log" && r.radius_scale != "linear")
-    throw UnknownNameError(fmt::format("radius_scale '{}': expected log or linear", r.radius_scale));
-  s.radius_scale = r.radius_scale == "log" ? RadiusScale::log : RadiusScale::linear;
-  if (r.axis != "angle" && r.axis != "cos") throw UnknownNameError(fmt::format("axis '{}': expected angle or cos", r.axis));
-  s.axis = r.axis == "angle" ? AngleAxis::angle : AngleAxis::cosine;
+  s.radius_scale = r.radius_scale;
+  s.axis = r.axis;
   s.sun_disk_deg = r.sun_disk_deg;
   s.limb_darkening = r.limb_darkening;
   s.size_spread = r.size_spread;

@@ -18,6 +18,13 @@ using K = ParamKind;
 // CLI's (hydrolux lee --help registers them in slices between its own flags).
 
 const Field<LeeRequest> kLee[] = {
+    {choice_param("table", "--table", "table", "rainbow|corona|glory",
+                  "rainbow (90-180 deg, 5-800 um), corona (0-20 deg, 1-50 um) or glory (160-180 deg, 1-50 um)"),
+     HYDROLUX_PARAM_MEMBER(table)},
+    {choice_param("radius_scale", "--radius-scale", "table", "log|linear", "Column spacing: log or linear"),
+     HYDROLUX_PARAM_MEMBER(radius_scale)},
+    {choice_param("axis", "--axis", "table", "angle|cos", "Rows in scattering angle (angle) or in its cosine (cos)"),
+     HYDROLUX_PARAM_MEMBER(axis)},
     {{"sun_disk_deg", "--sun-disk-deg", "sun", K::real, "deg", 0, 5, "The sun's angular diameter in degrees (0: a point)"},
      HYDROLUX_PARAM_MEMBER(sun_disk_deg)},
     {flag_param("limb_darkening", "--limb-darkening", "sun",

@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/parse.hpp"
 
 namespace hydrolux {
 
@@ -11,20 +14,183 @@ std::string with_unit(std::string text, std::string_view unit) {
   if (!unit.empty()) text += fmt::format(" {}", unit);
   return text;
 }
+
+// The words of "a|b|c".
+std::vector<std::string_view> words_of(std::string_view text) {
+  std::vector<std::string_view> out;
+  while (!text.empty()) {
+    const auto bar = text.find('|');
+    out.push_back(text.substr(0, bar));
+    if (bar == std::string_view::npos) break;
+    text.remove_prefix(bar + 1);
+  }
+  return out;
+}
+
+// "a, b or c".
+template <class Words>
+std::string alternatives(const Words& words) {
+  std::string out;
+  for (std::size_t i = 0; i < words.size(); ++i)
+    out += fmt::format("{}{}", i == 0 ? "" : i + 1 == words.size() ? " or " : ", ", words[i]);
+  return out;
+}
 }  // namespace
+
+std::string_view kind_name(ParamKind kind) {
+  switch (kind) {
+    case ParamKind::real: return "real";
+    case ParamKind::integer: return "integer";
+    case ParamKind::flag: return "flag";
+    case ParamKind::choice: return "choice";
+    case ParamKind::size: return "size";
+    case ParamKind::span: return "span";
+    case ParamKind::colour: return "colour";
+  }
+  return "real";
+}
 
 std::string Param::range_text() const {
   if (kind == ParamKind::flag) return {};
-  if (kind == ParamKind::integer) return with_unit(fmt::format("[{}, {}]", (long long)lo, (long long)hi), unit);
+  if (kind == ParamKind::choice) return alternatives(word_list());
+  if (kind == ParamKind::integer || kind == ParamKind::size)
+    return with_unit(fmt::format("[{}, {}]", (long long)lo, (long long)hi), unit);
   return with_unit(fmt::format("[{:g}, {:g}]", lo, hi), unit);
 }
 
+int Param::parts() const {
+  switch (kind) {
+    case ParamKind::size:
+    case ParamKind::span:
+      return 2;
+    case ParamKind::colour:
+      return 3;
+    default:
+      return 1;
+  }
+}
+
+std::vector<std::string_view> Param::word_list() const { return words_of(words); }
+
+int Param::choice_index(std::string_view word) const {
+  const auto list = word_list();
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (list[i] == word) return int(i);
+  return -1;
+}
+
+namespace {
+// The separator of a kind's parts in the CLI's text.
+char separator_of(ParamKind kind) { return kind == ParamKind::size ? 'x' : kind == ParamKind::span ? ':' : ','; }
+
+// The parts as `door` writes them: "1280x720" (the CLI's), "(1280, 720)" (Python's).
+std::string joined(const std::vector<std::string>& parts, ParamKind kind, Door door) {
+  std::string out = door == Door::python ? "(" : "";
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    out += (i == 0 ? "" : door == Door::python ? ", " : std::string(1, separator_of(kind))) + parts[i];
+  return door == Door::python ? out + ")" : out;
+}
+}  // namespace
+
+std::string Param::form(Door door) const {
+  if (parts() == 1) return range_text();
+  std::vector<std::string> names;
+  for (const auto w : word_list()) names.emplace_back(w);
+  const auto list = word_list();
+  std::string out = fmt::format("{}, each {} {}", joined(names, kind, door),
+                                kind == ParamKind::size ? "a whole number in" : "in", range_text());
+  if (kind == ParamKind::span && list.size() == 2) out += fmt::format(", {} <= {}", list[0], list[1]);
+  return out;
+}
+
+std::string Param::value_text(const ParamValue& value, Door door) const {
+  const double v = value[0];
+  switch (kind) {
+    case ParamKind::flag:
+      return v != 0 ? "on" : "off";
+    case ParamKind::integer:
+      return fmt::format("{}", (long long)v);
+    case ParamKind::choice: {
+      const auto list = word_list();
+      if (v >= 0 && v < double(list.size()) && v == std::floor(v)) return std::string(list[std::size_t(v)]);
+      return fmt::format("{:g}", v);
+    }
+    case ParamKind::real:
+      return fmt::format("{:g}", v);
+    default:
+      break;
+  }
+  std::vector<std::string> parts_text;
+  for (int i = 0; i < parts(); ++i) parts_text.push_back(fmt::format("{:g}", value[std::size_t(i)]));
+  return joined(parts_text, kind, door);
+}
+
+ParamValue Param::parse_text(std::string_view text, Door door) const {
+  const auto refuse = [&] {
+    return Error(fmt::format("{} '{}': expected {}", spelled(*this, door), printable(text), form(door)));
+  };
+  ParamValue v{};
+  switch (kind) {
+    case ParamKind::flag:
+      throw std::logic_error("Param::parse_text: a flag has no text");
+    case ParamKind::choice: {
+      const int i = choice_index(text);
+      if (i < 0) throw UnknownNameError(fmt::format("{} '{}': expected {}", spelled(*this, door), printable(text), form(door)));
+      v[0] = i;
+      return v;
+    }
+    case ParamKind::real:
+    case ParamKind::integer: {
+      const auto x = parse::number(text);
+      if (!x) throw refuse();
+      v[0] = *x;
+      check(*x);
+      return v;
+    }
+    default:
+      break;
+  }
+  // The parts, split at the kind's separator: exactly parts() numbers.
+  int n = 0;
+  std::string_view rest = text;
+  while (true) {
+    const auto at = rest.find(separator_of(kind));
+    const auto x = parse::number(rest.substr(0, at));
+    if (!x || n == parts()) throw refuse();
+    v[std::size_t(n++)] = *x;
+    if (at == std::string_view::npos) break;
+    rest.remove_prefix(at + 1);
+  }
+  if (n != parts()) throw refuse();
+  try {
+    check(v, door);
+  } catch (const Error&) {
+    throw refuse();
+  }
+  return v;
+}
+
 void Param::check(double value) const {
-  const bool whole = kind != ParamKind::integer || value == std::floor(value);
+  const bool whole = (kind != ParamKind::integer && kind != ParamKind::choice) || value == std::floor(value);
   if (value >= lo && value <= hi && whole) return;
+  if (kind == ParamKind::choice)
+    throw UnknownNameError(fmt::format("{} = {:g}: not the index of one of {}", name, value, range_text()));
   const std::string what = fmt::format("{} = {:g} is {} {}", name, value,
                                        whole ? "outside" : "not a whole number in", range_text());
   throw DomainError::with_message(what, std::string(name), value, lo, hi);
+}
+
+void Param::check(const ParamValue& value, Door door) const {
+  if (parts() == 1) return check(value[0]);
+  // An Error in the door's words (not a DomainError, whose quantity a door would reword).
+  const auto refuse = [&] {
+    return Error(fmt::format("{} {}: expected {}", spelled(*this, door), value_text(value, door), form(door)));
+  };
+  for (int i = 0; i < parts(); ++i) {
+    const double x = value[std::size_t(i)];
+    if (!(x >= lo && x <= hi) || (kind == ParamKind::size && x != std::floor(x))) throw refuse();
+  }
+  if (kind == ParamKind::span && value[0] > value[1]) throw refuse();
 }
 
 std::string Param::flag_of(std::string_view name) {
@@ -41,20 +207,6 @@ std::string Param::deprecation_warning(std::string_view old, std::string_view no
 std::string_view spelled(const Param& param, Door door) { return door == Door::cli ? param.flag : param.name; }
 
 // ---- ParamUse ----------------------------------------------------------------------------------
-
-namespace {
-// The words of "a|b|c".
-std::vector<std::string_view> words_of(std::string_view text) {
-  std::vector<std::string_view> out;
-  while (!text.empty()) {
-    const auto bar = text.find('|');
-    out.push_back(text.substr(0, bar));
-    if (bar == std::string_view::npos) break;
-    text.remove_prefix(bar + 1);
-  }
-  return out;
-}
-}  // namespace
 
 const ParamUse::Entry* ParamUse::find(std::string_view name) const {
   for (const auto& e : params_)
@@ -124,10 +276,9 @@ std::string ParamUse::reason(const Entry& e, bool only_with_failed, std::string_
   const Param& p = *e.param;
   if (p.why.empty()) {
     if (!only_with_failed) return fmt::format("not with {}", spell(word, true));
-    std::string alts;
-    const auto words = words_of(p.only_with);
-    for (std::size_t i = 0; i < words.size(); ++i)
-      alts += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + spell(words[i]);
+    std::vector<std::string> spelled_words;
+    for (const auto w : words_of(p.only_with)) spelled_words.push_back(spell(w));
+    const std::string alts = alternatives(spelled_words);
     return fmt::format("used only with {} (omit {})", alts, spell(p.name));
   }
   // {name} spelled, {name=} with its value.
@@ -167,9 +318,7 @@ void ParamUse::report_unused() const {
 
 std::string ParamInfo::default_text() const {
   if (std::isnan(default_value)) return {};
-  if (param->kind == ParamKind::flag) return default_value != 0 ? "on" : "off";
-  if (param->kind == ParamKind::integer) return fmt::format("{}", (long long)default_value);
-  return fmt::format("{:g}", default_value);
+  return param->parts() > 1 ? param->value_text(default_parts) : param->value_text(default_value);
 }
 
 }  // namespace hydrolux

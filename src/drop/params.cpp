@@ -12,6 +12,7 @@
 #include "hydrolux/core/shared_params.hpp"
 #include "hydrolux/drop/trace.hpp"
 #include "hydrolux/optics/media.hpp"
+#include "hydrolux/scatter/drop_shape.hpp"
 
 namespace hydrolux::drop {
 
@@ -54,6 +55,13 @@ const Field<DropRenderRequest> kDropRender[] = {
      HYDROLUX_PARAM_MEMBER(background)},
     {{"exposure_ev", "--exposure-ev", "camera", K::real, "", -30, 30, "Exposure adjustment in stops applied to the output"},
      HYDROLUX_PARAM_MEMBER(exposure_ev)},
+    {choice_param("method", "--method", "render", "model|exact",
+                  "model: Garg & Nayar's model (eq. 19); exact: the Fresnel-split ray tracer (every path to --depth)"),
+     HYDROLUX_PARAM_MEMBER(method)},
+    {choice_param("shape", "--shape", "drop", "sphere|beard-chuang",
+                  "Drop shape for --method exact: sphere, or beard-chuang (the falling drop's equilibrium shape, "
+                  "radius 0.5-4.5 mm, seen from the side)"),
+     HYDROLUX_PARAM_MEMBER(shape)},
     {{"depth", "--depth", "render", K::integer, "", 6, 64, "Surface interactions the exact tracer follows per path"},
      HYDROLUX_PARAM_MEMBER(depth)},
 };
@@ -76,6 +84,17 @@ void check_clearance(const DropRenderRequest& r, ParamWords words) {
   if (r.distance_m <= 1.01 * r.radius_mm * 1e-3)
     throw Error(fmt::format("{} {:g} must exceed the drop radius ({:g} m) by at least 1%", said("distance_m", words),
                             r.distance_m, r.radius_mm * 1e-3));
+}
+
+void check_shape(const DropRenderRequest& r, ParamWords words) {
+  if (r.shape == DropShapeKind::sphere) return;
+  const auto range = scatter::drop_shape_radius_range_m();
+  if (r.radius_mm < range[0] * 1e3 || r.radius_mm > range[1] * 1e3)
+    throw Error(fmt::format("{} {:g} is outside the valid range [{:g}, {:g}] mm of the Beard & Chuang shape",
+                            said("radius_mm", words), r.radius_mm, range[0] * 1e3, range[1] * 1e3));
+  if (r.method == RenderMethod::model)
+    throw Error(fmt::format("{} beard-chuang: the model is for a sphere; use {} exact for other shapes",
+                            said("shape", words), said("method", words)));
 }
 
 double background_blur_rad(const DropRenderRequest& r, ParamWords words) {

@@ -126,7 +126,8 @@ void check_lee_job(const LeeJob& job, atmos::LeeSpec& s) {
   if (job.given.count("limb_darkening") && s.sun_disk_deg == 0)
     throw Error("--limb-darkening: --sun-disk-deg 0 makes the sun a point, which has no limb to darken");
   if (job.given.count("radius_scale") && s.columns == 1)
-    throw Error(fmt::format("--radius-scale {}: a table of one column has no column spacing", job.request.radius_scale));
+    throw Error(fmt::format("--radius-scale {}: a table of one column has no column spacing",
+                            atmos::radius_scale_name(job.request.radius_scale)));
   if (job.radius_um) {
     // The largest radius depends on the theory, the spread and the shortest wavelength (the size
     // parameter's limit): stated with them, instead of as a size parameter out of range.
@@ -151,7 +152,6 @@ void check_lee_job(const LeeJob& job, atmos::LeeSpec& s) {
 
 atmos::LeeSpec lee_job_spec(const LeeJob& job) {
   atmos::LeeRequest req = job.request;
-  req.table = atmos::parse_table_kind(job.table);
   try {
     req.theory = scatter::parse_theory(job.theory);
   } catch (const Error& e) {
@@ -185,7 +185,7 @@ atmos::LeeSpec lee_job_spec(const LeeJob& job) {
     throw Error(fmt::format("--shape {}: non-spherical drops are computed by Airy theory of their plane section "
                             "(docs/non-spherical.md): give --theory airy (primary) or airy:3 (secondary) with "
                             "--table rainbow, not --table {} --theory {}",
-                            req.shape, job.table, job.theory));
+                            req.shape, atmos::table_kind_name(req.table), job.theory));
   set_wavelengths(s, job.wavelengths);
   s.drop_medium = job.medium;
   return s;

@@ -32,31 +32,6 @@ Warn warner(const SkyJobHooks& h) {
   };
 }
 
-// --size WxH: whole numbers in [1, 16384].
-std::array<int, 2> parse_frame_size(const std::string& text) {
-  const auto p = parse::pair(text, 'x');
-  if (p && std::all_of(p->begin(), p->end(), [](double v) { return v == std::floor(v) && v >= 1 && v <= 16384; }))
-    return {int((*p)[0]), int((*p)[1])};
-  throw Error(fmt::format("--size '{}': expected WxH (whole numbers in [1, 16384], e.g. 640x480)", text));
-}
-
-// --light-color R,G,B: three linear multipliers in [0, 1000].
-Vec3 parse_light_color(const std::string& text) {
-  std::vector<double> v;
-  std::string_view rest = text;
-  while (true) {
-    const auto comma = rest.find(',');
-    const auto x = parse::number(rest.substr(0, comma));
-    v.push_back(x && *x >= 0 && *x <= 1000 ? *x : -1);
-    if (comma == std::string_view::npos) break;
-    rest.remove_prefix(comma + 1);
-  }
-  if (v.size() != 3 || std::any_of(v.begin(), v.end(), [](double x) { return x < 0; }))
-    throw Error(fmt::format("--light-color '{}': expected R,G,B, three linear multipliers in [0, 1000]", text));
-  return {v[0], v[1], v[2]};
-}
-
-// The tables given with --lut, checked against what the scene asks of them.
 SkySlices given_tables(const SkyJob& a, const scene::SkySettings& s, const SkyJobHooks& h) {
   SkySlices t = read_sky_luts(h.codec, a.luts, s.radius_um, s.corona, warner(h));
   // A polariser or the Stokes images need the tables' Stokes Q: the compositor's one check.
@@ -76,35 +51,11 @@ std::shared_ptr<const scene::Environment> read_environment(const SkyJob& a, cons
 
 }  // namespace
 
-scene::SkySettings sky_job_settings(const SkyJob& a) {
-  scene::SkySettings s = a.options.settings;
-  const auto wh = parse_frame_size(a.size);
-  s.camera.width = wh[0];
-  s.camera.height = wh[1];
-  const auto p = parse::pair(a.curtain, ':');
-  if (!p || !((*p)[0] >= 0) || !((*p)[1] >= (*p)[0]) || (*p)[1] > 1e6)
-    throw Error(
-        fmt::format("--curtain-distance-m '{}': expected NEAR:FAR in metres, 0 <= NEAR <= FAR <= 1e6", a.curtain));
-  s.curtain_near_m = (*p)[0];
-  s.curtain_far_m = (*p)[1];
-  if (a.light_color) s.light_color = parse_light_color(*a.light_color);
-  if (a.blend != "physical" && a.blend != "whitepaper")
-    throw Error(fmt::format("--blend '{}': expected physical or whitepaper", a.blend));
-  s.blend = a.blend == "whitepaper" ? scene::Blend::whitepaper : scene::Blend::physical;
-  if (a.mode != "per-pixel" && a.mode != "cube-map" && a.mode != "half-dome")
-    throw Error(fmt::format("--mode '{}': expected per-pixel, cube-map or half-dome", a.mode));
-  s.mode = a.mode == "cube-map"    ? scene::BowMode::cube_map
-           : a.mode == "half-dome" ? scene::BowMode::half_dome
-                                   : scene::BowMode::per_pixel;
-  scene::validate(s);
-  return s;
-}
-
 SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
   const auto start = std::chrono::steady_clock::now();
-  scene::SkyOptions o = a.options;
-  o.settings = sky_job_settings(a);
+  const scene::SkyOptions& o = a.options;
   const scene::SkySettings& s = o.settings;
+  scene::validate(s);
   atmos::DropShapeSpec shape;
   try {
     shape = atmos::parse_drop_shape(o.shape);
@@ -117,7 +68,7 @@ SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
       o, [&](std::string_view name) { return a.given.count(name) > 0; }, tables_given, a.environment.has_value(),
       Door::cli);
   if (a.output.empty()) throw Error("-o is required (a .png or .exr path)");
-  scene::check_sky_memory(s, a.size, Door::cli);
+  scene::check_sky_memory(s, Door::cli);
 
   // Every file is checked before the work.
   FileSet files;

@@ -18,11 +18,11 @@ using Json = nlohmann::ordered_json;
 
 Json optional_text(std::string_view text) { return text.empty() ? Json(nullptr) : Json(std::string(text)); }
 
-// A number of `kind`: whole for an integer or a flag's 0/1, the real itself otherwise; null where it
+// A number of `kind`: whole for an integer, a size, a choice's index or a flag's 0/1, the real itself otherwise; null where it
 // is not finite (JSON has no infinity) or none (NaN).
 Json number(double v, ParamKind kind) {
   if (!std::isfinite(v)) return nullptr;
-  if (kind != ParamKind::real && v == std::floor(v) && std::fabs(v) <= 9.007199254740992e15)  // to 2^53
+  if (kind != ParamKind::real && kind != ParamKind::span && kind != ParamKind::colour && v == std::floor(v) && std::fabs(v) <= 9.007199254740992e15)  // to 2^53
     return static_cast<long long>(v);
   return v;
 }
@@ -39,24 +39,22 @@ Json word_list(std::string_view text) {
   return out;
 }
 
-const char* kind_name(ParamKind kind) {
-  switch (kind) {
-    case ParamKind::real: return "real";
-    case ParamKind::integer: return "integer";
-    case ParamKind::flag: return "flag";
-  }
-  return "real";
-}
-
 Json param_json(const ParamInfo& info) {
   const Param& p = *info.param;
   Json row;
   row["name"] = std::string(p.name), row["flag"] = std::string(p.flag), row["group"] = std::string(p.group);
   row["kind"] = kind_name(p.kind), row["unit"] = std::string(p.unit);
   row["lo"] = number(p.lo, p.kind), row["hi"] = number(p.hi, p.kind);
-  row["default"] = std::isnan(info.default_value) ? Json(nullptr)
-                   : p.kind == ParamKind::flag    ? Json(info.default_value != 0)
-                                                  : number(info.default_value, p.kind);
+  // The default as the door takes it: a number, true/false, a choice's word, a list of a size's parts.
+  Json parts = Json::array();
+  for (int i = 0; i < p.parts(); ++i) parts.push_back(number(info.default_parts[std::size_t(i)], p.kind));
+  row["default"] = std::isnan(info.default_value)   ? Json(nullptr)
+                   : p.kind == ParamKind::flag      ? Json(info.default_value != 0)
+                   : p.kind == ParamKind::choice    ? Json(p.value_text(info.default_value))
+                   : p.parts() > 1                  ? parts
+                                                    : number(info.default_value, p.kind);
+  // A choice's words, or the names of a size's, span's or colour's parts; [] otherwise.
+  row["words"] = word_list(p.words);
   row["help"] = std::string(p.help), row["excludes"] = optional_text(p.excludes);
   row["only_with"] = word_list(p.only_with), row["not_with"] = word_list(p.not_with);
   row["why"] = optional_text(p.why), row["deprecated"] = optional_text(p.deprecated);

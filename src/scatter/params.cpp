@@ -33,8 +33,8 @@ const Field<MieRequest> kMie[] = {
     {{"debye", "--debye", "amplitudes", K::integer, "", 0, kMaxDebyeOrder,
       "Restrict S1, S2 to Debye order P (0 diffraction + external reflection, 1 direct transmission, 2 primary "
       "rainbow, 3 secondary, ...); efficiencies stay the whole sphere's"},
-     [](const MieRequest& o) { return o.debye ? double(*o.debye) : kNone; },
-     [](MieRequest& o, double v) { o.debye = int(v); }},
+     [](const MieRequest& o, int) { return o.debye ? double(*o.debye) : kNone; },
+     [](MieRequest& o, int, double v) { o.debye = int(v); }},
     {flag_param("mueller", "--mueller", "amplitudes",
                 "Add the Mueller matrix elements S11, S12, S33, S34 (Bohren & Huffman eq. 4.77) to the output"),
      HYDROLUX_PARAM_MEMBER(mueller)},

@@ -62,7 +62,7 @@ void refuse_unused_sky_params(const SkyOptions& o, const std::function<bool(std:
   for (const auto& f : sky_params()) {
     const double v = f.get(o);
     if (given(f.param.name) && (f.param.kind != ParamKind::flag || v != 0))
-      use.give(f.param, f.param.kind == ParamKind::flag ? std::string() : fmt::format("{:g}", v));
+      use.give(f.param, f.param.kind == ParamKind::flag ? std::string() : f.param.value_text(f.value(o), door));
     else
       use.declare(f.param);
   }
@@ -74,8 +74,7 @@ void refuse_unused_sky_params(const SkyOptions& o, const std::function<bool(std:
   use.report_unused();
 }
 
-void check_sky_memory(const SkySettings& s, std::string_view size_text, Door door,
-                      double available) {
+void check_sky_memory(const SkySettings& s, Door door, double available) {
   const double need = estimated_bytes(s), avail = available >= 0 ? available : double(available_memory_bytes());
   if (need <= avail) return;
   const double cube =
@@ -93,11 +92,14 @@ void check_sky_memory(const SkySettings& s, std::string_view size_text, Door doo
   const double fit_pixels = std::max(0.0, room - cube) / kSkyBytesPerPixel;
   const double k = std::sqrt(fit_pixels / pixels);
   const double w = std::floor(s.camera.width * k), h = std::floor(s.camera.height * k);
-  const bool cli = door == Door::cli;
-  throw Error(fmt::format("{} {}: the frame needs about {} of memory and {} is available; at most about {:.0f} "
+  const Param& size = sky_param("size");
+  const auto size_text = [&](double width, double height) {
+    return fmt::format("{} {}", spelled(size, door), size.value_text({width, height}, door));
+  };
+  throw Error(fmt::format("{}: the frame needs about {} of memory and {} is available; at most about {:.0f} "
                           "megapixels fit ({} at this aspect)",
-                          sky_word("size", door), size_text, format_bytes(need), format_bytes(avail), fit_pixels / 1e6,
-                          cli ? fmt::format("--size {:.0f}x{:.0f}", w, h) : fmt::format("size=({:.0f}, {:.0f})", w, h)));
+                          size_text(s.camera.width, s.camera.height), format_bytes(need), format_bytes(avail),
+                          fit_pixels / 1e6, size_text(w, h)));
 }
 
 SkyTables compute_sky_tables(const SkyOptions& o, const atmos::DropShapeSpec& shape, const ProgressFn& progress) {

@@ -37,7 +37,7 @@ TEST(Reference, DeprecatedFlagWorksWithOneWarningAndIsHidden) {
   const hydrolux::ParamInfo info{&p, 25};
   double got = -1;
   CLI::App app;
-  hydrolux::cli::add_param(app, info, [&](double v) { got = v; });
+  hydrolux::cli::add_param(app, info, [&](const hydrolux::ParamValue& v) { got = v[0]; });
   ::testing::internal::CaptureStderr();
   app.parse("--rate-mmh 7", false);
   const std::string err = ::testing::internal::GetCapturedStderr();
@@ -49,12 +49,12 @@ TEST(Reference, DeprecatedFlagWorksWithOneWarningAndIsHidden) {
   EXPECT_EQ(app.help().find("--rate-mmh"), std::string::npos) << app.help();
 
   CLI::App out_of_range;
-  hydrolux::cli::add_param(out_of_range, info, [](double) {});
+  hydrolux::cli::add_param(out_of_range, info, [](const hydrolux::ParamValue&) {});
   EXPECT_THROW(out_of_range.parse("--rate-mmh 600", false), CLI::ValidationError);
   // Both spellings: refused, naming both (and no warning for a value that is not taken).
   for (const char* args : {"--rate-mmh 1 --rain-rate-mmh 2", "--rain-rate-mmh 2 --rate-mmh 1"}) {
     CLI::App both;
-    hydrolux::cli::add_param(both, info, [](double) {});
+    hydrolux::cli::add_param(both, info, [](const hydrolux::ParamValue&) {});
     ::testing::internal::CaptureStderr();
     try {
       both.parse(args, false);

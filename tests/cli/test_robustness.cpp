@@ -365,7 +365,7 @@ TEST_F(Robustness, CaseListCoversEveryFlag) {
 
 // Every declared parameter (hydrolux/jobs.hpp) is a flag of its command, listed with the cases of its
 // kind: a real number's out-of-range, non-finite and non-numeric values; a whole number's fractions
-// too; a switch's. So a parameter added to a job's table gets its bad-input cases from the table.
+// too; a switch's; a choice's; a size's, span's or colour's listed texts. So a parameter added to a job's table gets its bad-input cases from the table.
 TEST_F(Robustness, EveryDeclaredParameterHasItsCases) {
   const auto cases = read_cases();
   const auto tree = cli_tree();
@@ -380,9 +380,12 @@ TEST_F(Robustness, EveryDeclaredParameterHasItsCases) {
       const auto& listed = cases.at(command).flags;
       const auto it = std::find_if(listed.begin(), listed.end(), [&](const FlagCase& f) { return f.flag == flag; });
       ASSERT_NE(it, listed.end()) << "robustness_cases.txt lacks " << command << " " << flag;
+      // A size, a span or a colour is a text of parts, listed with its own bad texts.
       const char* kind = p.kind == hydrolux::ParamKind::real      ? "number"
                          : p.kind == hydrolux::ParamKind::integer ? "integer"
-                                                                  : "switch";
+                         : p.kind == hydrolux::ParamKind::flag    ? "switch"
+                         : p.kind == hydrolux::ParamKind::choice  ? "choice"
+                                                                  : "text";
       EXPECT_EQ(it->kind, kind) << command << " " << flag << ": listed as " << it->kind << ", declared " << kind;
     }
   }

@@ -35,21 +35,34 @@ void expect_row(const Json& row, const hydrolux::ParamInfo& info, const std::str
   EXPECT_EQ(row.at("name"), p.name) << where;
   EXPECT_EQ(row.at("flag"), p.flag) << where;
   EXPECT_EQ(row.at("group"), p.group) << where;
-  const char* kind = p.kind == hydrolux::ParamKind::real ? "real" : p.kind == hydrolux::ParamKind::integer ? "integer" : "flag";
+  using K = hydrolux::ParamKind;
+  const char* kind = p.kind == K::real      ? "real"
+                     : p.kind == K::integer ? "integer"
+                     : p.kind == K::flag    ? "flag"
+                     : p.kind == K::choice  ? "choice"
+                     : p.kind == K::size    ? "size"
+                     : p.kind == K::span    ? "span"
+                                            : "colour";
   EXPECT_EQ(row.at("kind"), kind) << where;
+  EXPECT_EQ(row.at("words"), words(p.words)) << where;
   EXPECT_EQ(row.at("unit"), p.unit) << where;
   EXPECT_EQ(row.at("lo").get<double>(), p.lo) << where;
   EXPECT_EQ(row.at("hi").get<double>(), p.hi) << where;
-  if (p.kind != hydrolux::ParamKind::real) {
+  if (p.kind != K::real && p.kind != K::span && p.kind != K::colour) {
     EXPECT_TRUE(row.at("lo").is_number_integer()) << where;
     EXPECT_TRUE(row.at("hi").is_number_integer()) << where;
   }
   const Json& def = row.at("default");
   if (std::isnan(info.default_value))
     EXPECT_TRUE(def.is_null()) << where;
-  else if (p.kind == hydrolux::ParamKind::flag)
+  else if (p.kind == K::flag)
     EXPECT_EQ(def, info.default_value != 0) << where;
-  else
+  else if (p.kind == K::choice)  // the word, as a door takes it
+    EXPECT_EQ(def, words(p.words).at(std::size_t(info.default_value))) << where;
+  else if (p.parts() > 1) {  // the parts, as a list
+    ASSERT_EQ(def.size(), std::size_t(p.parts())) << where;
+    for (int i = 0; i < p.parts(); ++i) EXPECT_EQ(def.at(std::size_t(i)).get<double>(), info.default_parts[std::size_t(i)]) << where;
+  } else
     EXPECT_EQ(def.get<double>(), info.default_value) << where;
   EXPECT_EQ(row.at("help"), p.help) << where;
   EXPECT_EQ(row.at("excludes"), optional_text(p.excludes)) << where;

@@ -10,6 +10,7 @@
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/params.hpp"
+#include "hydrolux/core/shared_params.hpp"
 #include "hydrolux/jobs.hpp"
 #include "hydrolux/rain/params.hpp"
 
@@ -63,6 +64,70 @@ TEST(Params, RainDefaultsAreTheStructsInitializers) {
   EXPECT_TRUE(std::isnan(value("fov_deg")));  // none: it replaces focal_mm when given
 }
 
+// The kinds of more than one number: a choice (its words, stored as the word's index), a size, a span
+// and a colour (their parts), each read from the CLI's text and refused in each door's words; the
+// values and messages are written out here, not taken from the code under test.
+TEST(Params, ChoicesAndPartsReadAndRefuseInTheDoorsWords) {
+  using hydrolux::Door;
+  using hydrolux::ParamValue;
+  const Param mode = hydrolux::choice_param("mode", "--mode", "mode", "per-pixel|cube-map|half-dome", "Mode");
+  EXPECT_EQ(mode.lo, 0);
+  EXPECT_EQ(mode.hi, 2);
+  EXPECT_EQ(mode.parse_text("cube-map", Door::cli)[0], 1);
+  EXPECT_EQ(mode.value_text(2), "half-dome");
+  EXPECT_EQ(mode.range_text(), "per-pixel, cube-map or half-dome");
+  try {
+    (void)mode.parse_text("dome", Door::cli);
+    FAIL() << "dome accepted";
+  } catch (const hydrolux::UnknownNameError& e) {
+    EXPECT_STREQ(e.what(), "--mode 'dome': expected per-pixel, cube-map or half-dome");
+  }
+  EXPECT_THROW((void)mode.parse_text("Cube-Map", Door::python), hydrolux::UnknownNameError);
+  EXPECT_THROW(mode.check(3), hydrolux::Error);
+  EXPECT_THROW(mode.check(0.5), hydrolux::Error);
+
+  const Param size = hydrolux::parts_param("size", "--size", "camera", ParamKind::size, "W|H", "px", 1, 16384, "Size");
+  EXPECT_EQ(size.parts(), 2);
+  const ParamValue wh = size.parse_text("640x480", Door::cli);
+  EXPECT_EQ(wh[0], 640);
+  EXPECT_EQ(wh[1], 480);
+  EXPECT_EQ(size.value_text(wh, Door::cli), "640x480");
+  EXPECT_EQ(size.value_text(wh, Door::python), "(640, 480)");
+  const auto refused = [](const Param& p, std::string_view text) {
+    try {
+      (void)p.parse_text(text, Door::cli);
+    } catch (const hydrolux::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  for (const char* bad : {"640", "640x480x2", "0x480", "640x16385", "640.5x480", "axb", "640x", "x480", "640,480"})
+    EXPECT_EQ(refused(size, bad), "--size '" + std::string(bad) + "': expected WxH, each a whole number in [1, 16384] px")
+        << bad;
+  try {
+    size.check(ParamValue{0, 720}, Door::python);
+    FAIL() << "(0, 720) accepted";
+  } catch (const hydrolux::Error& e) {
+    EXPECT_STREQ(e.what(), "size (0, 720): expected (W, H), each a whole number in [1, 16384] px");
+  }
+
+  const Param curtain = hydrolux::parts_param("curtain_distance_m", "--curtain-distance-m", "rain", ParamKind::span,
+                                              "NEAR|FAR", "m", 0, 1e6, "Curtain");
+  EXPECT_EQ(curtain.parse_text("1000:1000", Door::cli)[1], 1000);  // an empty curtain is allowed
+  EXPECT_EQ(refused(curtain, "3000:1000"), "--curtain-distance-m '3000:1000': expected NEAR:FAR, each in [0, 1e+06] m, "
+                                           "NEAR <= FAR");
+  EXPECT_EQ(refused(curtain, "-1:10"), "--curtain-distance-m '-1:10': expected NEAR:FAR, each in [0, 1e+06] m, NEAR <= FAR");
+  EXPECT_NE(refused(curtain, "1:nan"), "accepted");
+
+  const Param colour =
+      hydrolux::parts_param("light_color", "--light-color", "sun", ParamKind::colour, "R|G|B", "", 0, 1000, "Colour");
+  const ParamValue rgb = colour.parse_text("1,0.5,2", Door::cli);
+  EXPECT_EQ(rgb[1], 0.5);
+  EXPECT_EQ(colour.value_text(rgb, Door::cli), "1,0.5,2");
+  EXPECT_EQ(refused(colour, "1,1"), "--light-color '1,1': expected R,G,B, each in [0, 1000]");
+  for (const char* bad : {"1,1,1,1", "1,,1", "-1,1,1", "1,1,1001", "a,b,c"}) EXPECT_NE(refused(colour, bad), "accepted") << bad;
+}
+
 // A row's setter and getter touch the member the row names, and a given field of view or pixel
 // pitch is turned into the camera the CLI and Python make.
 TEST(Params, RainRowsSetWhatTheyName) {
@@ -108,7 +173,16 @@ TEST(Params, EveryTableIsConsistent) {
       if (p.kind != ParamKind::flag) {
         EXPECT_LT(p.lo, p.hi) << where;
         if (!std::isnan(info.default_value)) {
-          EXPECT_NO_THROW(p.check(info.default_value)) << where << ": default outside its range";
+          if (p.parts() > 1) EXPECT_NO_THROW(p.check(info.default_parts, hydrolux::Door::library)) << where;
+          else EXPECT_NO_THROW(p.check(info.default_value)) << where << ": default outside its range";
+        }
+        // A choice's range is its words' values; a size's, span's or colour's parts are named.
+        if (p.kind == ParamKind::choice) {
+          EXPECT_EQ(p.lo, 0) << where;
+          EXPECT_EQ(p.hi + 1, double(p.word_list().size())) << where;
+        }
+        if (p.parts() > 1) {
+          EXPECT_EQ(p.word_list().size(), std::size_t(p.parts())) << where;
         }
       }
       if (!p.excludes.empty()) {

@@ -1,14 +1,21 @@
 // The specs `hydrolux lee` and `hydrolux export` compute from their flags' texts (io/lee_job.hpp,
 // io/export_job.hpp), before any file or work: the values the texts state, the defaults
 // docs/lee.md and docs/sky.md give (a rainbow table of 512 x 1024 over 5-800 um, the corona's rows
-// twice the rainbow's, no corona for drops over 50 um), and the refusals in the flags' words.
+// twice the rainbow's, no corona for drops over 50 um), and the refusals in the flags' words. And
+// `hydrolux sky`'s job (io/sky_job.hpp) run through a stand-in codec: what it writes, the order of
+// its hooks, and its refusals before any file.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
+#include <fstream>
 #include <string>
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/export_job.hpp"
 #include "hydrolux/io/lee_job.hpp"
+#include "hydrolux/io/sky_job.hpp"
+#include "support/cli.hpp"
 
 namespace hydrolux::io {
 namespace {
@@ -109,6 +116,53 @@ TEST(ExportTables, ShapeAndSunElevation) {
   const ExportTables t = export_tables(job);
   ASSERT_TRUE(t.shaped);
   EXPECT_FALSE(t.shape.spherical());
+}
+
+// The sky job with a codec that writes what it was given as text: the frame reaches the codec at the
+// requested size in the output's format, the codec is readied before the tables' work (whose progress
+// rises to 1), and a refused request leaves an existing output as it was.
+TEST(SkyJob, RendersThroughItsCodecAndRefusesBeforeAnyFile) {
+  const auto dir = testing::temp_dir("hydrolux_sky_job");
+  SkyJob job;
+  job.options.settings.camera.width = 24;
+  job.options.settings.camera.height = 12;
+  job.options.settings.radius_um = 10;  // a fogbow: small tables
+  job.options.sampling = 0.25;
+  job.output = (dir / "sky.png").string();
+  SkyJobHooks h;
+  h.codec.encode = [](const Image& image, ImageFormat format, PngOptions) {
+    return fmt::format("{} {}x{}x{}", format == ImageFormat::png ? "png" : "other", image.width, image.height,
+                       image.channels);
+  };
+  bool ready = false, ready_first = true, rising = true;
+  double last = 0;
+  h.codec_ready = [&] { ready = true; };
+  h.progress = [&](double f, std::string_view) {
+    ready_first = ready_first && ready;
+    rising = rising && f >= last;
+    last = f;
+  };
+  const SkyJobResult r = run_sky_job(job, h);
+  EXPECT_EQ(testing::slurp(dir / "sky.png"), "png 24x12x3");
+  EXPECT_TRUE(ready_first) << "the tables' work began before the codec was ready";
+  EXPECT_TRUE(rising);
+  EXPECT_NEAR(last, 1, 1e-9);
+  EXPECT_EQ(r.output, job.output);
+  EXPECT_EQ(sky_summary(r).rfind("sky: wrote ", 0), 0u) << sky_summary(r);
+
+  // Refused before anything is written: a parameter of another mode, the Stokes images as a PNG.
+  std::ofstream(dir / "sky.png") << "before";
+  SkyJob other = job;
+  other.options.settings.mode = scene::BowMode::cube_map;
+  other.options.settings.dome_rings = 40;
+  other.given.insert("dome_rings");
+  EXPECT_EQ(error_of([&] { (void)run_sky_job(other, h); }),
+            "--dome-rings 40: used by --mode half-dome only (this run is --mode cube-map)");
+  other = job;
+  other.options.settings.stokes = true;
+  EXPECT_EQ(error_of([&] { (void)run_sky_job(other, h); }).rfind("--stokes: the Stokes images are linear and signed", 0),
+            0u);
+  EXPECT_EQ(testing::slurp(dir / "sky.png"), "before");
 }
 
 }  // namespace

@@ -408,7 +408,18 @@ TEST(Compositor, SettingsAreValidated) {
   s = small();
   s.curtain_near_m = 3000;
   s.curtain_far_m = 1000;
-  EXPECT_THROW(SkyCompositor(s, {}, {}), DomainError);
+  try {
+    SkyCompositor(s, {}, {});
+    ADD_FAILURE() << "a curtain whose far edge is nearer than its near one accepted";
+  } catch (const Error& e) {  // the declared span's message (its parts out of order), in the library's names
+    EXPECT_STREQ(e.what(), "curtain_distance_m 3000:1000: expected NEAR:FAR, each in [0, 1e+06] m, NEAR <= FAR");
+  }
+  s = small();
+  s.camera.width = 0;
+  EXPECT_THROW(SkyCompositor(s, {}, {}), Error);
+  s = small();
+  s.light_color = Vec3(1, -1, 1);
+  EXPECT_THROW(SkyCompositor(s, {}, {}), Error);
   s = small();
   s.rain_rate_mmh = -1;
   EXPECT_THROW(SkyCompositor(s, {}, {}), DomainError);

@@ -631,6 +631,9 @@ async function checkRefusals(page, base, assetsDir) {
     { key: 'sun_el', value: spec.sun_elevation_deg.lo - 5, flag: '--sun-elevation-deg', says: range(spec.sun_elevation_deg) },
     { key: 'fov', value: spec.fov_deg.hi + 1, flag: '--fov-deg', says: range(spec.fov_deg) },
     { key: 'cube', value: 512.5, flag: '--cube-face-size', says: range(spec.cube_face_size), cpu: ['--mode', 'cube-map'] },
+    // a span's parts out of order, a choice's word not among its words
+    { key: 'curtain', value: '3000:1000', flag: '--curtain-distance-m', says: range(spec.curtain_distance_m) },
+    { key: 'mode', value: 'dome', flag: '--mode', says: spec.mode.words.join(', ') },
     // within the declared range but outside the assets' table: refused as hydrolux sky --lut refuses it
     { key: 'radius', value: r1 * 2, flag: '--radius-um', says: `[${r0}, ${r1}] um`, lut: true },
   ];

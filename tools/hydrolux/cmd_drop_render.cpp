@@ -11,7 +11,6 @@
 #include "hydrolux/drop/params.hpp"
 #include "hydrolux/drop/render.hpp"
 #include "hydrolux/optics/media.hpp"
-#include "hydrolux/scatter/drop_shape.hpp"
 #include "hydrolux/scene/environment.hpp"
 #include "image_plugin.hpp"
 #include "params.hpp"
@@ -21,22 +20,18 @@ namespace hydrolux::cli {
 
 namespace {
 
-// The numbers and switches are drop/params.hpp's; the environment, the medium, the method, the
-// shape and the output are this command's.
+// The declared parameters are drop/params.hpp's; the environment, the medium and the output are this
+// command's.
 struct RenderArgs {
   std::shared_ptr<drop::DropRenderRequest> r = std::make_shared<drop::DropRenderRequest>();
   std::string env = "builtin";
   std::string medium = "water";
-  std::string method = "model";
-  std::string shape = "sphere";
   std::string output;
   bool quiet = false;
 };
 
 int run_render(const RenderArgs& a) {
-  drop::DropRenderRequest r = *a.r;
-  r.method = a.method == "model" ? drop::RenderMethod::model : drop::RenderMethod::exact;
-  r.shape = a.shape == "sphere" ? drop::DropShapeKind::sphere : drop::DropShapeKind::beard_chuang;
+  const drop::DropRenderRequest& r = *a.r;
   // Every file and flag is checked before the work starts: the environment is a regular file, the
   // output's folder takes a new file and the output is not the environment.
   io::FileSet files;
@@ -51,14 +46,7 @@ int run_render(const RenderArgs& a) {
   const auto air = optics::find_medium("air");
   check_temperature_flag(r.temperature_c, {water.get()});
   drop::check_clearance(r, drop::ParamWords::flags);
-  if (r.shape == drop::DropShapeKind::beard_chuang) {
-    const auto range = scatter::drop_shape_radius_range_m();
-    if (r.radius_mm < range[0] * 1e3 || r.radius_mm > range[1] * 1e3)
-      throw Error(fmt::format("--radius-mm {:g} is outside the valid range [{:g}, {:g}] mm of the Beard & Chuang shape",
-                              r.radius_mm, range[0] * 1e3, range[1] * 1e3));
-  }
-  if (a.method == "model" && a.shape != "sphere")
-    throw Error("--shape " + a.shape + ": the model is for a sphere; use --method exact for other shapes");
+  drop::check_shape(r, drop::ParamWords::flags);
   const double blur_rad = drop::background_blur_rad(r, drop::ParamWords::flags);
   const drop::ChannelIndex mu = drop::relative_index(r, *water, *air);
   (void)image_api();  // image support loads now, not after the render
@@ -99,7 +87,7 @@ Command add_drop_render(CLI::App& drop) {
                {"mu", "--medium (index relative to air)"},
                {"temperature_c", "--temperature-c"},
                {"distance_m", "--distance-m"}}};
-  // The declared parameters in three runs, the medium, the method and the shape between them.
+  // The declared parameters in two runs, the medium between them.
   const auto params = drop::drop_render_params();
   const auto declared = [&](std::size_t from, std::size_t count) {
     add_params(*sub, args->r, params.subspan(from, count), cmd.flags_for_quantity);
@@ -111,17 +99,7 @@ Command add_drop_render(CLI::App& drop) {
   declared(0, 8);  // --radius-mm .. --internal
   sub->add_option("--medium", args->medium, "Drop medium (see hydrolux ior --list; const:1.49 for acrylic)")
       ->capture_default_str();
-  declared(8, 6);  // --temperature-c .. --exposure-ev
-  sub->add_option("--method", args->method,
-                  "model: Garg & Nayar's model (eq. 19); exact: the Fresnel-split ray tracer (every path to --depth)")
-      ->check(CLI::IsMember({"model", "exact"}))
-      ->capture_default_str();
-  sub->add_option("--shape", args->shape,
-                  "Drop shape for --method exact: sphere, or beard-chuang (the falling drop's equilibrium shape, "
-                  "radius 0.5-4.5 mm, seen from the side)")
-      ->check(CLI::IsMember({"sphere", "beard-chuang"}))
-      ->capture_default_str();
-  declared(14, params.size() - 14);  // --depth
+  declared(8, params.size() - 8);  // --temperature-c .. --depth
   sub->add_option("-o,--output", args->output, "Output image (.exr linear float, or .png sRGB)")->required();
   sub->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
   return cmd;

@@ -24,7 +24,7 @@ namespace hydrolux::cli {
 namespace {
 
 struct LeeArgs {
-  // The declared values (atmos/lee_params.hpp) and the names the flags set as they are (--radius-scale, --axis).
+  // The declared values (atmos/lee_params.hpp) and the texts the flags set as they are (--theory, --size, ...).
   std::shared_ptr<io::LeeJob> job = std::make_shared<io::LeeJob>();
   bool quiet = false;
   const CLI::App* sub = nullptr;  // which flags were given: refused where they have no effect
@@ -34,8 +34,8 @@ int run_lee(const LeeArgs& a) {
   io::LeeJob job = *a.job;
   for (const std::string_view name : atmos::kShapeOnlyParams)
     if (given(*a.sub, atmos::lee_param(name))) job.given.insert(std::string(name));
-  if (given(*a.sub, atmos::lee_param("limb_darkening"))) job.given.insert("limb_darkening");
-  if (a.sub->get_option("--radius-scale")->count() > 0) job.given.insert("radius_scale");
+  for (const std::string_view name : {"limb_darkening", "radius_scale"})
+    if (given(*a.sub, atmos::lee_param(name))) job.given.insert(std::string(name));
   if (job.size) job.request.size = *parse_size(*job.size);  // checked by the option's validator
   job.command_line = command_line();
   atmos::LeeSpec spec = io::lee_job_spec(job);
@@ -69,9 +69,7 @@ Command add_lee(CLI::App& app) {
   const auto declared = [&](std::string_view first, std::string_view last) {
     add_params(*sub, req, fields_from(atmos::lee_params(), first, last), cmd.flags_for_quantity);
   };
-  sub->add_option("--table", args->job->table, "rainbow (90-180 deg, 5-800 um), corona (0-20 deg, 1-50 um) or glory (160-180 deg, 1-50 um)")
-      ->check(CLI::IsMember({"rainbow", "corona", "glory"}))
-      ->capture_default_str();
+  declared("table", "table");
   sub->add_option("--theory", args->job->theory, "mie, debye:P (one Debye order), airy (primary; airy:3 secondary) or geometric[:P] (ray orders 0..P with diffraction)")
       ->capture_default_str();
   sub->add_option("--radius-um", args->job->radius_um,
@@ -79,13 +77,9 @@ Command add_lee(CLI::App& app) {
                               "size parameter limits the largest: {:g} with Mie, --size-spread 0.1 and 380 nm",
                               atmos::kMinRadiusUm, atmos::kMaxRadiusUm,
                               atmos::max_radius_um(atmos::default_lee_spec(atmos::LeeTableKind::rainbow))));
-  sub->add_option("--radius-scale", args->job->request.radius_scale, "Column spacing: log or linear")
-      ->check(CLI::IsMember({"log", "linear"}))
-      ->capture_default_str();
+  declared("radius_scale", "radius_scale");
   sub->add_option("--angle-deg", args->job->angle_deg, "Scattering angles A:B in degrees [0, 180] (0 forward, 180 antisolar) [table's default]");
-  sub->add_option("--axis", args->job->request.axis, "Rows in scattering angle (angle) or in its cosine (cos)")
-      ->check(CLI::IsMember({"angle", "cos"}))
-      ->capture_default_str();
+  declared("axis", "axis");
   sub->add_option("--size", args->job->size, "Table size WxH in pixels: W radii, H angles [512x1024; 1xH for one radius]")
       ->check(size_validator());
   declared("sun_disk_deg", "size_spread");

@@ -54,17 +54,11 @@ Command add_sky(CLI::App& app) {
   const auto declared = [&](std::string_view first, std::string_view last) {
     add_params(*sub, options, fields_from(params, first, last), cmd.flags_for_quantity);
   };
-  declared("sun_elevation_deg", "view_elevation_deg");
-  sub->add_option("--size", a->job->size, "Image size WxH in pixels")->check(size_validator())->capture_default_str();
-  declared("rain_rate_mmh", "rain_rate_mmh");
-  sub->add_option("--curtain-distance-m", a->job->curtain, "The rain fills NEAR:FAR metres from the camera")->capture_default_str();
-  declared("turbidity", "turbidity");
+  declared("sun_elevation_deg", "turbidity");
   sub->add_option("--lut", a->job->luts, "A Lee table .exr (with its .json beside it): a rainbow table, and optionally a corona table; repeat the flag");
   sub->add_option("--moisture", a->job->moisture, "Moisture mask image (red channel, 0-1, stretched over the frame): scales the rain per pixel");
   sub->add_option("--environment", a->job->environment, "Equirectangular HDR background (.exr/.hdr) in cd/m^2 instead of the analytic sky and ground");
-  declared("environment_scale", "environment_scale");
-  sub->add_option("--light-color", a->job->light_color, "R,G,B multiplier on the sun's light in the bow [1,1,1]");
-  declared("corona", "secondary");
+  declared("environment_scale", "secondary");
   sub->add_option("--shape", a->job->options.shape,
                   fmt::format("Drop shape: sphere (the Mie tables), spheroid:Q (axis ratio Q = polar / equatorial in "
                               "[{:g}, 1], axis vertical) or beard-chuang (falling drops, Q from the radius; radii up to "
@@ -75,17 +69,10 @@ Command add_sky(CLI::App& app) {
                               atmos::kMinBowAxisRatio,
                               scene::max_sky_radius_um(atmos::parse_drop_shape("beard-chuang"))))
       ->capture_default_str();
-  sub->add_option("--blend", a->job->blend, "physical (attenuation + in-scattering) or whitepaper (scene + bow (1 - scene))")
-      ->check(CLI::IsMember({"physical", "whitepaper"}))->capture_default_str();
-  sub->add_option("--mode", a->job->mode, "per-pixel (reference), cube-map (baked bow) or half-dome (tessellated, 1D lookup)")
-      ->check(CLI::IsMember({"per-pixel", "cube-map", "half-dome"}))->capture_default_str();
-  declared("cube_face_size", "sampling");
+  declared("blend", "sampling");
   sub->add_option("-o,--output", a->job->output, "Output .png (tone-mapped) or .exr (cd/m^2)");
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
   cmd.flags_for_quantity.insert(lee_table_quantities().begin(), lee_table_quantities().end());
-  cmd.flags_for_quantity.insert({{"curtain_near_m", "--curtain-distance-m"},
-                                 {"curtain_far_m", "--curtain-distance-m"},
-                                 {"light_color", "--light-color"}});
   return cmd;
 }
 

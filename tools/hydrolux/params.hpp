@@ -33,7 +33,7 @@ const std::map<std::string, std::string>& lee_table_quantities();
 
 // One flag for a declared parameter; `store` receives the parsed, range-checked value. A parameter
 // with a deprecated name also takes its old flag (hidden from --help; a warning when given).
-CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(double)> store);
+CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(const ParamValue&)> store);
 
 // Every field of `fields` as a flag on `sub`, storing into *request (kept alive by the action).
 // Parameters that replace one another (excludes) are registered as exclusive. The names map to
@@ -45,7 +45,7 @@ void add_params(CLI::App& sub, const std::shared_ptr<Request>& request, std::spa
   std::map<std::string_view, CLI::Option*> options;
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const Field<Request>& f = fields[i];
-    options[f.param.name] = add_param(sub, infos[i], [request, &f](double v) { f.set(*request, v); });
+    options[f.param.name] = add_param(sub, infos[i], [request, &f](const ParamValue& v) { f.set_value(*request, v); });
     flags.emplace(std::string(f.param.name), std::string(f.param.flag));
   }
   for (const auto& f : fields)

@@ -73,7 +73,7 @@ std::string reference_markdown(const std::vector<Command>& commands) {
       const std::string lname = opt->get_lnames().empty() ? "" : "--" + opt->get_lnames().front();
       if (const auto it = params.find(lname); it != params.end()) {
         const Param& p = *it->second->param;
-        const std::string valid = p.kind == ParamKind::flag ? "switch" : p.range_text();
+        const std::string valid = p.kind == ParamKind::flag ? "switch" : p.form(Door::cli);
         const std::string python = params_python ? fmt::format("`{}`", p.name) : std::string();
         md += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", names, python, p.group, p.unit, cell(valid),
                           it->second->default_text(), cell(std::string(p.help)));

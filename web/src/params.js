@@ -4,14 +4,11 @@
 // The settings that are `hydrolux sky`'s parameters take their names, valid ranges and defaults from
 // the library's declaration: `hydrolux spec --json`, read at build time (vite.config.js: the module
 // virtual:hydrolux-spec holds the sky's rows). SPEC_NAMES below is the one table from the demo's
-// short URL names to the spec's. A value outside the declared range is refused, as the CLI refuses it
-// (ParamError: the page shows the parameter, the value and the valid range, and renders nothing),
-// never clamped. The others (view_az, the curtain, moisture, noise, objects, shape, mode, blend,
-// light, size, test, ui, assets) are the demo's own.
+// short URL names to the spec's. A value outside the declared range (a number, a choice's word, the
+// parts of the curtain's span or the light's colour) is refused, as the CLI refuses it (ParamError:
+// the page shows the parameter, the value and the valid range, and renders nothing), never clamped.
+// The others (view_az, moisture, noise, objects, shape, size, test, ui, assets) are the demo's own.
 import sky from 'virtual:hydrolux-spec';
-
-export const MODES = ['per-pixel', 'cube-map', 'half-dome'];
-export const BLENDS = ['physical', 'whitepaper'];
 
 // The demo's URL name -> the name of `hydrolux sky`'s declared parameter (hydrolux spec --json).
 export const SPEC_NAMES = {
@@ -28,6 +25,10 @@ export const SPEC_NAMES = {
   cube: 'cube_face_size',
   rings: 'dome_rings',
   segments: 'dome_segments',
+  mode: 'mode',
+  blend: 'blend',
+  curtain: 'curtain_distance_m',
+  light: 'light_color',
 };
 
 // The spec's row of each of those ({name, flag, kind, unit, lo, hi, default}), by the demo's name.
@@ -47,17 +48,36 @@ export class ParamError extends Error {
   }
 }
 
+// The words of the declared choices (hydrolux sky --mode, --blend).
+export const MODES = SPEC.mode.words;
+export const BLENDS = SPEC.blend.words;
+
 // "[0.1, 5000] um", as the CLI writes a range.
 export const rangeText = (row) => `[${row.lo}, ${row.hi}]${row.unit ? ' ' + row.unit : ''}`;
 
-// `value` (a number) if it lies in the spec's range of `key` (a whole number for an integer), else a
-// ParamError worded as the CLI's; `text` is the value as the user wrote it.
+// A declared number, word or list of parts (the curtain's NEAR, FAR; the light's R, G, B) if it is what
+// the spec's row of `key` allows (in its range; a whole number for an integer; a span's parts in order),
+// else a ParamError worded as the CLI's; `text` is the value as the user wrote it.
 export function checkSpec(key, value, text = String(value)) {
   const row = SPEC[key];
+  const refuse = (what) => new ParamError(`${key}: ${text} ${what} (hydrolux sky ${row.flag})`);
+  if (row.kind === 'choice') {
+    if (row.words.includes(value)) return value;
+    throw refuse(`is not one of ${row.words.join(', ')}`);
+  }
+  if (row.words.length > 0) {
+    const parts = row.words.join(row.kind === 'span' ? ':' : ',');
+    const inRange = (v) => Number.isFinite(v) && v >= row.lo && v <= row.hi;
+    if (!Array.isArray(value) || value.length !== row.words.length || !value.every(inRange) ||
+        (row.kind === 'span' && value[0] > value[1]))
+      throw refuse(`is not ${parts}, each in the valid range ${rangeText(row)}` +
+        (row.kind === 'span' ? `, ${row.words[0]} <= ${row.words[1]}` : ''));
+    return value;
+  }
   const whole = row.kind !== 'integer' || Number.isInteger(value);
   if (Number.isFinite(value) && value >= row.lo && value <= row.hi && whole) return value;
   const what = !Number.isFinite(value) ? 'is not a number;' : whole ? 'is outside' : 'is not a whole number in';
-  throw new ParamError(`${key}: ${text} ${what} the valid range ${rangeText(row)} (hydrolux sky ${row.flag})`);
+  throw refuse(`${what} the valid range ${rangeText(row)}`);
 }
 
 const specDefault = (key) => {
@@ -73,7 +93,7 @@ export const DEFAULTS = {
   fov: specDefault('fov'), // horizontal field of view (deg)
   radius: specDefault('radius'), // drop radius (um)
   rain: specDefault('rain'), // rain rate (mm/h)
-  curtain: [1000, 3000], // the rain fills d0..d1 metres from the camera
+  curtain: specDefault('curtain'), // the rain fills d0..d1 metres from the camera
   moisture: 1, // global moisture multiplier, 0..1
   noise: 0, // moisture noise amount, 0..1
   secondary: specDefault('secondary'),
@@ -82,9 +102,9 @@ export const DEFAULTS = {
   // drop shape, as `hydrolux sky --shape`: 'sphere', or the shape of the assets' non-spherical
   // drops' table (rainbow_shaped.json, `hydrolux export --shape beard-chuang`): the "real drops" toggle
   shape: 'sphere',
-  mode: 'per-pixel',
-  blend: 'physical',
-  light: [1, 1, 1], // light colour multiplier of the bow
+  mode: specDefault('mode'),
+  blend: specDefault('blend'),
+  light: specDefault('light'), // light colour multiplier of the bow
   // a linear polariser in front of the camera, as `hydrolux sky --polarizer-deg`: null (none) or its
   // axis in degrees from the image's horizontal towards its up (0 passes the top of the bow, 90 its
   // sides); needs the assets' Stokes Q tables (hydrolux export writes them)
@@ -121,6 +141,12 @@ const list = (s, n) => {
   return parts;
 };
 
+// A declared list of parts (the curtain's NEAR:FAR, the light's R,G,B), refused as the CLI refuses it.
+const specList = (key, n) => (s) => {
+  const parts = s.split(/[,:]/).map((p) => (p.trim() === '' ? NaN : Number(p)));
+  return checkSpec(key, parts.length === n ? parts : [NaN], s);
+};
+
 const PARSERS = {
   sun_az: specNum('sun_az'),
   sun_el: specNum('sun_el'),
@@ -129,7 +155,7 @@ const PARSERS = {
   fov: specNum('fov'),
   radius: specNum('radius'),
   rain: specNum('rain'),
-  curtain: (s) => list(s, 2),
+  curtain: specList('curtain', 2),
   moisture: (s) => Math.min(1, Math.max(0, num(s))),
   noise: (s) => Math.min(1, Math.max(0, num(s))),
   secondary: specBool('secondary'),
@@ -140,15 +166,9 @@ const PARSERS = {
       throw new Error(`shape: sphere, beard-chuang or spheroid:Q (the assets' table of non-spherical drops)`);
     return s;
   },
-  mode: (s) => {
-    if (!MODES.includes(s)) throw new Error(`mode: one of ${MODES.join(', ')}`);
-    return s;
-  },
-  blend: (s) => {
-    if (!BLENDS.includes(s)) throw new Error(`blend: one of ${BLENDS.join(', ')}`);
-    return s;
-  },
-  light: (s) => list(s, 3),
+  mode: (s) => checkSpec('mode', s),
+  blend: (s) => checkSpec('blend', s),
+  light: specList('light', 3),
   polarizer: (s) => (s === 'off' || s === 'none' || s === '' ? null : specNum('polarizer')(s)),
   sky_max_dolp: specNum('sky_max_dolp'),
   cube: specNum('cube'),
@@ -187,7 +207,7 @@ export function checkSettings(p, assets) {
     if (!(key in p) || p[key] === null) continue;
     if (SPEC[key].kind === 'flag') {
       if (typeof p[key] !== 'boolean') throw new ParamError(`${key}: ${p[key]} is not a switch (true or false)`);
-    } else checkSpec(key, p[key]);
+    } else checkSpec(key, p[key], Array.isArray(p[key]) ? p[key].join(',') : String(p[key]));
   }
   if (assets && 'radius' in p) {
     const [lo, hi] = tableRadii(assets, p.shape ?? 'sphere');

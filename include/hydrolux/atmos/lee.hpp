@@ -148,8 +148,8 @@ struct LeeRequest {
   std::optional<std::array<double, 2>> radius_um;  // A <= B; A == B: one radius, one column
   std::optional<std::array<double, 2>> angle_deg;  // A <= B
   std::optional<std::array<int, 2>> size;          // columns, rows
-  std::string radius_scale = "log";                // "log" or "linear"
-  std::string axis = "angle";                      // "angle" or "cos"
+  RadiusScale radius_scale = RadiusScale::log;
+  AngleAxis axis = AngleAxis::angle;
   double sun_disk_deg = kSunDiskDeg;
   bool limb_darkening = false;
   double size_spread = 0.1;
@@ -183,10 +183,8 @@ class LeeShapeError : public Error {
 };
 
 // The spec of a request: the kind's defaults, the radii and angles given (one radius: one column),
-// the size (columns, rows), the names of the radius scale and the axis, and the rest as given.
-// Throws LeeShapeError (a single radius with more than one column; equal angles with more than one
-// row), UnknownNameError ("radius_scale 'x': expected log or linear", "axis 'x': expected angle
-// or cos") and Error for a parameter of non-spherical drops set for spheres, which would ignore it
+// the size (columns, rows), and the rest as given. Throws LeeShapeError (a single radius with more
+// than one column; equal angles with more than one row) and Error for a parameter of non-spherical drops set for spheres, which would ignore it
 // (lee_params.hpp, shape_only_message). Not validated: the caller adds what it sets and calls
 // validate().
 LeeSpec make_lee_spec(const LeeRequest& request);

@@ -8,6 +8,7 @@
 //
 // A parameter's default is not restated here: it is the value of the member it fills in a
 // default-constructed request (`get(Request{})`), so the struct's initializer stays the one place.
+#include <array>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -22,7 +23,26 @@ enum class ParamKind {
   real,     // a finite number in [lo, hi]
   integer,  // a whole number in [lo, hi] (exact up to 2^53)
   flag,     // on or off; the CLI's flag turns the default around (e.g. --no-unresolved)
+  // One word of Param::words ("per-pixel|cube-map|half-dome"); its value is the word's index, so
+  // the row fills an enum whose values are the words in their order (choice_param, shared_params.hpp).
+  choice,
+  // Values of several parts, each in [lo, hi], their names in Param::words ("W|H"), written as the
+  // CLI's text (below) or as Python's tuple ((1280, 720)):
+  size,    // two whole numbers, "WxH"
+  span,    // two numbers, the first not above the second, "NEAR:FAR"
+  colour,  // three numbers, "R,G,B"
 };
+
+// "real", "integer", "flag", "choice", "size", "span", "colour": the kind as the JSON spec and Python name it.
+std::string_view kind_name(ParamKind kind);
+
+// A parameter's value: its one number in [0], or its parts in order (a size, a span, a colour).
+inline constexpr int kMaxParamParts = 3;
+using ParamValue = std::array<double, kMaxParamParts>;
+
+// The door a user came through, which spells a parameter its own way in every message: the
+// library's name ("rain_rate_mmh"), the CLI's and the batch jobs' flag ("--rain-rate-mmh"), Python's keyword.
+enum class Door { library, cli, python };
 
 struct Param {
   std::string_view name;  // the Python keyword, the JSON key, the library's quantity: "rain_rate_mmh"
@@ -48,22 +68,42 @@ struct Param {
   // The name this parameter had before (one per quantity: "rate_mmh" for rain_rate_mmh), kept for one
   // release: each door still takes it (the CLI as --rate-mmh, Python as the keyword) with one warning.
   std::string_view deprecated = {};
+  // Words between '|': a choice's, in the order of their values (0, 1, ...), "physical|whitepaper"; a
+  // size's, span's or colour's part names, "W|H", "NEAR|FAR", "R|G|B".
+  std::string_view words = {};
 
   // "--rate-mmh" for "rate_mmh": the flag of a name, as the CLI spells names it has no row for.
   static std::string flag_of(std::string_view name);
   // The warning a door prints once when the deprecated spelling `old` of this parameter is used.
   std::string deprecation_warning(std::string_view old, std::string_view now) const;
 
-  // "[0, 500] mm/h"
+  // "[0, 500] mm/h"; a choice's words: "per-pixel, cube-map or half-dome"; a size's "[1, 16384] px".
   std::string range_text() const;
+  // The parts of its value: 2 for a size or a span, 3 for a colour, else 1.
+  int parts() const;
+  // Its words (Param::words), in order.
+  std::vector<std::string_view> word_list() const;
+  // The value of a choice's word `word`, or -1 for none of them.
+  int choice_index(std::string_view word) const;
+  // How a door writes a value of this kind: "WxH", "NEAR:FAR", "R,G,B" (Door::cli) or "(W, H)"
+  // (Door::python); a choice's words; a number's range.
+  std::string form(Door door) const;
+  // A value as `door` writes it: a choice's word, "on"/"off" for a flag, "1280x720" or (1280, 720) for a
+  // size, else the number ("25", "0.008").
+  std::string value_text(const ParamValue& value, Door door = Door::cli) const;
+  std::string value_text(double value) const { return value_text(ParamValue{value}); }
+  // The value a user wrote as text (the CLI's flag, a batch option): a number, a choice's word or the
+  // parts of a size, span or colour, checked. Throws Error "--size '12x': expected WxH, each a whole
+  // number in [1, 16384] px" (UnknownNameError for a word not among a choice's), spelled by `door`.
+  ParamValue parse_text(std::string_view text, Door door) const;
   // Throws DomainError "rain_rate_mmh = 600 is outside [0, 500] mm/h" (quantity: the name) unless the
   // value lies in the range; for an integer also unless it is whole.
   void check(double value) const;
+  // The same for every part of a value (a size's parts whole, a span's in order): throws Error (in the
+  // door's words, which no door rewrites) "size (0, 720): expected (W, H), each a whole number in ...".
+  void check(const ParamValue& value, Door door) const;
 };
 
-// The door a user came through, which spells a parameter its own way in every message: the
-// library's name ("rain_rate_mmh"), the CLI's and the batch jobs' flag ("--rain-rate-mmh"), Python's keyword.
-enum class Door { library, cli, python };
 // `param` as `door` spells it.
 std::string_view spelled(const Param& param, Door door);
 
@@ -79,31 +119,59 @@ inline constexpr double kMinTemperatureC = -273.15, kMaxTemperatureC = 1000;
 inline constexpr double kMaxRainRateMmh = 500;
 inline constexpr double kMinDistributionRainRateMmh = 0.01;
 inline constexpr int kMaxThreads = 1024;
+// The width or height in pixels that a size parameter (--size WxH) may ask for.
+inline constexpr int kMaxImageSide = 16384;
 
-// A parameter bound to the request it fills. `get` reads it (NaN where it has no value of its own
-// until given, e.g. a field of view that replaces the focal length); `set` stores a checked value.
+// A parameter bound to the request it fills, part by part (a size's width is part 0, its height part
+// 1; a single value is part 0). `get_part` reads (NaN where it has no value of its own until given, e.g.
+// a field of view that replaces the focal length); `set_part` stores a checked value.
 template <class Request>
 struct Field {
   Param param;
-  double (*get)(const Request&);
-  void (*set)(Request&, double);
+  double (*get_part)(const Request&, int part);
+  void (*set_part)(Request&, int part, double);
+
+  // A single value (part 0).
+  double get(const Request& r) const { return get_part(r, 0); }
+  void set(Request& r, double v) const { set_part(r, 0, v); }
+  // Every part.
+  ParamValue value(const Request& r) const {
+    ParamValue v{};
+    for (int i = 0; i < param.parts(); ++i) v[std::size_t(i)] = get_part(r, i);
+    return v;
+  }
+  void set_value(Request& r, const ParamValue& v) const {
+    for (int i = 0; i < param.parts(); ++i) set_part(r, i, v[std::size_t(i)]);
+  }
 };
 
-// The accessors of a table row (a Field's get and set) for a member of the request:
-// HYDROLUX_PARAM_MEMBER(settings.rain_rate_mmh) for a number or a bool, HYDROLUX_PARAM_OPTIONAL(fov_deg) for
-// a std::optional<double> (NaN while unset: no default of its own).
+// The accessors of a table row (a Field's get_part and set_part) for a member of the request:
+// HYDROLUX_PARAM_MEMBER(settings.rain_rate_mmh) for a number, a bool or a choice's enum,
+// HYDROLUX_PARAM_OPTIONAL(fov_deg) for a std::optional<double> (NaN while unset: no default of its own),
+// HYDROLUX_PARAM_PARTS(camera.width, camera.height) for a size or a span of two members and
+// HYDROLUX_PARAM_INDEXED(light_color) for a colour (a member indexed [0], [1], [2]).
 #define HYDROLUX_PARAM_MEMBER(path)                         \
-  [](const auto& o) { return double(o.path); },             \
-      [](auto& o, double v) { o.path = decltype(o.path)(v); }
-#define HYDROLUX_PARAM_OPTIONAL(path)                                                                \
-  [](const auto& o) { return o.path ? double(*o.path) : std::numeric_limits<double>::quiet_NaN(); }, \
-      [](auto& o, double v) { o.path = v; }
+  [](const auto& o, int) { return double(o.path); },        \
+      [](auto& o, int, double v) { o.path = decltype(o.path)(v); }
+#define HYDROLUX_PARAM_OPTIONAL(path)                                                                       \
+  [](const auto& o, int) { return o.path ? double(*o.path) : std::numeric_limits<double>::quiet_NaN(); }, \
+      [](auto& o, int, double v) { o.path = v; }
+#define HYDROLUX_PARAM_PARTS(first, second)                                             \
+  [](const auto& o, int i) { return i == 0 ? double(o.first) : double(o.second); },     \
+      [](auto& o, int i, double v) {                                                   \
+        if (i == 0) o.first = decltype(o.first)(v);                                    \
+        else o.second = decltype(o.second)(v);                                         \
+      }
+#define HYDROLUX_PARAM_INDEXED(path)                                     \
+  [](const auto& o, int i) { return double(o.path[i]); },               \
+      [](auto& o, int i, double v) { o.path[i] = decltype(+o.path[i])(v); }
 
 // A parameter with its default, for the doors that list them (docs, Python signatures, argparse).
 struct ParamInfo {
   const Param* param;
-  double default_value;  // NaN: none (derived, or replaced by another parameter)
-  // The default as the CLI's help shows it: "25", "0.008", "on"; empty for none.
+  double default_value;  // part 0; NaN: none (derived, or replaced by another parameter)
+  ParamValue default_parts = {};  // every part (a size's width and height)
+  // The default as the CLI's help shows it: "25", "0.008", "on", "1280x720"; empty for none.
   std::string default_text() const;
 };
 
@@ -126,7 +194,7 @@ std::vector<ParamInfo> describe_fields(std::span<const Field<Request>> fields) {
   const Request defaults{};
   std::vector<ParamInfo> out;
   out.reserve(fields.size());
-  for (const auto& f : fields) out.push_back({&f.param, f.get(defaults)});
+  for (const auto& f : fields) out.push_back({&f.param, f.get(defaults), f.value(defaults)});
   return out;
 }
 
@@ -134,9 +202,11 @@ std::vector<ParamInfo> describe_fields(std::span<const Field<Request>> fields) {
 // field without a value (NaN: an optional not given) is skipped. The one validation over a table:
 // the checks that follow from other values (far beyond near) stay with the job.
 template <class Request>
-void check_fields(std::span<const Field<Request>> fields, const Request& request) {
-  for (const auto& f : fields)
-    if (const double v = f.get(request); !std::isnan(v)) f.param.check(v);
+void check_fields(std::span<const Field<Request>> fields, const Request& request, Door door = Door::library) {
+  for (const auto& f : fields) {
+    if (f.param.parts() > 1) f.param.check(f.value(request), door);
+    else if (const double v = f.get(request); !std::isnan(v)) f.param.check(v);
+  }
 }
 
 // The parameters a user gave through a door, and where the job says they have an effect: pbrt-v4's

@@ -1,8 +1,7 @@
 #pragma once
 // What a user sets for a drop render (hydrolux drop render, hydrolux.drop_render), declared once
 // (core/params.hpp): each value's name, unit, range, default and help. The defaults are
-// DropRenderRequest's initializers. The medium, the method and the shape are names each door
-// resolves (a medium by optics::find_medium).
+// DropRenderRequest's initializers. The medium is a name each door resolves (optics::find_medium).
 #include <optional>
 #include <span>
 #include <string_view>
@@ -50,6 +49,9 @@ enum class ParamWords { flags, names };
 
 // Error unless the drop is at least 1% of its radius clear of the camera.
 void check_clearance(const DropRenderRequest& request, ParamWords words);
+// Error unless the drop's shape suits the request: Beard & Chuang's shape for radii of 0.5-4.5 mm
+// (scatter/drop_shape.hpp), and the exact tracer only (the model is for a sphere).
+void check_shape(const DropRenderRequest& request, ParamWords words);
 // The angular radius of the background's defocus disk with background_blur (0 without): Error
 // unless the drop is beyond the focal length and the disk is at most 60 degrees wide.
 double background_blur_rad(const DropRenderRequest& request, ParamWords words);

@@ -18,8 +18,7 @@ namespace hydrolux::io {
 
 // What to compute and where, as the CLI's flags name them (messages quote them so).
 struct LeeJob {
-  atmos::LeeRequest request;              // the declared values, --radius-scale, --axis, --shape, --size
-  std::string table = "rainbow";          // --table: rainbow, corona or glory (checked by the door)
+  atmos::LeeRequest request;              // the declared values (--table, --radius-scale, ...), --shape, --size
   std::string theory = "mie";             // --theory
   std::optional<std::string> radius_um;   // --radius-um A:B or R
   std::optional<std::string> angle_deg;   // --angle-deg A:B
@@ -30,7 +29,7 @@ struct LeeJob {
   std::string color_space = "rec709";     // --color-space
   bool json = false;                      // --json: one radius's profile on standard output
   std::string output;                     // -o: .exr (with its .png and .json) or .nc
-  // The parameters the user gave (by name: the declared ones and "radius_scale"): a non-spherical
+  // The declared parameters the user gave (by name): a non-spherical
   // drops' parameter given for spheres, or one with no effect, is refused.
   std::set<std::string, std::less<>> given;
   std::string command_line;  // the call, for a NetCDF file's history (core/dataset.hpp's history_line)

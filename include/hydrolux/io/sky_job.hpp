@@ -21,10 +21,6 @@ namespace hydrolux::io {
 // What to render and where, as the CLI's flags name them (messages quote them so).
 struct SkyJob {
   scene::SkyOptions options;            // the declared values (scene/sky_params.hpp) and the shape
-  std::string size = "1280x720";        // --size WxH
-  std::string curtain = "1000:3000";    // --curtain-distance-m NEAR:FAR
-  std::optional<std::string> light_color;  // --light-color R,G,B
-  std::string blend = "physical", mode = "per-pixel";
   std::vector<std::string> luts;        // --lut: Lee tables (.exr with the .json beside it)
   std::optional<std::string> moisture, environment;
   std::string output;                   // -o: .png (tone-mapped) or .exr (cd/m^2)
@@ -53,10 +49,6 @@ struct SkyJobResult {
   double render_ms = 0, bake_ms = 0;
   double seconds = 0;            // in all
 };
-
-// The settings the job's texts give (--size, --curtain-distance-m, --light-color, --blend, --mode)
-// over the declared values, validated (scene::validate): Error naming the flag.
-scene::SkySettings sky_job_settings(const SkyJob& job);
 
 // Runs the job. Error (bad input, before anything is written), IoError, IoFailure (the system failed
 // midway; nothing replaced) as io/files.hpp says.

@@ -6,8 +6,8 @@
 //
 // `door` names the parameters as the door does: Door::cli for the CLI ("--radius-um",
 // "--shape"), Door::python for the library and Python ("radius_um", "shape"). A text the table
-// does not declare (the shape, the mode, the environment) is spelled the same way: "--mode" or
-// "mode"; the tables given from files, which only the CLI takes, are "--lut" or "hydrolux sky --lut".
+// does not declare (the shape, the environment) is spelled the same way: "--shape" or "shape"; the
+// tables given from files, which only the CLI takes, are "--lut" or "hydrolux sky --lut".
 #include <functional>
 #include <string>
 #include <string_view>
@@ -42,10 +42,9 @@ void refuse_unused_sky_params(const SkyOptions& o, const std::function<bool(std:
 
 // The frame too large for the memory left (available_memory_bytes(), or `available` when given) is
 // refused before the work (estimated_bytes): one line naming the cube map's face size when the cube
-// map is most of it, else the frame's size (`size_text`, as the door's syntax gives it: "1280x720"
-// for the CLI, "(1280, 720)" for Python), with what would fit.
-void check_sky_memory(const SkySettings& s, std::string_view size_text, Door door,
-                      double available = -1);
+// map is most of it, else the frame's size (as the door writes it: "--size 1280x720", "size (1280,
+// 720)"), with what would fit.
+void check_sky_memory(const SkySettings& s, Door door, double available = -1);
 
 // The scene's tables computed for its radius (no tables given): the rainbow (of `shape` drops: the
 // bow at kShapePositions position angles; of spheres, one profile) and, when the corona is on and
