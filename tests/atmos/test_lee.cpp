@@ -148,6 +148,10 @@ TEST(LeeRainbow, SupernumerariesScaleAndWashOut) {
   const double airy_deg = (4.8201 - 3.2482) / (std::cbrt(x * x / q)) * 180 / 3.14159265358979;
   EXPECT_NEAR(d100, airy_deg, 0.08 * airy_deg);
 
+  // The wash-out needs millimetre drops and a spread of radii: Mie series of ~11,000 terms and many
+  // radii, 50 of the sanitizer suite's seconds for physics the Release suite checks (the code paths
+  // are the 50 and 100 um profiles' above).
+  if (kSanitized) return;
   // Millimetre drops: the supernumeraries are 0.1 degree apart and the sun's disk (0.53) removes
   // them; nothing within 8 degrees inside the peak has 5% contrast.
   for (const auto& f : supernumeraries(profile(1000, 135, 160, 401), 8)) EXPECT_LT(f.contrast, 0.05) << f.angle_deg;

@@ -245,13 +245,38 @@ int run_command(const CLI::App& app, const std::vector<Command>& commands) {
   return kExitFailure;  // unreachable: require_subcommand(1)
 }
 
+// The one line a command line that does not parse gets (exit 2): CLI11's message, but for a value it
+// cannot convert ("Could not convert: --json = maybe"), which says what the option takes instead.
+int report_parse_error(const CLI::App& app, const std::vector<Command>& commands,
+                       const std::vector<const char*>& args, const CLI::ParseError& e) {
+  const std::string prog = program_from_argv(app, int(args.size()), args.data());
+  std::string msg = e.what();
+  if (dynamic_cast<const CLI::ConversionError*>(&e) != nullptr) {
+    const auto colon = msg.find(": "), eq = msg.find(" = ");
+    if (colon != std::string::npos && eq != std::string::npos && eq > colon) {
+      const std::string name = msg.substr(colon + 2, eq - colon - 2), value = msg.substr(eq + 3);
+      msg = fmt::format("{} '{}': not a value this option takes", name, value);
+      for (const auto& cmd : commands)
+        if (prog == "hydrolux " + cmd.app->get_name() || prog.ends_with(" " + cmd.app->get_name()))
+          if (const auto* opt = cmd.app->get_option_no_throw(name); opt && opt->get_expected_max() == 0)
+            msg = fmt::format("{} '{}': {} is a switch and takes no value; give {} alone", name, value, name, name);
+    }
+  }
+  if (msg.empty()) msg = "invalid arguments";
+  for (char& c : msg)
+    if (c == '\n') c = ' ';
+  fmt::print(stderr, "{}: {} (see {} --help)\n", prog, printable(msg), prog);
+  return kExitUsage;
+}
+
 // A run that parses with part of the command tree (issue 24: registering all the commands, with
 // their ~300 options and the defaults some compute, was most of a short command's start-up).
 // `hydrolux NAME ...` registers only NAME: once a top-level command is parsed, CLI11 matches no
 // other top-level name (require_subcommand(1)), so the other commands cannot change how the rest of
-// the line parses. `hydrolux --version` alone registers none. Anything else, and any line this
-// tree does not parse (an error, --help), returns nullopt: the whole tree then parses it again, so
-// that every message, help text and exit code is the whole tree's.
+// the line parses, nor the message of a line that does not parse (reported here, as the whole tree
+// would: most of the robustness sweep's thousand bad lines start no faster than a good one otherwise).
+// `hydrolux --version` alone registers none. Anything else, and a line asking for help, returns
+// nullopt: the whole tree then parses it again, so that every help text is the whole tree's.
 std::optional<int> run_with_part_of_tree(const std::vector<const char*>& args) {
   if (args.size() < 2) return std::nullopt;
   const std::string_view first = args[1];
@@ -274,8 +299,10 @@ std::optional<int> run_with_part_of_tree(const std::vector<const char*>& args) {
   } catch (const CLI::CallForVersion& e) {
     if (version_only) return app->exit(e);
     return std::nullopt;
-  } catch (const CLI::Error&) {
+  } catch (const CLI::Success&) {  // --help, --help-all
     return std::nullopt;
+  } catch (const CLI::ParseError& e) {
+    return report_parse_error(*app, commands, args, e);
   }
   return run_command(*app, commands);
 }
@@ -320,29 +347,8 @@ int run_parsed(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
-  } catch (const CLI::ConversionError& e) {
-    // CLI11's "Could not convert: --json = maybe": say what the option takes instead.
-    const std::string prog = program_from_argv(app, int(args.size()), args.data());
-    std::string msg = e.what();
-    const auto colon = msg.find(": "), eq = msg.find(" = ");
-    if (colon != std::string::npos && eq != std::string::npos && eq > colon) {
-      const std::string name = msg.substr(colon + 2, eq - colon - 2), value = msg.substr(eq + 3);
-      msg = fmt::format("{} '{}': not a value this option takes", name, value);
-      for (const auto& cmd : commands)
-        if (prog == "hydrolux " + cmd.app->get_name() || prog.ends_with(" " + cmd.app->get_name()))
-          if (const auto* opt = cmd.app->get_option_no_throw(name); opt && opt->get_expected_max() == 0)
-            msg = fmt::format("{} '{}': {} is a switch and takes no value; give {} alone", name, value, name, name);
-    }
-    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, printable(msg), prog);
-    return kExitUsage;
   } catch (const CLI::ParseError& e) {
-    std::string msg = e.what();
-    if (msg.empty()) msg = "invalid arguments";
-    for (char& c : msg)
-      if (c == '\n') c = ' ';
-    const std::string prog = program_from_argv(app, int(args.size()), args.data());
-    fmt::print(stderr, "{}: {} (see {} --help)\n", prog, printable(msg), prog);
-    return kExitUsage;
+    return report_parse_error(app, commands, args, e);
   }
   return run_command(app, commands);
 }

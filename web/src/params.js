@@ -141,6 +141,14 @@ const list = (s, n) => {
   return parts;
 };
 
+// The demo's own fractions (moisture, its noise): refused outside [0, 1] as a declared value is, not
+// clamped.
+const fraction = (key) => (s) => {
+  const v = s.trim() === '' ? NaN : Number(s);
+  if (Number.isFinite(v) && v >= 0 && v <= 1) return v;
+  throw new ParamError(`${key}: ${s} is ${Number.isFinite(v) ? 'outside' : 'not a number in'} the valid range [0, 1]`);
+};
+
 // A declared list of parts (the curtain's NEAR:FAR, the light's R,G,B), refused as the CLI refuses it.
 const specList = (key, n) => (s) => {
   const parts = s.split(/[,:]/).map((p) => (p.trim() === '' ? NaN : Number(p)));
@@ -156,8 +164,8 @@ const PARSERS = {
   radius: specNum('radius'),
   rain: specNum('rain'),
   curtain: specList('curtain', 2),
-  moisture: (s) => Math.min(1, Math.max(0, num(s))),
-  noise: (s) => Math.min(1, Math.max(0, num(s))),
+  moisture: fraction('moisture'),
+  noise: fraction('noise'),
   secondary: specBool('secondary'),
   corona: specBool('corona'),
   objects: bool,
