@@ -2,11 +2,9 @@
 // array, with the declared parameters (hydrolux sky's flags) as keywords: hydrolux.sky.
 #include <fmt/format.h>
 
-#include <array>
 #include <memory>
 #include <optional>
 #include <string>
-#include <utility>
 
 #include "bindings.hpp"
 #include "hydrolux/atmos/lee.hpp"

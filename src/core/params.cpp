@@ -15,18 +15,6 @@ std::string with_unit(std::string text, std::string_view unit) {
   return text;
 }
 
-// The words of "a|b|c".
-std::vector<std::string_view> words_of(std::string_view text) {
-  std::vector<std::string_view> out;
-  while (!text.empty()) {
-    const auto bar = text.find('|');
-    out.push_back(text.substr(0, bar));
-    if (bar == std::string_view::npos) break;
-    text.remove_prefix(bar + 1);
-  }
-  return out;
-}
-
 // "a, b or c".
 template <class Words>
 std::string alternatives(const Words& words) {
@@ -36,6 +24,17 @@ std::string alternatives(const Words& words) {
   return out;
 }
 }  // namespace
+
+std::vector<std::string_view> split_words(std::string_view text) {
+  std::vector<std::string_view> out;
+  while (!text.empty()) {
+    const auto bar = text.find('|');
+    out.push_back(text.substr(0, bar));
+    if (bar == std::string_view::npos) break;
+    text.remove_prefix(bar + 1);
+  }
+  return out;
+}
 
 std::string_view kind_name(ParamKind kind) {
   switch (kind) {
@@ -70,7 +69,7 @@ int Param::parts() const {
   }
 }
 
-std::vector<std::string_view> Param::word_list() const { return words_of(words); }
+std::vector<std::string_view> Param::word_list() const { return split_words(words); }
 
 int Param::choice_index(std::string_view word) const {
   const auto list = word_list();
@@ -94,9 +93,8 @@ std::string joined(const std::vector<std::string>& parts, ParamKind kind, Door d
 
 std::string Param::form(Door door) const {
   if (parts() == 1) return range_text();
-  std::vector<std::string> names;
-  for (const auto w : word_list()) names.emplace_back(w);
   const auto list = word_list();
+  const std::vector<std::string> names(list.begin(), list.end());
   std::string out = fmt::format("{}, each {} {}", joined(names, kind, door),
                                 kind == ParamKind::size ? "a whole number in" : "in", range_text());
   if (kind == ParamKind::span && list.size() == 2) out += fmt::format(", {} <= {}", list[0], list[1]);
@@ -130,26 +128,13 @@ ParamValue Param::parse_text(std::string_view text, Door door) const {
     return Error(fmt::format("{} '{}': expected {}", spelled(*this, door), printable(text), form(door)));
   };
   ParamValue v{};
-  switch (kind) {
-    case ParamKind::flag:
-      throw std::logic_error("Param::parse_text: a flag has no text");
-    case ParamKind::choice: {
-      const int i = choice_index(text);
-      if (i < 0) throw UnknownNameError(fmt::format("{} '{}': expected {}", spelled(*this, door), printable(text), form(door)));
-      v[0] = i;
-      return v;
-    }
-    case ParamKind::real:
-    case ParamKind::integer: {
-      const auto x = parse::number(text);
-      if (!x) throw refuse();
-      v[0] = *x;
-      check(*x);
-      return v;
-    }
-    default:
-      break;
+  if (kind == ParamKind::choice) {
+    const int i = choice_index(text);
+    if (i < 0) throw UnknownNameError(fmt::format("{} '{}': expected {}", spelled(*this, door), printable(text), form(door)));
+    v[0] = i;
+    return v;
   }
+  if (parts() == 1) throw std::logic_error("Param::parse_text: " + std::string(name) + " is a number or a switch");
   // The parts, split at the kind's separator: exactly parts() numbers.
   int n = 0;
   std::string_view rest = text;
@@ -277,7 +262,7 @@ std::string ParamUse::reason(const Entry& e, bool only_with_failed, std::string_
   if (p.why.empty()) {
     if (!only_with_failed) return fmt::format("not with {}", spell(word, true));
     std::vector<std::string> spelled_words;
-    for (const auto w : words_of(p.only_with)) spelled_words.push_back(spell(w));
+    for (const auto w : split_words(p.only_with)) spelled_words.push_back(spell(w));
     const std::string alts = alternatives(spelled_words);
     return fmt::format("used only with {} (omit {})", alts, spell(p.name));
   }
@@ -308,10 +293,10 @@ void ParamUse::report_unused() const {
     const std::string head = e.value.empty() ? std::string(spelled(p, door_)) : spell(p.name, true);
     if (!p.only_with.empty()) {
       bool any = false;
-      for (const auto w : words_of(p.only_with)) any = any || holds(w);
+      for (const auto w : split_words(p.only_with)) any = any || holds(w);
       if (!any) throw Error(fmt::format("{}: {}", head, reason(e, true, {})));
     }
-    for (const auto w : words_of(p.not_with))
+    for (const auto w : split_words(p.not_with))
       if (holds(w)) throw Error(fmt::format("{}: {}", head, reason(e, false, w)));
   }
 }

@@ -3,10 +3,7 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <array>
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -14,7 +11,6 @@
 #include <vector>
 
 #include "hydrolux/core/error.hpp"
-#include "hydrolux/core/parse.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/lee_files.hpp"
 #include "hydrolux/scene/environment.hpp"

@@ -18,11 +18,13 @@ using Json = nlohmann::ordered_json;
 
 Json optional_text(std::string_view text) { return text.empty() ? Json(nullptr) : Json(std::string(text)); }
 
-// A number of `kind`: whole for an integer, a size, a choice's index or a flag's 0/1, the real itself otherwise; null where it
-// is not finite (JSON has no infinity) or none (NaN).
+// A number of `kind`: whole for an integer, a size, a choice's index or a flag's 0/1, the real itself
+// otherwise (a real, a span's or a colour's parts); null where it is not finite (JSON has no infinity)
+// or none (NaN).
 Json number(double v, ParamKind kind) {
   if (!std::isfinite(v)) return nullptr;
-  if (kind != ParamKind::real && kind != ParamKind::span && kind != ParamKind::colour && v == std::floor(v) && std::fabs(v) <= 9.007199254740992e15)  // to 2^53
+  const bool whole_kind = kind != ParamKind::real && kind != ParamKind::span && kind != ParamKind::colour;
+  if (whole_kind && v == std::floor(v) && std::fabs(v) <= 9.007199254740992e15)  // to 2^53
     return static_cast<long long>(v);
   return v;
 }
@@ -30,12 +32,7 @@ Json number(double v, ParamKind kind) {
 // "a|b" as ["a", "b"]; empty: [].
 Json word_list(std::string_view text) {
   Json out = Json::array();
-  while (!text.empty()) {
-    const auto bar = text.find('|');
-    out.push_back(std::string(text.substr(0, bar)));
-    if (bar == std::string_view::npos) break;
-    text.remove_prefix(bar + 1);
-  }
+  for (const auto w : split_words(text)) out.push_back(std::string(w));
   return out;
 }
 

@@ -34,7 +34,7 @@ CLI::Option* add_option_for(CLI::App& sub, const ParamInfo& info, const std::str
     default: {
       // A choice's word, or a size's, span's or colour's parts: the library's parser reads and checks the
       // text (its message names the flag), the value stored once the command line has parsed.
-      const auto parse = [&p, flag](const std::string& text) { return p.parse_text(text, Door::cli); };
+      const auto parse = [&p](const std::string& text) { return p.parse_text(text, Door::cli); };
       // The help's type column: "{per-pixel|cube-map}", "WxH in [1, 16384] px".
       const std::string form = p.form(Door::cli);
       const std::string type = p.kind == ParamKind::choice

@@ -33,6 +33,9 @@ enum class ParamKind {
   colour,  // three numbers, "R,G,B"
 };
 
+// The words of "a|b|c" (a choice's words, a condition's words); empty text: none.
+std::vector<std::string_view> split_words(std::string_view text);
+
 // "real", "integer", "flag", "choice", "size", "span", "colour": the kind as the JSON spec and Python name it.
 std::string_view kind_name(ParamKind kind);
 
@@ -92,9 +95,10 @@ struct Param {
   // size, else the number ("25", "0.008").
   std::string value_text(const ParamValue& value, Door door = Door::cli) const;
   std::string value_text(double value) const { return value_text(ParamValue{value}); }
-  // The value a user wrote as text (the CLI's flag, a batch option): a number, a choice's word or the
-  // parts of a size, span or colour, checked. Throws Error "--size '12x': expected WxH, each a whole
-  // number in [1, 16384] px" (UnknownNameError for a word not among a choice's), spelled by `door`.
+  // The value a user wrote as text (the CLI's flag): a choice's word or the parts of a size, span or
+  // colour, checked. Throws Error "--size '12x': expected WxH, each a whole number in [1, 16384] px"
+  // (UnknownNameError for a word not among a choice's), spelled by `door`; the numbers and switches
+  // are each door's own to read (std::logic_error).
   ParamValue parse_text(std::string_view text, Door door) const;
   // Throws DomainError "rain_rate_mmh = 600 is outside [0, 500] mm/h" (quantity: the name) unless the
   // value lies in the range; for an integer also unless it is whole.
