@@ -23,22 +23,18 @@ namespace {
 
 py::dict lee(const std::string& theory, std::optional<std::pair<double, double>> radius_um,
              std::optional<std::pair<double, double>> angle_deg,
-             std::optional<std::pair<py::object, py::object>> size_arg, std::pair<double, double> wavelengths_nm,
+             std::pair<double, double> wavelengths_nm,
              py::handle wavelengths_arg,
              const std::string& shape, const std::string& medium, const std::string& sun,
              const std::string& color_space, const py::dict& options) {
   // The table's named values (atmos::LeeRequest), whose rules and errors the CLI shares
-  // (atmos::make_lee_spec); the whole numbers first, as the CLI's flags (--size's [1, 16384]), then
-  // the declared values (atmos/lee_params.hpp): seed and threads in the table's ranges; the reals'
-  // ranges checked by atmos::validate (which reads them from the table) and the temperature's by the
+  // (atmos::make_lee_spec); the count of wavelengths first, then the declared values
+  // (atmos/lee_params.hpp): the size, seed and threads in the table's ranges; the reals' ranges checked by atmos::validate (which reads them from the table) and the temperature's by the
   // medium, below. None is a value only where the parameter has no default (temperature_c). The
   // drops' shape is parsed by make_lee_spec ("shape 'egg': expected sphere, spheroid:Q ..."), and
   // validate refuses a non-spherical shape without Airy theory of a rainbow ("shape beard-chuang:
   // ..."): both messages name the argument and its value.
   atmos::LeeRequest req;
-  if (size_arg)
-    req.size = {int(whole_arg(size_arg->first, "size[0] (columns)", 1, 16384)),
-                int(whole_arg(size_arg->second, "size[1] (rows)", 1, 16384))};
   const int wavelengths = int(whole_arg(wavelengths_arg, "wavelengths", 0, 2000));
   for (const auto& f : atmos::lee_params())
     if (const py::str key(std::string(f.param.name)); options.contains(key) && options[key].is_none() &&
@@ -86,7 +82,7 @@ py::dict lee(const std::string& theory, std::optional<std::pair<double, double>>
   // The CLI's up-front memory check, the library's one (the same estimate, the same numbers): a table
   // too large for this machine is a ValueError naming size and what would fit, not a process killed.
   atmos::check_table_memory({&s},
-                            size_arg ? fmt::format("({}, {})", s.columns, s.rows)
+                            req.size ? fmt::format("({}, {})", s.columns, s.rows)
                                      : fmt::format("({}, {}) (the default)", s.columns, s.rows),
                             atmos::SizeSyntax::python);
   const atmos::LeeTable t = run_cancellable([&](const ProgressFn& p) { return atmos::compute_lee_table(s, p); });
@@ -129,7 +125,7 @@ py::dict lee(const std::string& theory, std::optional<std::pair<double, double>>
 }  // namespace
 
 void bind_atmos(py::module_& m) {
-  m.def("lee", &lee, py::arg("theory"), py::arg("radius_um"), py::arg("angle_deg"), py::arg("size"),
+  m.def("lee", &lee, py::arg("theory"), py::arg("radius_um"), py::arg("angle_deg"),
         py::arg("wavelengths_nm"), py::arg("wavelengths"),
         py::arg("shape"), py::arg("medium"), py::arg("sun"), py::arg("color_space"), py::arg("options"));
 }

@@ -20,9 +20,7 @@ py::dict fog(const py::array& image, std::optional<py::array> depth, std::option
              const py::dict& kw) {
   rain::FogOptions o;
   apply_kwargs(o, kw, rain::fog_params());
-  if (!o.settings.visibility_m && !o.settings.lwc_g_m3)
-    throw Error("visibility_m: give the fog's visibility in metres (Koschmieder), or lwc_g_m3 for Mie over the droplets");
-  if (o.settings.visibility_m && o.settings.lwc_g_m3) throw Error("lwc_g_m3: give visibility_m or lwc_g_m3, not both");
+  rain::validate(o.settings);
   const Image frame = to_image(image, "image");
   if (frame.channels < 3) throw Error(fmt::format("image: {} channels; fog needs RGB (H, W, 3 or more)", frame.channels));
   if (frame.width < rain::kMinFrameSide || frame.height < rain::kMinFrameSide)

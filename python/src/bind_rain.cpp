@@ -31,14 +31,7 @@ rain::RainOptions rain_options(const py::dict& kw) {
 // The camera for a frame of width x height, as hydrolux rain makes it from its flags.
 rain::RainCamera rain_camera(const rain::RainOptions& o, int width, int height) {
   const rain::RainCamera c = rain::camera_for(o, width, height);
-  try {
-    rain::validate(c);
-  } catch (const DomainError& e) {
-    if (e.quantity() == "sensor_width_mm" && o.pixel_pitch_um)
-      throw Error(fmt::format("pixel_pitch_um = {:g}: x {} px gives a sensor {:g} mm wide, outside [{:g}, {:g}] mm",
-                              *o.pixel_pitch_um, width, e.value(), e.lo(), e.hi()));
-    throw;
-  }
+  rain::validate(c);
   return c;
 }
 
@@ -55,21 +48,14 @@ class PyRainRenderer {
     const rain::RainOptions o = rain_options(kw);
     const rain::RainSettings& s = o.settings;
     rain::validate(s);
-    if (const auto name = rain::fog_setting_without_fog(o); !name.empty())
-      throw Error(fmt::format("{}: sets the fog; give visibility_m or lwc_g_m3 with it", name));
+    rain::refuse_fog_settings_without_fog(o);
     const rain::RainCamera c = rain_camera(o, width, height);
     // The library's memory check for a frame of this size (3 colour channels, a layer possible), as the
     // CLI's job makes it: a renderer whose frames cannot fit is refused before its field is built.
     rain::check_render_memory(c, 3, true, fmt::format("width, height ({}, {})", width, height));
     py::gil_scoped_release release;
-    try {
-      renderer_ = std::make_unique<rain::RainRenderer>(rain::RainField(s, c, ground_plane));
-      if (o.has_fog()) renderer_->set_fog(o.fog);
-    } catch (const rain::TooManyDrops& e) {
-      throw Error(fmt::format("min_alpha {:g}: the rain field would hold {:.3g} drops, more than the limit of {:.3g}; "
-                              "raise min_alpha, near_m or min_radius_mm, or lower far_m or rain_rate_mmh",
-                              s.min_alpha, e.drops(), double(rain::RainField::kMaxDrops)));
-    }
+    renderer_ = std::make_unique<rain::RainRenderer>(rain::RainField(s, c, ground_plane));
+    if (o.has_fog()) renderer_->set_fog(o.fog);
   }
 
   py::dict render(const py::array& image, std::optional<py::array> depth, py::handle frame_arg, bool with_layer) {

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include <atomic>
 #include <chrono>
@@ -33,6 +34,24 @@ struct Cancelled : std::exception {
   const char* what() const noexcept override { return "cancelled"; }
 };
 
+// A ValueError for a library error that names parameters (DomainError, ParamError), with what a door
+// other than Python's keywords needs to say it in its own words, no text rewritten: `quantity`, the
+// one refused (None for a ParamError), and `said(spellings)`, the message with each parameter spelled
+// by the dict (the batch jobs' {"near_m": "--near-m", ...}; a name it lacks stays as it is).
+template <class Said>
+void set_value_error(const Error& e, Said said, const std::string& quantity) {
+  py::object error = py::reinterpret_steal<py::object>(PyObject_CallFunction(PyExc_ValueError, "s", e.what()));
+  if (!error) return;  // the call's own exception stands
+  error.attr("quantity") = quantity.empty() ? py::object(py::none()) : py::object(py::str(quantity));
+  error.attr("said") = py::cpp_function([said](const std::map<std::string, std::string>& spellings) {
+    return said([&](std::string_view q) {
+      const auto it = spellings.find(std::string(q));
+      return it == spellings.end() ? std::string(q) : it->second;
+    });
+  });
+  PyErr_SetObject(PyExc_ValueError, error.ptr());
+}
+
 // hydrolux's errors as Python's: a value out of range or an unknown name is a ValueError, a file
 // problem an OSError (FileNotFoundError for a missing input).
 inline void register_errors() {
@@ -49,6 +68,10 @@ inline void register_errors() {
                       what.c_str());
     } catch (const IoFailure& e) {
       PyErr_SetString(PyExc_OSError, e.what());
+    } catch (const DomainError& e) {
+      set_value_error(e, [e](const Spelling& spell) { return e.said(spell); }, e.quantity());
+    } catch (const ParamError& e) {
+      set_value_error(e, [e](const Spelling& spell) { return e.said(spell); }, {});
     } catch (const Error& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }
@@ -66,8 +89,7 @@ struct ArgName {
   const auto it = names.find(e.quantity());
   if (it == names.end()) throw e;
   const double s = it->second.scale;
-  throw Error(fmt::format("{} = {:g} is outside [{:g}, {:g}]{}", it->second.arg, e.value() * s, e.lo() * s, e.hi() * s,
-                          e.context().empty() ? std::string() : ", the valid range of " + e.context()));
+  throw Error(DomainError(it->second.arg, e.value() * s, e.lo() * s, e.hi() * s, e.context()).what());
 }
 
 // A ValueError naming the argument, its value and the valid range.

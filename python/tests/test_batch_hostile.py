@@ -351,9 +351,10 @@ def test_a_setting_out_of_its_derived_range_names_the_flags(frames, tmp_path, ca
     named the library's near_m; and --crf or --depth-scale-m given where nothing uses them was ignored."""
     out = tmp_path / "o"
     argv = ["rain", "--input-dir", str(frames), "--output-dir", str(out), "--workers", "1", "-q"]
-    for extra, text in ((["--fov-deg", "1"], "--fov-deg = 1 is outside [1.0313, 170], the valid range of a 36 mm "
+    for extra, text in ((["--fov-deg", "1"], "--fov-deg 1 is outside the valid range [1.0313, 170] deg of a 36 mm "
                                              "wide sensor (focal lengths 1-2000 mm)"),
-                        (["--near-m", "5", "--far-m", "2"], "(beyond --near-m)"),
+                        (["--near-m", "5", "--far-m", "2"], "--far-m 2 is outside the valid range [5.005, 10000] m "
+                                                            "(beyond --near-m)"),
                         (["--crf", "20"], "--crf 20: sets the H.264 quality of --video's output; pictures have none"),
                         (["--depth-scale-m", "0.01"], "--depth-scale-m 0.01: scales the codes of PNG depth maps; "
                                                       "none is given")):

@@ -360,7 +360,7 @@ def test_image_files_round_trip(tmp_path):
     (lambda: h.mie(1.333, 1.0, angles_deg="0:180"), "angles_deg"),
     (lambda: h.SizeDistribution.gamma(-1.0, 0.1), "mean_radius_m"),
     (lambda: h.SizeDistribution.gamma(1e-5, 0.1).quadrature(0), "nodes: 0 is outside the valid range [1, 4096]"),
-    (lambda: h.lee(size=(0, 10)), "size[0] (columns): 0 is outside the valid range [1, 16384]"),
+    (lambda: h.lee(size=(0, 10)), "size[0]: 0 is outside the valid range [1, 16384] px"),
     (lambda: h.lee(table="halo"), "table 'halo'"),
     (lambda: h.lee(theory="magic"), "theory 'magic'"),
     (lambda: h.lee(temperature_c=200), "temperature_c = 200"),

@@ -5,19 +5,69 @@
 namespace hydrolux {
 
 namespace {
-// A context that states a relation to another quantity ("beyond near_m", "at most 1 / fps") follows
+// A context that states a relation to another quantity ("beyond {near_m}", "at most 1 / {fps}") follows
 // the range in parentheses; one that names what the range belongs to ("water (IAPWS R9-97)") with "of".
 bool is_relation(const std::string& context) {
   return context.rfind("beyond ", 0) == 0 || context.rfind("at most ", 0) == 0 || context.rfind("at least ", 0) == 0;
 }
 
+bool is_name_char(char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; }
+
+// Calls `name(q)` for each quantity {q} of `context` and `text(t)` for the text between them; "{{" and
+// "}}" are a brace of the text (escape_braces).
+template <class Text, class Name>
+void scan(std::string_view context, Text&& text, Name&& name) {
+  std::size_t at = 0;
+  while (at < context.size()) {
+    const auto open = context.find_first_of("{}", at);
+    if (open == std::string_view::npos) {
+      text(context.substr(at));
+      return;
+    }
+    text(context.substr(at, open - at));
+    if (open + 1 < context.size() && context[open + 1] == context[open]) {  // "{{" or "}}"
+      text(context.substr(open, 1));
+      at = open + 2;
+      continue;
+    }
+    const auto close = context[open] == '{' ? context.find('}', open) : std::string_view::npos;
+    bool quantity = close != std::string_view::npos && close > open + 1;
+    for (std::size_t i = open + 1; quantity && i < close; ++i) quantity = is_name_char(context[i]);
+    if (!quantity) {  // a lone brace
+      text(context.substr(open, 1));
+      at = open + 1;
+      continue;
+    }
+    name(context.substr(open + 1, close - open - 1));
+    at = close + 1;
+  }
+}
+
 std::string message(const std::string& quantity, double value, double lo, double hi,
                     const std::string& context) {
   std::string m = fmt::format("{} = {:g} is outside [{:g}, {:g}]", quantity, value, lo, hi);
-  if (!context.empty()) m += is_relation(context) ? fmt::format(" ({})", context) : fmt::format(", the valid range of {}", context);
+  const std::string c = spell_quantities(context, {});
+  if (!c.empty()) m += is_relation(c) ? fmt::format(" ({})", c) : fmt::format(", the valid range of {}", c);
   return m;
 }
 }  // namespace
+
+std::string spell_quantities(std::string_view text, const Spelling& spell) {
+  std::string out;
+  scan(text, [&](std::string_view t) { out += t; }, [&](std::string_view q) { out += spell ? spell(q) : std::string(q); });
+  return out;
+}
+
+std::string escape_braces(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    out += c;
+    if (c == '{' || c == '}') out += c;
+  }
+  return out;
+}
+
+ParamError::ParamError(std::string text) : Error(spell_quantities(text, {})), text_(std::move(text)) {}
 
 DomainError::DomainError(std::string quantity, double value, double lo, double hi,
                          std::string context)
@@ -28,28 +78,40 @@ DomainError::DomainError(std::string quantity, double value, double lo, double h
       hi_(hi),
       context_(std::move(context)) {}
 
-DomainError::DomainError(Whole, std::string message, std::string quantity, double value, double lo, double hi)
-    : Error(std::move(message)), quantity_(std::move(quantity)), value_(value), lo_(lo), hi_(hi) {}
+DomainError::DomainError(Whole, std::string message, std::string quantity, double value, double lo, double hi,
+                         std::string unit)
+    : Error(std::move(message)), quantity_(std::move(quantity)), value_(value), lo_(lo), hi_(hi), unit_(std::move(unit)) {}
 
 DomainError DomainError::with_message(std::string message, std::string quantity, double value, double lo,
-                                      double hi) {
-  return DomainError(Whole{}, std::move(message), std::move(quantity), value, lo, hi);
+                                      double hi, std::string unit) {
+  return DomainError(Whole{}, std::move(message), std::move(quantity), value, lo, hi, std::move(unit));
 }
 
-std::string DomainError::range_text() const {
-  // The unit is the quantity's suffix when it names one: wavelength_nm -> nm, theta_deg -> deg,
-  // temperature_c -> C (m_imag has none).
-  std::string unit;
-  if (const auto us = quantity_.rfind('_'); us != std::string::npos) {
+std::vector<std::string> DomainError::related() const {
+  std::vector<std::string> out;
+  scan(context_, [](std::string_view) {}, [&](std::string_view q) { out.emplace_back(q); });
+  return out;
+}
+
+std::string DomainError::range_text(const Spelling& spell) const {
+  // The unit: the one given, else the quantity's suffix when it names one: wavelength_nm -> nm,
+  // theta_deg -> deg, temperature_c -> C (m_imag has none).
+  std::string unit = unit_.empty() ? std::string() : " " + unit_;
+  if (const auto us = quantity_.rfind('_'); unit.empty() && us != std::string::npos) {
     const std::string suffix = quantity_.substr(us + 1);
-    for (const char* u : {"nm", "um", "mm", "deg", "rad", "s"})
+    for (const char* u : {"nm", "um", "mm", "m", "deg", "rad", "s"})
       if (suffix == u) unit = " " + suffix;
     if (suffix == "c") unit = " C";
     if (suffix == "mmh") unit = " mm/h";  // rain_rate_mmh
   }
   std::string m = fmt::format("outside the valid range [{:g}, {:g}]{}", lo_, hi_, unit);
-  if (!context_.empty()) m += is_relation(context_) ? fmt::format(" ({})", context_) : fmt::format(" of {}", context_);
+  const std::string c = spell_quantities(context_, spell);
+  if (!c.empty()) m += is_relation(c) ? fmt::format(" ({})", c) : fmt::format(" of {}", c);
   return m;
+}
+
+std::string DomainError::said(const Spelling& spell) const {
+  return fmt::format("{} {:g} is {}", spell ? spell(quantity_) : quantity_, value_, range_text(spell));
 }
 
 void require_in_range(const char* quantity, double value, double lo, double hi,

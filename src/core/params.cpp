@@ -162,7 +162,7 @@ void Param::check(double value) const {
     throw UnknownNameError(fmt::format("{} = {:g}: not the index of one of {}", name, value, range_text()));
   const std::string what = fmt::format("{} = {:g} is {} {}", name, value,
                                        whole ? "outside" : "not a whole number in", range_text());
-  throw DomainError::with_message(what, std::string(name), value, lo, hi);
+  throw DomainError::with_message(what, std::string(name), value, lo, hi, std::string(unit));
 }
 
 void Param::check(const ParamValue& value, Door door) const {

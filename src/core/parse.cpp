@@ -180,19 +180,4 @@ void require_strictly_monotonic(std::span<const double> values) {
   }
 }
 
-std::string replace_word(std::string text, std::string_view word, std::string_view by) {
-  if (word.empty()) return text;
-  const auto in_name = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; };
-  for (std::size_t pos = 0; (pos = text.find(word, pos)) != std::string::npos;) {
-    const std::size_t end = pos + word.size();
-    if ((pos > 0 && in_name(text[pos - 1])) || (end < text.size() && in_name(text[end]))) {
-      pos = end;
-      continue;
-    }
-    text.replace(pos, word.size(), by);
-    pos += by.size();
-  }
-  return text;
-}
-
 }  // namespace hydrolux::parse

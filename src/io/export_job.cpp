@@ -16,6 +16,11 @@ namespace hydrolux::io {
 
 namespace {
 
+// --size as the user wrote it ("512x1024"); empty where it was not given.
+std::string size_text(const std::optional<std::array<int, 2>>& size) {
+  return size ? fmt::format("{}x{}", (*size)[0], (*size)[1]) : std::string();
+}
+
 constexpr int kMaxCoronaRows = 16384;  // atmos::validate's largest side
 
 // Non-spherical drops: the position-dependent rainbow table besides the spheres' (scene/bow_tables.hpp).
@@ -37,7 +42,7 @@ void shaped_table(const ExportJob& job, ExportTables& t) {
   if (t.rainbow.rows > scene::kShapedTableMaxRows)
     throw Error(fmt::format("--size {}: with --shape the rainbow's rows are also the 3-D table's, whose side is at "
                             "most {} (a 3-D texture's); H is at most {} with --shape",
-                            job.size.value_or(""), scene::kShapedTableMaxRows, scene::kShapedTableMaxRows));
+                            size_text(job.options.size), scene::kShapedTableMaxRows, scene::kShapedTableMaxRows));
   t.shaped = scene::shaped_table_spec(t.rainbow, t.shape, o.sun_elevation_deg);
   atmos::validate(*t.shaped);
 }
@@ -49,16 +54,16 @@ ExportTables export_tables(const ExportJob& job) {
   // The scene's tables (scene/bow_tables.hpp): --radius-um makes them one column, --size W columns
   // and H rows (the corona 2H).
   int columns = 0, rows = scene::kBowTableRows;
-  if (job.size_wh) {
-    columns = (*job.size_wh)[0];
-    rows = (*job.size_wh)[1];
+  if (o.size) {
+    columns = (*o.size)[0];
+    rows = (*o.size)[1];
   }
   ExportTables t;
   atmos::LeeSpec& rainbow = t.rainbow;
   atmos::LeeSpec& corona = t.corona;
   rainbow = scene::bow_table_spec(atmos::LeeTableKind::rainbow, o.radius_um, rows);
   corona = scene::bow_table_spec(atmos::LeeTableKind::corona, o.radius_um, rows);
-  if (job.size_wh) rainbow.columns = corona.columns = columns;
+  if (o.size) rainbow.columns = corona.columns = columns;
   try {
     rainbow.theory = corona.theory = scatter::parse_theory(job.theory);
   } catch (const Error& e) {
@@ -72,14 +77,14 @@ ExportTables export_tables(const ExportJob& job) {
       throw Error(fmt::format("--radius-um {:g} is outside the valid range [{:g}, {:g}] um for --theory {} (the "
                               "largest drops of the 10% spread at 380 nm reach the theory's size parameter limit)",
                               *o.radius_um, atmos::kMinRadiusUm, rmax, scatter::theory_name(rainbow.theory)));
-    if (job.size_wh && columns != 1)
-      throw Error(fmt::format("--size {}: one --radius-um makes one column; give --size 1x{}", job.size.value_or(""),
+    if (o.size && columns != 1)
+      throw Error(fmt::format("--size {}: one --radius-um makes one column; give --size 1x{}", size_text(job.options.size),
                               rows));
   }
-  if (job.size_wh && t.with_corona && corona.rows > kMaxCoronaRows)
+  if (o.size && t.with_corona && corona.rows > kMaxCoronaRows)
     throw Error(fmt::format("--size {}: the corona table has twice H's rows ({}); H is at most {} (valid range "
                             "[1, {}] with the corona, which --radius-um above {:g} um leaves out)",
-                            job.size.value_or(""), corona.rows, kMaxCoronaRows / 2, kMaxCoronaRows / 2,
+                            size_text(job.options.size), corona.rows, kMaxCoronaRows / 2, kMaxCoronaRows / 2,
                             scene::kCoronaMaxRadiusUm));
   rainbow.sampling = corona.sampling = o.sampling;
   // The Stokes Q too (1.04x the time of I alone, BENCHMARKS.md): the tables' EXR gains Q.X, Q.Y, Q.Z
@@ -99,7 +104,7 @@ ExportJobResult run_export_job(const ExportJob& job, const ExportJobHooks& h) {
   if (t.with_corona) specs.push_back(&t.corona);
   if (t.shaped) specs.push_back(&*t.shaped);
   atmos::check_table_memory(
-      specs, job.size ? *job.size : fmt::format("{}x{} (the default)", t.rainbow.columns, t.rainbow.rows),
+      specs, job.options.size ? size_text(job.options.size) : fmt::format("{}x{} (the default)", t.rainbow.columns, t.rainbow.rows),
       atmos::SizeSyntax::cli);
   (void)scene::make_sun_sky(0, o.turbidity);  // checks the turbidity
 

@@ -35,9 +35,7 @@ class FogEffect final : public FrameEffect {
   // The library's quantity names -> the flags (a DomainError from validate() names the quantity).
   void validate() override {
     const auto& s = a_.options.settings;
-    if (!s.visibility_m && !s.lwc_g_m3)
-      throw Error(
-          "--visibility-m: give the fog's visibility in metres (Koschmieder), or --lwc-g-m3 for Mie over the droplets");
+    rain::validate(s);
     optics_ = rain::fog_optics(s);
   }
   // A frame too large for the memory left, refused from its header, naming what would fit.

@@ -20,6 +20,9 @@ namespace hydrolux::io {
 
 namespace {
 
+// --size as the user wrote it: "512x1024".
+std::string size_text(const std::array<int, 2>& size) { return fmt::format("{}x{}", size[0], size[1]); }
+
 // "A:B" (or one value A, when `single_ok`), A <= B.
 std::array<double, 2> parse_span(const std::string& text, const std::string& flag, const std::string& unit,
                                  bool single_ok) {
@@ -140,7 +143,8 @@ void check_lee_job(const LeeJob& job, atmos::LeeSpec& s) {
                               scatter::theory_name(s.theory), s.size_spread, s.wavelength_min_nm));
   }
   atmos::validate(s);
-  atmos::check_table_memory({&s}, job.size ? *job.size : fmt::format("{}x{} (the default)", s.columns, s.rows),
+  atmos::check_table_memory({&s}, job.request.size ? size_text(*job.request.size)
+                                                  : fmt::format("{}x{} (the default)", s.columns, s.rows),
                             atmos::SizeSyntax::cli);
   if (!job.json && job.output.empty())
     throw Error("-o is required (a .exr path, or .nc for NetCDF), unless --json prints a profile");
@@ -176,7 +180,8 @@ atmos::LeeSpec lee_job_spec(const LeeJob& job) {
   } catch (const atmos::LeeShapeError& e) {  // said in the flags' words
     if (e.rule() == atmos::LeeShapeError::Rule::one_radius_columns)
       throw Error(fmt::format("--size {}: a single --radius-um {} makes one column; give --size 1x{}",
-                              job.size.value_or(""), job.radius_um.value_or(""), e.rows()));
+                              job.request.size ? size_text(*job.request.size) : std::string(),
+                              job.radius_um.value_or(""), e.rows()));
     throw Error(fmt::format("--angle-deg {}: a table of {} rows needs A < B (or --size Wx1 for one angle)",
                             job.angle_deg.value_or(""), e.rows()));
   }

@@ -39,8 +39,7 @@ class RainEffect final : public FrameEffect {
 
   const EffectTraits& traits() const override { return rain_traits(); }
   void check_options(const FrameRequest&) const override {
-    if (const auto name = rain::fog_setting_without_fog(a_.options); !name.empty())
-      throw Error(fmt::format("{}: sets the fog; give --visibility-m or --lwc-g-m3 with it", rain::rain_param(name).flag));
+    rain::refuse_fog_settings_without_fog(a_.options);
   }
   void check_mode(const FrameRequest& r, FrameMode mode) const override {
     if (mode == FrameMode::image && a_.size && !synthetic(r))
@@ -101,18 +100,11 @@ class RainEffect final : public FrameEffect {
   }
 
  private:
-  // The renderer for one camera, with the library's "too many drops" said in the flags.
+  // The renderer for one camera (the library's TooManyDrops names the settings to change).
   rain::RainRenderer make_renderer(const rain::RainCamera& cam, bool ground_plane) const {
-    try {
-      rain::RainRenderer r(rain::RainField(a_.options.settings, cam, ground_plane));
-      if (a_.options.has_fog()) r.set_fog(a_.options.fog);
-      return r;
-    } catch (const rain::TooManyDrops& e) {
-      throw Error(fmt::format(
-          "--min-alpha {:g}: the rain field would hold {:.3g} drops, more than the limit of {:.3g}; "
-          "raise --min-alpha, --near-m or --min-radius-mm, or lower --far-m or --rain-rate-mmh",
-          a_.options.settings.min_alpha, e.drops(), double(rain::RainField::kMaxDrops)));
-    }
+    rain::RainRenderer r(rain::RainField(a_.options.settings, cam, ground_plane));
+    if (a_.options.has_fog()) r.set_fog(a_.options.fog);
+    return r;
   }
 
   const RainJob& a_;

@@ -70,7 +70,7 @@ void validate(const RainCamera& c) {
   if (c.f_number != 0) require_in_range("focus_m", c.focus_m, c.focal_mm * 1e-3 * 1.01, rain_param("focus_m").hi);
   rain_param("fps").check(c.fps);
   require_in_range("exposure_s", c.exposure_s, rain_param("exposure_s").lo, 1.0 / c.fps,
-                   "at most one frame interval, 1 / fps");
+                   "at most one frame interval, 1 / {fps}");
   rain_param("camera_height_m").check(c.height_m);
   rain_param("pitch_deg").check(c.pitch_deg);
 }
@@ -81,9 +81,9 @@ void validate(const RainSettings& s) {
   RainOptions declared;
   declared.settings = s;
   check_fields(rain_params(), declared);
-  require_in_range("far_m", s.far_m, s.near_m * 1.001, rain_param("far_m").hi, "beyond near_m");
+  require_in_range("far_m", s.far_m, s.near_m * 1.001, rain_param("far_m").hi, "beyond {near_m}");
   require_in_range("max_radius_mm", s.max_radius_mm, s.min_radius_mm * 1.001, rain_param("max_radius_mm").hi,
-                   "beyond min_radius_mm");
+                   "beyond {min_radius_mm}");
   require_in_range("refractive_index", s.refractive_index, 1.01, 3);
 }
 
@@ -121,6 +121,16 @@ double detail::peak_alpha(double r, double R, double L) {
 }
 
 // ---- the field ------------------------------------------------------------------------------
+
+namespace {
+// A field of `drops` drops, over the limit: the settings that bound it named for each door to spell.
+TooManyDrops too_many_drops(double drops, double min_alpha) {
+  return TooManyDrops(drops, fmt::format("{{min_alpha}} {:g}: the rain field would hold {:.3g} drops, more than the "
+                                         "limit of {:.3g}; raise {{min_alpha}}, {{near_m}} or {{min_radius_mm}}, or "
+                                         "lower {{far_m}} or {{rain_rate_mmh}}",
+                                         min_alpha, drops, double(RainField::kMaxDrops)));
+}
+}  // namespace
 
 RainField::RainField(const RainSettings& settings, const RainCamera& camera, bool ground_plane)
     : s_(settings), c_(camera), ground_plane_(ground_plane) {
@@ -202,12 +212,7 @@ RainField::RainField(const RainSettings& settings, const RainCamera& camera, boo
     rc.box_size = hi - lo;
     rc.box_inv_size = 1.0 / rc.box_size;
     const double mean = rc.number_per_m3 * rc.box_size.x * rc.box_size.y * rc.box_size.z;
-    if (mean > double(kMaxDrops)) {
-      throw TooManyDrops(mean, fmt::format(
-          "the rain field would hold {:.3g} drops, more than the limit of {:.3g}; raise the smallest resolved "
-          "alpha (min_alpha), the near distance or the smallest drawn radius, or lower the far distance",
-          mean, double(kMaxDrops)));
-    }
+    if (mean > double(kMaxDrops)) throw too_many_drops(mean, s_.min_alpha);
     // An unbiased whole count from the hash: floor(mean + u).
     rc.count = std::uint64_t(std::floor(mean + detail::unit(detail::hash(s_.seed, 0xC1A55ULL + std::uint64_t(i)))));
   }
@@ -215,10 +220,7 @@ RainField::RainField(const RainSettings& settings, const RainCamera& camera, boo
     rc.first_index = total_;
     total_ += rc.count;
   }
-  if (double(total_) > double(kMaxDrops))
-    throw TooManyDrops(double(total_), fmt::format("the rain field would hold {} drops, more than the limit of {:.3g}; raise the smallest "
-                            "resolved alpha (min_alpha), the near distance or the smallest drawn radius",
-                            total_, double(kMaxDrops)));
+  if (double(total_) > double(kMaxDrops)) throw too_many_drops(double(total_), s_.min_alpha);
 }
 
 std::size_t RainField::class_of(std::uint64_t index) const {

@@ -48,8 +48,9 @@ void validate(const FogSettings& s) {
     if (!std::isnan(v)) f.param.check(v);
   }
   if (s.visibility_m.has_value() == s.lwc_g_m3.has_value())
-    throw Error(s.visibility_m ? "fog: give either visibility_m or lwc_g_m3, not both"
-                               : "fog: give visibility_m (Koschmieder) or lwc_g_m3 (Mie over the droplets)");
+    throw ParamError(s.visibility_m ? "{lwc_g_m3}: give {visibility_m} or {lwc_g_m3}, not both"
+                                    : "{visibility_m}: give the fog's visibility in metres (Koschmieder), or "
+                                      "{lwc_g_m3} for Mie over the droplets");
 }
 
 scatter::SizeDistribution fog_distribution(const FogSettings& s) {

@@ -45,7 +45,7 @@ void validate(const LensDropSettings& s) {
     if (!std::isnan(v) || f.param.name != "coverage") f.param.check(v);
   }
   if (s.min_radius_mm > s.max_radius_mm)
-    throw DomainError("max_radius_mm", s.max_radius_mm, s.min_radius_mm, 10, "at least min_radius_mm");
+    throw DomainError("max_radius_mm", s.max_radius_mm, s.min_radius_mm, 10, "at least {min_radius_mm}");
   if (s.f_number > 0 && s.focus_m * 1e3 <= s.focal_mm)
     throw DomainError("focus_m", s.focus_m, s.focal_mm * 1e-3, 1e4, "beyond the focal length");
   // The glass' circle of confusion at most the sensor's width: beyond it every drop would be spread
@@ -55,8 +55,8 @@ void validate(const LensDropSettings& s) {
   const double c = circle_of_confusion_mm(s.focal_mm, s.f_number, s.focus_m, s.glass_distance_m);
   if (c > s.sensor_width_mm)
     throw DomainError("f_number", s.f_number, s.f_number * c / s.sensor_width_mm, 64,
-                      fmt::format("at least where the glass' circle of confusion, {:.3g} mm with focus_m = {:g} and "
-                                  "glass_distance_m = {:g}, is no wider than the sensor ({:g} mm); or 0, a pinhole",
+                      fmt::format("at least where the glass' circle of confusion, {:.3g} mm with {{focus_m}} = {:g} and "
+                                  "{{glass_distance_m}} = {:g}, is no wider than the sensor ({:g} mm); or 0, a pinhole",
                                   c, s.focus_m, s.glass_distance_m, s.sensor_width_mm));
 }
 
@@ -310,7 +310,7 @@ std::vector<LensCap> place_lens_drops(const LensDropSettings& s, int width, int 
   if (wanted > double(kMaxPlacedDrops))
     throw DomainError(s.coverage ? "coverage" : "drops", s.coverage ? *s.coverage : double(s.drops), 0,
                       s.coverage ? *s.coverage * kMaxPlacedDrops / wanted : in_view * kMaxPlacedDrops / wanted,
-                      "at most a million footprints on the glass in view and its margin; raise min_radius_mm");
+                      "at most a million footprints on the glass in view and its margin; raise {min_radius_mm}");
   const auto n = std::size_t(wanted);
   const double contact = s.contact_angle_deg * kPi / 180;
   Rng rng(s.seed);

@@ -1,10 +1,13 @@
 #include "hydrolux/rain/params.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
+#include "hydrolux/core/error.hpp"
 #include "hydrolux/core/shared_params.hpp"
 
 namespace hydrolux::rain {
@@ -113,19 +116,27 @@ const Param& rain_param(std::string_view name) {
   throw std::logic_error("rain_param: no parameter " + std::string(name));
 }
 
-std::string_view fog_setting_without_fog(const RainOptions& o) {
-  if (o.has_fog()) return {};
+void refuse_fog_settings_without_fog(const RainOptions& o) {
+  if (o.has_fog()) return;
   const RainOptions defaults;
   for (const auto& f : rain_params())
-    if (f.param.group == "fog" && f.get(o) != f.get(defaults) && !std::isnan(f.get(o))) return f.param.name;
-  return {};
+    if (f.param.group == "fog" && f.get(o) != f.get(defaults) && !std::isnan(f.get(o)))
+      throw ParamError(fmt::format("{{{}}}: sets the fog; give {{visibility_m}} or {{lwc_g_m3}} with it", f.param.name));
 }
 
 RainCamera camera_for(const RainOptions& o, int width, int height) {
   RainCamera c = o.camera;
   c.width = width;
   c.height = height;
-  if (o.pixel_pitch_um) c.sensor_width_mm = *o.pixel_pitch_um * 1e-3 * width;
+  if (o.pixel_pitch_um && width > 0) {
+    // The sensor the pitch makes, in the sensor width's range: said as the pitch, the value given.
+    const Param& sensor = rain_param("sensor_width_mm");
+    c.sensor_width_mm = *o.pixel_pitch_um * 1e-3 * width;
+    if (!(c.sensor_width_mm >= sensor.lo && c.sensor_width_mm <= sensor.hi))
+      throw DomainError("pixel_pitch_um", *o.pixel_pitch_um, sensor.lo * 1e3 / width, sensor.hi * 1e3 / width,
+                        fmt::format("a {{sensor_width_mm}} in [{:g}, {:g}] mm over a frame {} px wide", sensor.lo,
+                                    sensor.hi, width));
+  }
   if (o.fov_deg) c.focal_mm = focal_mm_from_fov(*o.fov_deg, c.sensor_width_mm);
   if (o.fps) c.fps = *o.fps;
   return c;

@@ -15,10 +15,6 @@ namespace hydrolux::scatter {
 
 namespace {
 
-std::string message(PhaseJobError::Field field, const std::string& rest) {
-  return std::string(PhaseJobError::field_name(field)) + rest;
-}
-
 // --size-distribution's quadrature over radius and its description.
 std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
   using Field = PhaseJobError::Field;
@@ -26,13 +22,13 @@ std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
   try {
     spec = parse_size_distribution(job.size_distribution);
   } catch (const Error& e) {
-    throw PhaseJobError(Field::size_distribution, fmt::format(" {}", e.what()));
+    throw PhaseJobError(Field::size_distribution, " " + escape_braces(e.what()));
   }
   const int nodes = job.numbers.nodes;
   if (spec.kind == SizeDistributionKind::marshall_palmer) {
     if (job.radius_um)
       throw PhaseJobError(Field::radius_um,
-                          fmt::format(" {:g}: size_distribution {} sets its own radii ({:g}-{:g} um); omit radius_um, "
+                          fmt::format(" {:g}: {{size_distribution}} {} sets its own radii ({:g}-{:g} um); omit {{radius_um}}, "
                                       "or give mono, gamma:W or lognormal:W for drops of that radius",
                                       *job.radius_um, job.size_distribution, kPhaseRainMinRadiusUm,
                                       kPhaseRainMaxRadiusUm),
@@ -60,23 +56,13 @@ std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
 
 }  // namespace
 
-PhaseJobError::PhaseJobError(Field field, std::string rest, std::optional<Field> also)
-    : Error(message(field, rest)), field_(field), also_(also), rest_(std::move(rest)) {}
-
-std::string PhaseJobError::worded(std::string_view name, std::string_view also_name) const {
-  std::string rest = rest_;
-  if (also_) {
-    // The message's own text names both fields by their library names, as whole words.
-    rest = parse::replace_word(std::move(rest), field_name(field_), name);
-    rest = parse::replace_word(std::move(rest), field_name(*also_), also_name);
-  }
-  return std::string(name) + rest;
-}
+PhaseJobError::PhaseJobError(Field field, std::string_view rest, std::optional<Field> also)
+    : ParamError(fmt::format("{{{}}}{}", field_name(field), rest)), field_(field), also_(also) {}
 
 PhaseJobError one_radius_nodes_error(int nodes, std::string_view size_distribution) {
   return PhaseJobError(PhaseJobError::Field::nodes,
-                       fmt::format(" {}: size_distribution {} is one radius, with nothing to average; nodes sets the "
-                                   "radii of gamma:W, lognormal:W and marshall-palmer:H (omit nodes)",
+                       fmt::format(" {}: {{size_distribution}} {} is one radius, with nothing to average; {{nodes}} sets "
+                                   "the radii of gamma:W, lognormal:W and marshall-palmer:H (omit {{nodes}})",
                                    nodes, size_distribution),
                        PhaseJobError::Field::size_distribution);
 }
@@ -95,7 +81,7 @@ Theory phase_theory(std::string_view text) {
   try {
     return parse_theory(text);
   } catch (const UnknownNameError& e) {
-    throw PhaseJobError(PhaseJobError::Field::theory, fmt::format(": {}", e.what()));
+    throw PhaseJobError(PhaseJobError::Field::theory, ": " + escape_braces(e.what()));
   }
 }
 
@@ -110,13 +96,13 @@ PhasePlan plan_phase(PhaseJob job) {
   const auto& outside = *job.surrounding;
   if (const auto& t = job.numbers.temperature_c;
       t && !sphere.info().temperature_dependent && !outside.info().temperature_dependent)
-    throw Error(fmt::format("temperature_c {:g}: neither {} nor {} has a temperature model", *t, sphere.info().name,
+    throw ParamError(fmt::format("{{temperature_c}} {:g}: neither {} nor {} has a temperature model", *t, sphere.info().name,
                             outside.info().name));
   for (const double a : job.angles_deg) require_in_range("angles_deg", a, 0.0, 180.0);
   try {
     parse::require_strictly_monotonic(job.angles_deg);  // the output's rows, a NetCDF coordinate
   } catch (const Error& e) {
-    throw Error(fmt::format("angles_deg: {}", e.what()));
+    throw ParamError("{angles_deg}: " + escape_braces(e.what()));
   }
   auto [quadrature, drops] = size_quadrature(job);
   // The media at this wavelength (and temperature), so that a bad wavelength fails before any work.

@@ -228,7 +228,7 @@ MediumPlan plan_medium(MediumJob job) {
   for (const auto& f : medium_params())
     if (const double v = f.get(job.numbers); !std::isnan(v)) f.param.check(v);
   if (job.numbers.number_per_cm3 && job.numbers.lwc_g_m3)
-    throw Error("number_per_cm3 and lwc_g_m3 replace one another: give one");
+    throw ParamError("{number_per_cm3} and {lwc_g_m3} replace one another: give one");
   PhaseJob phase;
   phase.radius_um = job.radius_um;
   phase.wavelength_nm = job.numbers.phase_wavelength_nm;
@@ -247,8 +247,8 @@ MediumPlan plan_medium(MediumJob job) {
   const SizeDistributionSpec spec = parse_size_distribution(job.size_distribution);  // checked by plan_phase
   if (spec.kind == SizeDistributionKind::marshall_palmer) {
     if (job.numbers.number_per_cm3 || job.numbers.lwc_g_m3)
-      throw Error(fmt::format("{} {:g}: the count of size_distribution marshall-palmer rain follows from its rain "
-                              "rate; give neither number_per_cm3 nor lwc_g_m3",
+      throw ParamError(fmt::format("{{{}}} {:g}: the count of {{size_distribution}} marshall-palmer rain follows from "
+                                   "its rain rate; give neither {{number_per_cm3}} nor {{lwc_g_m3}}",
                               job.numbers.number_per_cm3 ? "number_per_cm3" : "lwc_g_m3",
                               job.numbers.number_per_cm3 ? *job.numbers.number_per_cm3 : *job.numbers.lwc_g_m3));
     plan.weight_scale = kMarshallPalmerN0PerRadius / 8e6;
@@ -260,8 +260,8 @@ MediumPlan plan_medium(MediumJob job) {
                                     kPhaseRainMaxRadiusUm * 1e-6);
   } else {
     if (!job.numbers.number_per_cm3 && !job.numbers.lwc_g_m3)
-      throw Error("number_per_cm3 (drops per cm^3, in [1e-06, 1e+24]) or lwc_g_m3 (g/m^3) is required for " +
-                  job.size_distribution + " drops");
+      throw ParamError("{number_per_cm3} (drops per cm^3, in [1e-06, 1e+24]) or {lwc_g_m3} (g/m^3) is required for " +
+                       escape_braces(job.size_distribution) + " drops");
     double number = 0;
     const double r = *job.radius_um * 1e-6;
     const SizeDistribution d = spec.kind == SizeDistributionKind::gamma ? SizeDistribution::gamma(r, spec.parameter)
@@ -274,7 +274,7 @@ MediumPlan plan_medium(MediumJob job) {
       const double mean_volume = 4.0 / 3 * kPi<> * d.moment(3) / d.moment(0);
       number = *job.numbers.lwc_g_m3 / (kWaterDensityGM3 * mean_volume);
       if (!(number > 0 && number <= 1e30))
-        throw Error(fmt::format("lwc_g_m3 {:g} makes {:g} drops per m^3 of this radius, outside (0, 1e30]",
+        throw ParamError(fmt::format("{{lwc_g_m3}} {:g} makes {:g} drops per m^3 of this radius, outside (0, 1e30]",
                                 *job.numbers.lwc_g_m3, number));
     }
     plan.weight_scale = number;

@@ -68,7 +68,7 @@ void check_shape_radius(const atmos::DropShapeSpec& shape, double radius_um) {
   const double rmax = max_sky_radius_um(shape);
   if (radius_um <= rmax) return;
   throw DomainError("radius_um", radius_um, atmos::kMinRadiusUm, rmax,
-                    fmt::format("shape {} drops ({})", atmos::drop_shape_name(shape),
+                    fmt::format("{{shape}} {} drops ({})", atmos::drop_shape_name(shape),
                                 shape.kind == atmos::DropShapeSpec::Kind::beard_chuang
                                     ? fmt::format("beyond, the largest drops of the 10% spread are flatter than the "
                                                   "axis ratio {:g} the plane-section method needs: "

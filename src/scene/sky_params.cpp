@@ -131,6 +131,9 @@ std::span<const Field<ExportOptions>> export_params() {
   static const Field<ExportOptions> table[] = {
       {{"radius_um", "--radius-um", "tables", K::real, "um", atmos::kMinRadiusUm, atmos::kMaxRadiusUm, radius_help},
        HYDROLUX_PARAM_OPTIONAL(radius_um)},
+      {parts_param("size", "--size", "tables", ParamKind::size, "W|H", "px", 1, kMaxImageSide,
+                   "Table size WxH: W radii, H angles of the rainbow table (the corona table has 2H) [512x1024]"),
+       HYDROLUX_PARAM_OPTIONAL_PARTS(size)},
       {{"sampling", "--sampling", "tables", K::real, "", sampling.lo, sampling.hi,
         "Multiplier on the tables' sampling rates"},
        HYDROLUX_PARAM_MEMBER(sampling)},

@@ -175,7 +175,7 @@ TEST(RainHostile, IgnoredFlagsWrongFlagsAndUnboundedWorkAreRefused) {
       {img + "--seed 9007199254740993 -o " + o, "--seed: 9007199254740993 is outside the valid range [0, 9007199254740992]"},
       {img + "--fov-deg 1 -o " + o,
        "--fov-deg 1 is outside the valid range [1.0313, 170] deg of a 36 mm wide sensor (focal lengths 1-2000 mm)"},
-      {img + "--near-m 5 --far-m 2 -o " + o, "--far-m 2 is outside the valid range [5.005, 10000] (beyond --near-m)"},
+      {img + "--near-m 5 --far-m 2 -o " + o, "--far-m 2 is outside the valid range [5.005, 10000] m (beyond --near-m)"},
       {img + "--min-radius-mm 1 --max-radius-mm 0.5 -o " + o, "(beyond --min-radius-mm)"},
   };
   hydrolux::testing::expect_usage_errors(cases);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/params.hpp"
 #include "hydrolux/core/parse.hpp"
 
 namespace hydrolux::parse {
@@ -108,12 +109,22 @@ TEST(Printable, EscapesBackslashesAndInvisibleCharacters) {
   EXPECT_EQ(printable("dash\xe2\x80\x94ok"), "dash\xe2\x80\x94ok");                   // U+2014 stays
 }
 
-// replace_word: whole words only (a library name inside a longer name or a flag is left alone), every
-// occurrence, a replacement that contains the word not read again.
-TEST(Parse, ReplaceWordTakesWholeWordsOnly) {
-  using hydrolux::parse::replace_word;
-  EXPECT_EQ(replace_word("near_m 5 is beyond near_m.", "near_m", "--near-m"), "--near-m 5 is beyond --near-m.");
-  EXPECT_EQ(replace_word("near_mm, far_near_m, --near_m", "near_m", "X"), "near_mm, far_near_m, --near_m");
-  EXPECT_EQ(replace_word("(radius_um)", "radius_um", "radius_um radius_um"), "(radius_um radius_um)");
-  EXPECT_EQ(replace_word("abc", "", "x"), "abc");
+// A message that names parameters between braces: what() says the library's names, said() a door's
+// spelling, each quantity the range follows from too; braces doubled stand for themselves, and a
+// brace that encloses no name is left as it is.
+TEST(Parse, ErrorsSpellTheParametersTheyName) {
+  const hydrolux::Spelling flags = [](std::string_view q) { return hydrolux::Param::flag_of(q); };
+  const hydrolux::DomainError far("far_m", 5, 10.01, 1e4, "beyond {near_m}");
+  EXPECT_STREQ(far.what(), "far_m = 5 is outside [10.01, 10000] (beyond near_m)");
+  EXPECT_EQ(far.said(flags), "--far-m 5 is outside the valid range [10.01, 10000] m (beyond --near-m)");
+  EXPECT_EQ(far.related(), std::vector<std::string>{"near_m"});
+  const hydrolux::DomainError of("wavelength_nm", 100, 200, 1000, "water (IAPWS R9-97)");
+  EXPECT_EQ(of.said(flags), "--wavelength-nm 100 is outside the valid range [200, 1000] nm of water (IAPWS R9-97)");
+  EXPECT_TRUE(of.related().empty());
+  const hydrolux::ParamError both("{number_per_cm3} and {lwc_g_m3} replace one another");
+  EXPECT_STREQ(both.what(), "number_per_cm3 and lwc_g_m3 replace one another");
+  EXPECT_EQ(both.said(flags), "--number-per-cm3 and --lwc-g-m3 replace one another");
+  const std::string user = "gamma:{nodes} {} {x-y} }";
+  EXPECT_EQ(hydrolux::spell_quantities(hydrolux::escape_braces(user), flags), user);
+  EXPECT_EQ(hydrolux::spell_quantities("{} {x-y} { {a_b}", flags), "{} {x-y} { --a-b");
 }

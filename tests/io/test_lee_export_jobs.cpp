@@ -89,16 +89,14 @@ TEST(ExportTables, DefaultsAndOneRadius) {
   EXPECT_FALSE(t.shaped);
 
   job.options.radius_um = 100;  // over 50 um: no corona
-  job.size = "1x16";
-  job.size_wh = std::array<int, 2>{1, 16};
+  job.options.size = std::array<int, 2>{1, 16};
   t = export_tables(job);
   EXPECT_FALSE(t.with_corona);
   EXPECT_EQ(t.rainbow.columns, 1);
   EXPECT_EQ(t.rainbow.rows, 16);
   EXPECT_EQ(t.rainbow.radius_min_um, 100);
 
-  job.size = "4x16";
-  job.size_wh = std::array<int, 2>{4, 16};
+  job.options.size = std::array<int, 2>{4, 16};
   EXPECT_EQ(error_of([&] { (void)export_tables(job); }),
             "--size 4x16: one --radius-um makes one column; give --size 1x16");
 }
@@ -111,8 +109,7 @@ TEST(ExportTables, ShapeAndSunElevation) {
             "--sun-elevation-deg 30: sets the sun of the non-spherical drops' table (--shape); the spheres' tables do "
             "not depend on it (omit it or give --shape)");
   job.options.shape = "spheroid:0.9";
-  job.size = "4x16";
-  job.size_wh = std::array<int, 2>{4, 16};
+  job.options.size = std::array<int, 2>{4, 16};
   const ExportTables t = export_tables(job);
   ASSERT_TRUE(t.shaped);
   EXPECT_FALSE(t.shape.spherical());

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hydrolux/core/math.hpp"
+#include "hydrolux/core/params.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/phase_job.hpp"
 
@@ -128,18 +129,19 @@ TEST(PhaseJob, ErrorsNameTheField) {
     ADD_FAILURE() << "no PhaseJobError";
     return PhaseJobError(PhaseJobError::Field::theory, "");
   };
+  const Spelling flags = [](std::string_view name) { return Param::flag_of(name); };
   auto bad = water_drop(10, {0});
   bad.theory = "foo";
   const auto t = field_error(bad);
   EXPECT_EQ(t.field(), PhaseJobError::Field::theory);
   EXPECT_EQ(std::string(t.what()).rfind("theory: unknown theory 'foo'", 0), 0u);
-  EXPECT_EQ(t.worded("--theory").rfind("--theory: unknown theory 'foo'", 0), 0u);
+  EXPECT_EQ(t.said(flags).rfind("--theory: unknown theory 'foo'", 0), 0u);
   bad = water_drop(10, {0});
   bad.size_distribution = "gamma:2";
   EXPECT_EQ(std::string(field_error(bad).what()).rfind("size_distribution 'gamma:2': W = 2", 0), 0u);
   bad.size_distribution = "gamma:0.1";
   bad.radius_um.reset();
-  EXPECT_EQ(field_error(bad).worded("--radius-um"), "--radius-um is required (the mean radius for gamma and lognormal)");
+  EXPECT_EQ(field_error(bad).said(flags), "--radius-um is required (the mean radius for gamma and lognormal)");
 
   EXPECT_THROW((void)phase_theory("foo"), PhaseJobError);
   EXPECT_EQ(phase_theory("airy").p, 2);
@@ -155,7 +157,7 @@ TEST(PhaseJob, ErrorsNameTheField) {
                                            0),
             0u)
       << rain.what();
-  EXPECT_EQ(rain.worded("--radius-um", "--size-distribution")
+  EXPECT_EQ(rain.said(flags)
                 .rfind("--radius-um 500: --size-distribution marshall-palmer:5 sets its own radii (50-3000 um); omit "
                        "--radius-um",
                        0),

@@ -25,7 +25,7 @@
 
 #include "common.hpp"
 #include "hydrolux/core/error.hpp"
-#include "hydrolux/core/parse.hpp"
+#include "hydrolux/core/params.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/version.hpp"
 
@@ -156,6 +156,11 @@ constexpr TopCommand kTopCommands[] = {
 
 }  // namespace
 
+std::string Command::flag(std::string_view quantity) const {
+  const auto it = flags_for_quantity.find(std::string(quantity));
+  return it == flags_for_quantity.end() ? Param::flag_of(quantity) : it->second;
+}
+
 std::vector<Command> add_all_commands(CLI::App& app) {
   std::vector<Command> commands;
   for (const auto& top : kTopCommands) top.add(app, commands);
@@ -163,12 +168,6 @@ std::vector<Command> add_all_commands(CLI::App& app) {
 }
 
 namespace {
-
-// `text` with each library quantity it names as a whole word ("near_m") replaced by its flag.
-std::string with_flags(std::string text, const std::map<std::string, std::string>& flags_for_quantity) {
-  for (const auto& [quantity, flag] : flags_for_quantity) text = parse::replace_word(std::move(text), quantity, flag);
-  return text;
-}
 
 // The top-level app, before any command is registered.
 std::unique_ptr<CLI::App> new_app() {
@@ -206,14 +205,15 @@ int run_command(const CLI::App& app, const std::vector<Command>& commands) {
       return code;
     } catch (const DomainError& e) {
       wait_if_cancelled();  // a failure the cancellation caused is not reported
-      const auto it = cmd.flags_for_quantity.find(e.quantity());
-      if (it != cmd.flags_for_quantity.end()) {
-        // A range that follows from another quantity ("beyond near_m") names that quantity's flag.
-        const std::string range = with_flags(e.range_text(), cmd.flags_for_quantity);
-        fmt::print(stderr, "{}: {} {:g} is {}\n", prog, it->second, e.value(), printable(range));
-      }
-      else
+      if (cmd.flags_for_quantity.contains(e.quantity())) {
+        // Said with the flags: the quantity refused and those its range follows from ("beyond --near-m").
+        fmt::print(stderr, "{}: {}\n", prog, printable(e.said([&](std::string_view q) { return cmd.flag(q); })));
+      } else
         fmt::print(stderr, "{}: {}\n", prog, printable(e.what()));
+      return kExitUsage;
+    } catch (const ParamError& e) {
+      wait_if_cancelled();  // a failure the cancellation caused is not reported
+      fmt::print(stderr, "{}: {}\n", prog, printable(e.said([&](std::string_view q) { return cmd.flag(q); })));
       return kExitUsage;
     } catch (const IoFailure& e) {
       wait_if_cancelled();  // a failure the cancellation caused is not reported

@@ -28,7 +28,6 @@ struct ExportArgs {
 
 int run_export(const ExportArgs& a) {
   io::ExportJob job = *a.job;
-  if (job.size) job.size_wh = parse_size(*job.size);  // checked by the option's validator
   const auto* sun_flag = a.sub->get_option_no_throw("--sun-elevation-deg");
   if (sun_flag && sun_flag->count() > 0) job.given.insert("sun_elevation_deg");
   ProgressBar bar("export", a.quiet);
@@ -51,9 +50,8 @@ Command add_export(CLI::App& app) {
   Command cmd{sub, [a] { return run_export(*a); }, {}};
   // The declared parameters store straight into the job (shared_ptr aliasing its options).
   const auto options = std::shared_ptr<scene::ExportOptions>(a->job, &a->job->options);
-  const auto params = scene::export_params();  // --radius-um; then --sampling, --turbidity, --sun-elevation-deg
-  add_params(*sub, options, params.first(1), cmd.flags_for_quantity);
-  sub->add_option("--size", a->job->size, "Table size WxH: W radii, H angles of the rainbow table (the corona table has 2H) [512x1024]")->check(size_validator());
+  const auto params = scene::export_params();  // --radius-um, --size; then --sampling, --turbidity, --sun-elevation-deg
+  add_params(*sub, options, params.first(2), cmd.flags_for_quantity);
   sub->add_option("--theory", a->job->theory, "mie, debye:P, airy or geometric[:P] (hydrolux lee --help) of the spheres' tables")->capture_default_str();
   sub->add_option("--shape", a->job->options.shape,
                   fmt::format("Drop shape: sphere (the spheres' tables only), spheroid:Q (axis ratio Q = polar / "
@@ -65,7 +63,7 @@ Command add_export(CLI::App& app) {
                               atmos::kMinBowAxisRatio, scene::max_sky_radius_um(atmos::parse_drop_shape("beard-chuang")),
                               scene::kShapedTableMaxColumns))
       ->capture_default_str();
-  add_params(*sub, options, params.subspan(1), cmd.flags_for_quantity);
+  add_params(*sub, options, params.subspan(2), cmd.flags_for_quantity);
   sub->add_flag("-q,--quiet", a->quiet, "No progress or summary on stderr");
   cmd.flags_for_quantity.insert(lee_table_quantities().begin(), lee_table_quantities().end());
   return cmd;

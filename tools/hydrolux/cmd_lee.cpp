@@ -24,7 +24,7 @@ namespace hydrolux::cli {
 namespace {
 
 struct LeeArgs {
-  // The declared values (atmos/lee_params.hpp) and the texts the flags set as they are (--theory, --size, ...).
+  // The declared values (atmos/lee_params.hpp) and the texts the flags set as they are (--theory, --radius-um, ...).
   std::shared_ptr<io::LeeJob> job = std::make_shared<io::LeeJob>();
   bool quiet = false;
   const CLI::App* sub = nullptr;  // which flags were given: refused where they have no effect
@@ -36,7 +36,6 @@ int run_lee(const LeeArgs& a) {
     if (given(*a.sub, atmos::lee_param(name))) job.given.insert(std::string(name));
   for (const std::string_view name : {"limb_darkening", "radius_scale"})
     if (given(*a.sub, atmos::lee_param(name))) job.given.insert(std::string(name));
-  if (job.size) job.request.size = *parse_size(*job.size);  // checked by the option's validator
   job.command_line = command_line();
   atmos::LeeSpec spec = io::lee_job_spec(job);
   const auto drop = medium_flag("--medium", job.medium);  // the media's flags in the CLI's words (common.hpp)
@@ -79,9 +78,7 @@ Command add_lee(CLI::App& app) {
                               atmos::max_radius_um(atmos::default_lee_spec(atmos::LeeTableKind::rainbow))));
   declared("radius_scale", "radius_scale");
   sub->add_option("--angle-deg", args->job->angle_deg, "Scattering angles A:B in degrees [0, 180] (0 forward, 180 antisolar) [table's default]");
-  declared("axis", "axis");
-  sub->add_option("--size", args->job->size, "Table size WxH in pixels: W radii, H angles [512x1024; 1xH for one radius]")
-      ->check(size_validator());
+  declared("axis", "size");
   declared("sun_disk_deg", "size_spread");
   sub->add_option("--wavelengths-nm", args->job->wavelengths,
                   "Wavelengths A:B[:N] in nanometres [360, 830]; N samples (default one per 10 nm)")

@@ -52,28 +52,8 @@ int run_medium(const MediumArgs& a) {
   scatter::MediumJob job;
   fill_drops(job, a.drops, a.r->temperature_c);
   job.numbers = *a.r;
-  scatter::MediumPlan plan;
-  try {
-    plan = scatter::plan_medium(std::move(job));
-    // A flag given where it has no effect (--nodes, even at its default, for one radius): the table's
-    // conditions, checked by the library.
-    ParamUse use(Door::cli);
-    record_given(*a.sub, scatter::medium_params(), use);
-    scatter::hold_size_states(use, a.drops.distribution);
-    use.report_unused();
-  } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
-    throw Error(worded_with_flags(e));
-  } catch (const DomainError&) {
-    throw;  // worded by the command's map of quantities to flags
-  } catch (const Error& e) {
-    // The count's errors name number_per_cm3 / lwc_g_m3: said with the flags.
-    std::string text = e.what();
-    for (const auto& [from, to] : {std::pair<std::string, std::string>{"number_per_cm3", "--number-per-cm3"},
-                                   {"lwc_g_m3", "--lwc-g-m3"},
-                                   {"size_distribution", "--size-distribution"}})
-      for (std::size_t pos; (pos = text.find(from)) != std::string::npos;) text.replace(pos, from.size(), to);
-    throw Error(text);
-  }
+  const scatter::MediumPlan plan = scatter::plan_medium(std::move(job));
+  refuse_unused_size_flags(*a.sub, scatter::medium_params(), a.drops);
   io::FileSet files;
   io::OutputFile& out = files.output("-o", a.output);
   ProgressBar bar("medium", a.quiet);

@@ -34,28 +34,16 @@ struct PhaseArgs {
 
 int run_phase(const PhaseArgs& a) {
   scatter::PhaseJob job;
-  scatter::PhasePlan plan;
-  try {
-    // The flags in the order they have always been checked: the theory, then this door's own texts
-    // in its words (the media, the temperature for them, the angles), then the rest of the job.
-    (void)scatter::phase_theory(a.theory);
-    fill_drops(job, a.drops, a.r->temperature_c);
-    job.angles_deg = parse_angles_deg(a.angles, "--angles-deg");
-    job.theory = a.theory;
-    job.wavelength_nm = a.wavelength_nm;
-    job.numbers = *a.r;
-    plan = scatter::plan_phase(std::move(job));
-    // A flag given where it has no effect (--nodes, even at its default, for one radius): the table's
-    // conditions, checked by the library.
-    ParamUse use(Door::cli);
-    record_given(*a.sub, scatter::phase_params(), use);
-    scatter::hold_size_states(use, a.drops.distribution);
-    use.report_unused();
-  } catch (const scatter::PhaseJobError& e) {  // said with the flags' names
-    const std::string text = worded_with_flags(e);
-    if (e.field() == scatter::PhaseJobError::Field::theory) throw UnknownNameError(text);
-    throw Error(text);
-  }
+  // The flags in the order they have always been checked: the theory, then this door's own texts
+  // in its words (the media, the temperature for them, the angles), then the rest of the job.
+  (void)scatter::phase_theory(a.theory);
+  fill_drops(job, a.drops, a.r->temperature_c);
+  job.angles_deg = parse_angles_deg(a.angles, "--angles-deg");
+  job.theory = a.theory;
+  job.wavelength_nm = a.wavelength_nm;
+  job.numbers = *a.r;
+  const scatter::PhasePlan plan = scatter::plan_phase(std::move(job));
+  refuse_unused_size_flags(*a.sub, scatter::phase_params(), a.drops);
   ProgressBar bar("phase", a.quiet || plan.quadrature.size() < 2);
   const auto result = scatter::compute_phase(plan, bar.callback());
   bar.finish();

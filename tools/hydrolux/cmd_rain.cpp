@@ -35,7 +35,6 @@ Command add_rain(CLI::App& app) {
   // The quantities the library names that are not a flag of their own.
   cmd.flags_for_quantity["width"] = "the input's width";
   cmd.flags_for_quantity["height"] = "the input's height";
-  cmd.flags_for_quantity["sensor_width_mm"] = "--sensor-width-mm (or --pixel-pitch-um x the image width)";
   return cmd;
 }
 

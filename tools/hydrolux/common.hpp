@@ -35,6 +35,9 @@ struct Command {
   Action run;
   // Library DomainError quantities ("wavelength_nm") -> the flag that set them ("--wavelength-nm").
   std::map<std::string, std::string> flags_for_quantity;
+  // A quantity or parameter a library message names ({near_m}) as this command's flag: its entry in
+  // flags_for_quantity, else the flag of that name ("--near-m").
+  std::string flag(std::string_view quantity) const;
 };
 
 // Every subcommand, registered on `app` (main.cpp; tests walk the same tree).

@@ -6,20 +6,6 @@
 
 namespace hydrolux::cli {
 
-namespace {
-
-std::string_view flag_of(scatter::PhaseJobError::Field field) {
-  switch (field) {
-    case scatter::PhaseJobError::Field::theory: return "--theory";
-    case scatter::PhaseJobError::Field::size_distribution: return "--size-distribution";
-    case scatter::PhaseJobError::Field::radius_um: return "--radius-um";
-    case scatter::PhaseJobError::Field::nodes: return "--nodes";
-  }
-  return "?";
-}
-
-}  // namespace
-
 void add_drop_size_flags(CLI::App& sub, DropFlags& drops, std::string_view rain_note,
                          std::map<std::string, std::string>& flags_for_quantity) {
   sub.add_option("--radius-um", drops.radius_um, "Drop radius (the mean radius with gamma or lognormal), micrometres")
@@ -40,10 +26,6 @@ void add_drop_size_flags(CLI::App& sub, DropFlags& drops, std::string_view rain_
 void add_media_flags(CLI::App& sub, DropFlags& drops) {
   sub.add_option("--medium", drops.medium, "Drop medium (see hydrolux ior --list)")->capture_default_str();
   sub.add_option("--surrounding", drops.surrounding, "Surrounding medium")->capture_default_str();
-}
-
-std::string worded_with_flags(const scatter::PhaseJobError& e) {
-  return e.worded(flag_of(e.field()), e.also() ? flag_of(*e.also()) : std::string_view());
 }
 
 }  // namespace hydrolux::cli

@@ -1,16 +1,20 @@
 #pragma once
 // The drops of a size average as `hydrolux phase` and `hydrolux medium` take them: --radius-um,
 // --size-distribution, --medium, --surrounding (and --temperature-c for the media), filled into the
-// library's job (scatter::PhaseJob, scatter::MediumJob) and its errors worded with the flags.
+// library's job (scatter::PhaseJob, scatter::MediumJob); the library's errors name the flags
+// themselves (ParamError, said by the CLI with each command's flags).
 #include <CLI/CLI.hpp>
 
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
 #include "common.hpp"
+#include "hydrolux/scatter/params.hpp"
 #include "hydrolux/scatter/phase_job.hpp"
+#include "params.hpp"
 
 namespace hydrolux::cli {
 
@@ -28,6 +32,16 @@ void add_drop_size_flags(CLI::App& sub, DropFlags& drops, std::string_view rain_
 // --medium and --surrounding.
 void add_media_flags(CLI::App& sub, DropFlags& drops);
 
+// Refuses a flag of `params` given on `sub` where it has no effect for the drops' size distribution
+// (--nodes, even at its default, for one radius): the table's conditions, checked by the library.
+template <class Request>
+void refuse_unused_size_flags(const CLI::App& sub, std::span<const Field<Request>> params, const DropFlags& drops) {
+  ParamUse use(Door::cli);
+  record_given(sub, params, use);
+  scatter::hold_size_states(use, drops.distribution);
+  use.report_unused();
+}
+
 // The job's drops from the flags: the media (an unknown name names its flag), the temperature checked
 // for them, the radius and the distribution.
 template <class Job>
@@ -38,8 +52,5 @@ void fill_drops(Job& job, const DropFlags& drops, const std::optional<double>& t
   job.radius_um = drops.radius_um;
   job.size_distribution = drops.distribution;
 }
-
-// A PhaseJobError said with the flags' names ("--radius-um 500: ...").
-std::string worded_with_flags(const scatter::PhaseJobError& e);
 
 }  // namespace hydrolux::cli

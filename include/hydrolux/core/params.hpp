@@ -14,6 +14,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -152,8 +153,9 @@ struct Field {
 // The accessors of a table row (a Field's get_part and set_part) for a member of the request:
 // HYDROLUX_PARAM_MEMBER(settings.rain_rate_mmh) for a number, a bool or a choice's enum,
 // HYDROLUX_PARAM_OPTIONAL(fov_deg) for a std::optional<double> (NaN while unset: no default of its own),
-// HYDROLUX_PARAM_PARTS(camera.width, camera.height) for a size or a span of two members and
-// HYDROLUX_PARAM_INDEXED(light_color) for a colour (a member indexed [0], [1], [2]).
+// HYDROLUX_PARAM_PARTS(camera.width, camera.height) for a size or a span of two members,
+// HYDROLUX_PARAM_INDEXED(light_color) for a colour (a member indexed [0], [1], [2]) and
+// HYDROLUX_PARAM_OPTIONAL_PARTS(size) for a std::optional<std::array<T, N>> (NaN parts while unset).
 #define HYDROLUX_PARAM_MEMBER(path)                         \
   [](const auto& o, int) { return double(o.path); },        \
       [](auto& o, int, double v) { o.path = decltype(o.path)(v); }
@@ -169,6 +171,14 @@ struct Field {
 #define HYDROLUX_PARAM_INDEXED(path)                                     \
   [](const auto& o, int i) { return double(o.path[i]); },               \
       [](auto& o, int i, double v) { o.path[i] = decltype(+o.path[i])(v); }
+#define HYDROLUX_PARAM_OPTIONAL_PARTS(path)                                                             \
+  [](const auto& o, int i) {                                                                           \
+    return o.path ? double((*o.path)[std::size_t(i)]) : std::numeric_limits<double>::quiet_NaN();      \
+  },                                                                                                   \
+      [](auto& o, int i, double v) {                                                                   \
+        if (!o.path) o.path.emplace();                                                                 \
+        (*o.path)[std::size_t(i)] = std::remove_reference_t<decltype((*o.path)[0])>(v);                \
+      }
 
 // A parameter with its default, for the doors that list them (docs, Python signatures, argparse).
 struct ParamInfo {
@@ -203,13 +213,14 @@ std::vector<ParamInfo> describe_fields(std::span<const Field<Request>> fields) {
 }
 
 // Every field of `fields` in its declared range (Param::check's message), in the table's order; a
-// field without a value (NaN: an optional not given) is skipped. The one validation over a table:
+// field without a value (NaN: an optional not given, a size's first part too) is skipped. The one validation over a table:
 // the checks that follow from other values (far beyond near) stay with the job.
 template <class Request>
 void check_fields(std::span<const Field<Request>> fields, const Request& request, Door door = Door::library) {
   for (const auto& f : fields) {
+    if (const double v = f.get(request); std::isnan(v)) continue;  // an optional not given
     if (f.param.parts() > 1) f.param.check(f.value(request), door);
-    else if (const double v = f.get(request); !std::isnan(v)) f.param.check(v);
+    else f.param.check(f.get(request));
   }
 }
 

@@ -37,8 +37,4 @@ std::vector<double> range_or_list(std::string_view text, double lo, double hi, s
 // unless `values` are strictly increasing or strictly decreasing. Not naming what they are.
 void require_strictly_monotonic(std::span<const double> values);
 
-// `text` with each whole-word `word` (not inside a longer name of letters, digits, '_' and '-')
-// replaced by `by`: a library name in a message spelt as a door spells it ("near_m" -> "--near-m").
-std::string replace_word(std::string text, std::string_view word, std::string_view by);
-
 }  // namespace hydrolux::parse

@@ -25,8 +25,6 @@ namespace hydrolux::io {
 struct ExportJob {
   scene::ExportOptions options;                 // the declared values (scene/sky_params.hpp) and the shape
   std::string dir;                              // --dir
-  std::optional<std::string> size;              // --size WxH as given
-  std::optional<std::array<int, 2>> size_wh;    // its numbers: columns, rows
   std::string theory = "mie";                   // --theory of the spheres' tables
   // The declared parameters the user gave (by name): --sun-elevation-deg is refused for spheres.
   std::set<std::string, std::less<>> given;

@@ -22,7 +22,6 @@ struct LeeJob {
   std::string theory = "mie";             // --theory
   std::optional<std::string> radius_um;   // --radius-um A:B or R
   std::optional<std::string> angle_deg;   // --angle-deg A:B
-  std::optional<std::string> size;        // --size WxH as given (request.size holds its numbers)
   std::string wavelengths = "380:780";    // --wavelengths-nm A:B[:N]
   std::string medium = "water";           // --medium (the door checks it against --temperature-c)
   std::string sun = "astm-g173-direct";   // --sun

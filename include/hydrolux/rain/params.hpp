@@ -43,8 +43,8 @@ const Param& rain_param(std::string_view name);
 // turned into the focal length and the sensor width; the still frames' rate where given. Not
 // validated (validate(RainCamera) names what is out of range).
 RainCamera camera_for(const RainOptions& options, int width, int height);
-// The name of a fog parameter set away from its default while the fog is off (no visibility_m or
-// lwc_g_m3), for the doors' refusal; empty when there is none.
-std::string_view fog_setting_without_fog(const RainOptions& options);
+// Refuses a fog parameter set away from its default while the fog is off (no visibility_m or lwc_g_m3):
+// ParamError "{size_alpha}: sets the fog; give {visibility_m} or {lwc_g_m3} with it".
+void refuse_fog_settings_without_fog(const RainOptions& options);
 
 }  // namespace hydrolux::rain

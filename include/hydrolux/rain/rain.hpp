@@ -146,10 +146,11 @@ struct Streak {
   std::uint32_t drop;     // the drop's index among all drops (low 32 bits)
 };
 
-// A field that would hold more than RainField::kMaxDrops drops (what() says which settings to change).
-class TooManyDrops : public Error {
+// A field that would hold more than RainField::kMaxDrops drops: the text names the settings to change
+// between braces (ParamError), each door spelling them its way.
+class TooManyDrops : public ParamError {
  public:
-  TooManyDrops(double drops, std::string message) : Error(std::move(message)), drops_(drops) {}
+  TooManyDrops(double drops, std::string text) : ParamError(std::move(text)), drops_(drops) {}
   double drops() const noexcept { return drops_; }
 
  private:

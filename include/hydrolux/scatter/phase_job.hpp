@@ -48,26 +48,22 @@ struct PhaseJob {
 };
 
 // One of the job's texts (or the radius they need) that cannot be read, or two fields that do not
-// go together. what() names them as the library and Python do ("theory: unknown theory 'x'; ...",
-// "size_distribution 'gamma:2': ...", "radius_um is required ...", "radius_um 10: size_distribution
-// marshall-palmer:5 sets its own radii ..."); worded() names them as a door does ("--theory: ...").
-class PhaseJobError : public Error {
+// go together. The text names the fields between braces (ParamError): what() as the library and Python
+// do ("theory: unknown theory 'x'; ...", "radius_um 10: size_distribution marshall-palmer:5 sets its own
+// radii ..."), said() as a door does ("--radius-um 10: --size-distribution marshall-palmer:5 ...").
+class PhaseJobError : public ParamError {
  public:
   enum class Field { theory, size_distribution, radius_um, nodes };
-  // `rest`: the message after the field's name, with its separator (": ..." or " ..."). `also`: the
-  // other field of a combination refused, which `rest` names (field_name) as does every later
-  // mention of `field` itself.
-  PhaseJobError(Field field, std::string rest, std::optional<Field> also = std::nullopt);
+  // `rest`: the text after the field's name, with its separator (": ..." or " ..."), naming the fields
+  // it mentions between braces ("{size_distribution}"). `also`: the other field of a combination refused.
+  PhaseJobError(Field field, std::string_view rest, std::optional<Field> also = std::nullopt);
   Field field() const noexcept { return field_; }
   std::optional<Field> also() const noexcept { return also_; }
-  // The message with the field called `name` (and the other field of a combination `also_name`).
-  std::string worded(std::string_view name, std::string_view also_name = {}) const;
   static std::string_view field_name(Field field);
 
  private:
   Field field_;
   std::optional<Field> also_;
-  std::string rest_;
 };
 
 // The job's count of radii (numbers.nodes) given for one radius (mono), which has nothing to average:

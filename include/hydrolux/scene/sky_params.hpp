@@ -5,6 +5,7 @@
 // initializers; validate(SkySettings) reads the ranges from here. The texts (the size, the curtain's
 // span, the light's colour, the blend, the mode, the theory, the drops' shape) and the files stay with
 // the door.
+#include <array>
 #include <optional>
 #include <span>
 #include <string>
@@ -28,6 +29,7 @@ struct SkyOptions {
 // The assets hydrolux export writes: the scene's tables (bow_tables.hpp) and sky.json.
 struct ExportOptions {
   std::optional<double> radius_um;  // one radius: one-column tables
+  std::optional<std::array<int, 2>> size;  // the rainbow table's columns and rows (the corona's 2 x rows)
   double sampling = 1;              // the tables' sampling multiplier
   double turbidity = SkySettings{}.turbidity;
   // Non-spherical drops (a text, not a declared row, as SkyOptions::shape): the position-dependent

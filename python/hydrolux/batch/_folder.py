@@ -16,7 +16,6 @@ import argparse
 import functools
 import math
 import os
-import re
 import sys
 from dataclasses import dataclass
 from typing import Any, Callable, Dict, List, Optional, Tuple
@@ -109,15 +108,15 @@ def _options(a: argparse.Namespace, fj: FrameJob) -> Dict[str, Any]:
 
 
 def flag_error(e: ValueError, fj: FrameJob, named_too: Optional[Dict[str, str]] = None) -> UsageError:
-    """The library's message naming a parameter, said with its flag (and the names of ``named_too``, what
-    the message names that is no flag, in its words); every setting the message names is said so, the
-    one refused and those its range follows from ("beyond near_m")."""
+    """The library's message naming parameters, said with their flags (and the names of ``named_too``,
+    what the message names that is no flag, in its words): the library's errors that name parameters
+    carry ``said`` (the message with each name spelled by a dict), so no text is rewritten here."""
+    said = getattr(e, "said", None)
+    if said is None:
+        return UsageError(str(e))
     named = {p["name"]: p["flag"] for p in params(fj) if p["kind"] != "flag"}
     named.update(named_too or {})
-    text = str(e)
-    for name in sorted(named, key=len, reverse=True):
-        text = re.sub(r"(?<![\w-])" + re.escape(name) + r"(?![\w-])", named[name], text)
-    return UsageError(text)
+    return UsageError(said(named))
 
 
 def render_frames(job: Dict[str, Any], frames: List[tuple], render: Optional[Callable] = None) -> List[dict]:

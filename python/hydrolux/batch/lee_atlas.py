@@ -297,7 +297,7 @@ def make_table(out_dir: str, name: str, args: List[str], threads: int, fmt: str 
     >>> sorted(rec["files"])   # bow.exr, bow.png, bow.json and their sizes
     ['.exr', '.json', '.png']
     >>> print(lee_atlas.make_table(folder, "bad", ["--size", "0x8"], 1)["error"])
-    hydrolux lee: --size: '0x8' is not WxH ...
+    hydrolux lee: --size: '0x8' is not WxH, each ...
     """
     exts = FORMATS[fmt]
     target = os.path.join(out_dir, name + exts[0])
