@@ -202,8 +202,9 @@ ParamUse::Entry* ParamUse::find(std::string_view name) {
   return const_cast<Entry*>(static_cast<const ParamUse*>(this)->find(name));
 }
 
-void ParamUse::declare(const Param& param) {
-  if (!find(param.name)) params_.push_back({&param, {}});
+void ParamUse::declare(const Param& param, std::string value) {
+  if (Entry* e = find(param.name)) e->value = std::move(value);
+  else params_.push_back({&param, std::move(value)});
 }
 
 void ParamUse::give(const Param& param, std::string value) {
@@ -227,6 +228,8 @@ bool ParamUse::given(std::string_view name) const {
 
 bool ParamUse::holds(std::string_view word) const {
   if (given(word)) return true;
+  if (const auto eq = word.find('='); eq != std::string_view::npos)
+    if (const Entry* e = find(word.substr(0, eq)); e && e->value == word.substr(eq + 1)) return true;
   for (const auto& [state, value] : states_)
     if (state == word) return true;
   return false;

@@ -57,20 +57,18 @@ void check_sky_request(const SkyOptions& o, const atmos::DropShapeSpec& shape, b
 void refuse_unused_sky_params(const SkyOptions& o, const std::function<bool(std::string_view)>& given,
                               bool tables_given, bool environment_given, Door door) {
   // The rows' declared conditions (sky_params.cpp: only_with, why), checked by the library's usage
-  // tracker in the door's spelling; a switch given off is as good as not given.
+  // tracker in the door's spelling; a switch given off is as good as not given. A choice's value, given
+  // or not, is the state its word names ("mode=cube-map").
   ParamUse use(door);
   for (const auto& f : sky_params()) {
     const double v = f.get(o);
     if (given(f.param.name) && (f.param.kind != ParamKind::flag || v != 0))
       use.give(f.param, f.param.kind == ParamKind::flag ? std::string() : f.param.value_text(f.value(o), door));
     else
-      use.declare(f.param);
+      use.declare(f.param, f.param.kind == ParamKind::choice ? f.param.value_text(f.value(o), door) : std::string());
   }
   if (tables_given) use.hold("lut");
   if (environment_given) use.hold("environment");
-  const std::string mode(bow_mode_name(o.settings.mode));
-  use.hold("mode=" + mode);
-  use.note("mode", mode);
   use.report_unused();
 }
 

@@ -244,6 +244,20 @@ TEST(ParamUse, ReportsGivenAndUnusedInTheDoorsSpelling) {
   EXPECT_TRUE(sky.given("stokes"));
   EXPECT_FALSE(sky.given("no_such"));
   EXPECT_EQ(sky.spell("mode=cube-map"), "--mode cube-map");
+
+  // A choice's value is the state its word names, given or only declared with the job's value.
+  const Param mode{"mode", "--mode", "camera", ParamKind::choice, "", 0, 1, "Lookup", {}, {}, {}, {}, {},
+                   "per-pixel|cube-map"};
+  const Param face{"cube_face_size", "--cube-face-size", "camera", ParamKind::integer, "", 4, 4096, "Face", {},
+                   "mode=cube-map", {}, "used by {mode} cube-map only (this run is {mode=})"};
+  hydrolux::ParamUse cube(hydrolux::Door::cli);
+  cube.give(face, "64");
+  cube.declare(mode, "per-pixel");
+  EXPECT_FALSE(cube.holds("mode=cube-map"));
+  EXPECT_EQ(message(cube), "--cube-face-size 64: used by --mode cube-map only (this run is --mode per-pixel)");
+  cube.declare(mode, "cube-map");
+  EXPECT_TRUE(cube.holds("mode=cube-map"));
+  EXPECT_EQ(message(cube), "(accepted)");
 }
 
 // The one validation over a table: every row's range, an unset optional skipped.

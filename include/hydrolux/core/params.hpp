@@ -62,8 +62,9 @@ struct Param {
   std::string_view excludes = {};
   // Where the parameter has an effect, declared (ParamUse::report_unused reads them): `only_with`,
   // one or more words between '|', of which one must hold; `not_with`, words of which none may. A
-  // word is another parameter's name (it holds when given), or a state the job declares it is in
-  // ("lut": tables given; "mode=cube-map"; "many_radii"). `why` says it in the message, with {name}
+  // word is another parameter's name (it holds when given), a choice's value ("mode=cube-map": the row
+  // mode given or declared with that word), or a state the job declares it is in ("lut": tables given;
+  // "many_radii"). `why` says it in the message, with {name}
   // spelled by the door ("--nodes", "nodes") and {name=} with its value ("--size-distribution
   // mono"); empty: "used only with A or B" / "not with A".
   std::string_view only_with = {};
@@ -236,8 +237,9 @@ class ParamUse {
   Door door() const { return door_; }
   // The door: the user gave `param`, written `value` (as the message shows it).
   void give(const Param& param, std::string value);
-  // A declared parameter that may be named in messages ({name}) though not given.
-  void declare(const Param& param);
+  // A declared parameter that may be named in messages ({name}) though not given, with its value as
+  // the door writes it where the job has one (a choice's word: "mode=cube-map" holds for mode's).
+  void declare(const Param& param, std::string value = {});
   // The job: a state holds (a word of only_with / not_with); `value` shows it as {state=}.
   void hold(std::string_view state, std::string value = {});
   // A value shown for {name=} of a text the door reads itself (--size-distribution).
@@ -245,7 +247,8 @@ class ParamUse {
   // The job used the parameter: no condition refuses it.
   void consume(std::string_view name);
   bool given(std::string_view name) const;
-  // Whether `word` holds: a parameter given, or a state held.
+  // Whether `word` holds: a parameter given, a state held, or "name=value" where the parameter given or
+  // declared has that value (a choice's word: "mode=cube-map").
   bool holds(std::string_view word) const;
   // Throws Error "{P} {value}: {why}" (P spelled by the door) for the first parameter given, in the
   // order declared, whose conditions fail.
