@@ -91,6 +91,50 @@ py::dict dataset_dict(const Dataset& ds) {
   return out;
 }
 
+namespace {
+
+// A job's declared parameters as dicts (_core.params): name, flag, kind, range, help, default, ...
+py::list params_of(const std::string& job) {
+  py::list out;
+  for (const auto& info : hydrolux::job_spec(job).params) {
+    const Param& p = *info.param;
+    py::dict d;
+    d["name"] = std::string(p.name), d["flag"] = std::string(p.flag), d["group"] = std::string(p.group);
+    d["kind"] = std::string(kind_name(p.kind));
+    // A choice's words, or the names of a size's, span's or colour's parts ("W", "H"); empty otherwise.
+    py::list words;
+    for (const auto w : p.word_list()) words.append(std::string(w));
+    d["words"] = words;
+    d["unit"] = std::string(p.unit), d["lo"] = p.lo, d["hi"] = p.hi;
+    // How Python takes a value: "[0, 500] mm/h", "physical or whitepaper", "(W, H), each a whole number in ...".
+    d["form"] = p.form(Door::python);
+    d["range"] = p.range_text(), d["help"] = std::string(p.help), d["excludes"] = std::string(p.excludes);
+    // The name it had before (taken for one release with a warning), or None.
+    d["deprecated"] = p.deprecated.empty() ? py::object(py::none()) : py::object(py::str(std::string(p.deprecated)));
+    // Where it has an effect (Param::only_with, not_with: words between '|'; "" where always).
+    d["only_with"] = std::string(p.only_with), d["not_with"] = std::string(p.not_with);
+    d["default_text"] = info.default_text();
+    if (std::isnan(info.default_value)) d["default"] = py::none();
+    else if (p.kind == ParamKind::real) d["default"] = info.default_value;
+    else if (p.kind == ParamKind::integer) d["default"] = (long long)info.default_value;
+    else if (p.kind == ParamKind::flag) d["default"] = info.default_value != 0;
+    else if (p.kind == ParamKind::choice) d["default"] = p.value_text(info.default_value);
+    else {  // a tuple of the parts, as Python takes them: (1280, 720)
+      py::list parts;
+      for (int i = 0; i < p.parts(); ++i) {
+        const double v = info.default_parts[std::size_t(i)];
+        if (p.kind == ParamKind::size) parts.append((long long)v);
+        else parts.append(v);
+      }
+      d["default"] = py::tuple(parts);
+    }
+    out.append(d);
+  }
+  return out;
+}
+
+}  // namespace
+
 void bind_core(py::module_& m) {
   // A CF history line, "<UTC time> hydrolux <version>: <call>" (core/dataset.hpp): the CLI's NetCDF
   // files and the package's to_xarray() state their origin alike.
@@ -136,47 +180,7 @@ void bind_core(py::module_& m) {
 
   // A job's declared parameters (hydrolux/jobs.hpp), the one table every door reads: the Python
   // functions' keywords and signatures, the batch jobs' argparse options, the docs' reference.
-  m.def(
-      "params",
-      [](const std::string& job) {
-        py::list out;
-        for (const auto& info : hydrolux::job_spec(job).params) {
-          const Param& p = *info.param;
-          py::dict d;
-          d["name"] = std::string(p.name), d["flag"] = std::string(p.flag), d["group"] = std::string(p.group);
-          d["kind"] = std::string(kind_name(p.kind));
-          // A choice's words, or the names of a size's, span's or colour's parts ("W", "H"); empty otherwise.
-          py::list words;
-          for (const auto w : p.word_list()) words.append(std::string(w));
-          d["words"] = words;
-          d["unit"] = std::string(p.unit), d["lo"] = p.lo, d["hi"] = p.hi;
-          // How Python takes a value: "[0, 500] mm/h", "physical or whitepaper", "(W, H), each a whole number in ...".
-          d["form"] = p.form(Door::python);
-          d["range"] = p.range_text(), d["help"] = std::string(p.help), d["excludes"] = std::string(p.excludes);
-          // The name it had before (taken for one release with a warning), or None.
-          d["deprecated"] = p.deprecated.empty() ? py::object(py::none()) : py::object(py::str(std::string(p.deprecated)));
-          // Where it has an effect (Param::only_with, not_with: words between '|'; "" where always).
-          d["only_with"] = std::string(p.only_with), d["not_with"] = std::string(p.not_with);
-          d["default_text"] = info.default_text();
-          if (std::isnan(info.default_value)) d["default"] = py::none();
-          else if (p.kind == ParamKind::real) d["default"] = info.default_value;
-          else if (p.kind == ParamKind::integer) d["default"] = (long long)info.default_value;
-          else if (p.kind == ParamKind::flag) d["default"] = info.default_value != 0;
-          else if (p.kind == ParamKind::choice) d["default"] = p.value_text(info.default_value);
-          else {  // a tuple of the parts, as Python takes them: (1280, 720)
-            py::list parts;
-            for (int i = 0; i < p.parts(); ++i) {
-              const double v = info.default_parts[std::size_t(i)];
-              if (p.kind == ParamKind::size) parts.append((long long)v);
-              else parts.append(v);
-            }
-            d["default"] = py::tuple(parts);
-          }
-          out.append(d);
-        }
-        return out;
-      },
-      py::arg("job"));
+  m.def("params", &params_of, py::arg("job"));
   // The library's one refusal of a parameter given where the run leaves it unused (ParamUse::report_unused,
   // by the table's conditions), in the batch jobs' words (flags): `given` maps names to the values as
   // written, `held` lists the states the run is in ("video", "depth_dir"). ValueError "--crf 20: ...".
