@@ -138,7 +138,7 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
     # Each argument's type is checked in the signature's order; the declared ones go to _core by name.
     theory = _text(theory, "theory", "mie, debye:P, airy, airy:3 or geometric[:P]")
     radius_um, angle_deg = _span(radius_um, "radius_um"), _span(angle_deg, "angle_deg")
-    options = {"table": table, "radius_scale": radius_scale, "axis": axis, "size": size,
+    options = {"table": table, "radius_scale": radius_scale, "angle_deg": angle_deg, "axis": axis, "size": size,
                "sun_disk_deg": _real(sun_disk_deg, "sun_disk_deg"),
                "limb_darkening": _flag(limb_darkening, "limb_darkening"),
                "size_spread": _real(size_spread, "size_spread")}
@@ -152,7 +152,7 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
     options.update(sun_elevation_deg=_real(sun_elevation_deg, "sun_elevation_deg"),
                    position_deg=_real(position_deg, "position_deg"), canting_deg=_real(canting_deg, "canting_deg"))
     options["stokes"] = _flag(stokes, "stokes")
-    d = _core.lee(theory, radius_um, angle_deg, wavelengths_nm, wavelengths, shape, medium, sun, color_space,
+    d = _core.lee(theory, radius_um, wavelengths_nm, wavelengths, shape, medium, sun, color_space,
                   options)
     info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape", "dataset")}
     info["history"] = _history(lee, arguments)

@@ -22,7 +22,6 @@ namespace {
 // ---- Lee tables -----------------------------------------------------------------------------
 
 py::dict lee(const std::string& theory, std::optional<std::pair<double, double>> radius_um,
-             std::optional<std::pair<double, double>> angle_deg,
              std::pair<double, double> wavelengths_nm,
              py::handle wavelengths_arg,
              const std::string& shape, const std::string& medium, const std::string& sun,
@@ -45,10 +44,6 @@ py::dict lee(const std::string& theory, std::optional<std::pair<double, double>>
   if (radius_um) {
     if (radius_um->second < radius_um->first) throw Error("radius_um: expected (A, B) with A <= B, micrometres");
     req.radius_um = {radius_um->first, radius_um->second};
-  }
-  if (angle_deg) {
-    if (angle_deg->second < angle_deg->first) throw Error("angle_deg: expected (A, B) with A <= B, degrees");
-    req.angle_deg = {angle_deg->first, angle_deg->second};
   }
   req.shape = shape;
   atmos::LeeSpec s = atmos::make_lee_spec(req);
@@ -125,7 +120,7 @@ py::dict lee(const std::string& theory, std::optional<std::pair<double, double>>
 }  // namespace
 
 void bind_atmos(py::module_& m) {
-  m.def("lee", &lee, py::arg("theory"), py::arg("radius_um"), py::arg("angle_deg"),
+  m.def("lee", &lee, py::arg("theory"), py::arg("radius_um"),
         py::arg("wavelengths_nm"), py::arg("wavelengths"),
         py::arg("shape"), py::arg("medium"), py::arg("sun"), py::arg("color_space"), py::arg("options"));
 }

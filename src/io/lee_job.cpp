@@ -20,8 +20,11 @@ namespace hydrolux::io {
 
 namespace {
 
-// --size as the user wrote it: "512x1024".
-std::string size_text(const std::array<int, 2>& size) { return fmt::format("{}x{}", size[0], size[1]); }
+// A declared pair (--size, --angle-deg) as the CLI writes it ("512x1024", "130:145"); empty where not given.
+template <class T>
+std::string given_text(std::string_view name, const std::optional<std::array<T, 2>>& value) {
+  return value ? atmos::lee_param(name).value_text({double((*value)[0]), double((*value)[1])}) : std::string();
+}
 
 // "A:B" (or one value A, when `single_ok`), A <= B.
 std::array<double, 2> parse_span(const std::string& text, const std::string& flag, const std::string& unit,
@@ -143,7 +146,7 @@ void check_lee_job(const LeeJob& job, atmos::LeeSpec& s) {
                               scatter::theory_name(s.theory), s.size_spread, s.wavelength_min_nm));
   }
   atmos::validate(s);
-  atmos::check_table_memory({&s}, job.request.size ? size_text(*job.request.size)
+  atmos::check_table_memory({&s}, job.request.size ? given_text("size", job.request.size)
                                                   : fmt::format("{}x{} (the default)", s.columns, s.rows),
                             atmos::SizeSyntax::cli);
   if (!job.json && job.output.empty())
@@ -173,17 +176,15 @@ atmos::LeeSpec lee_job_spec(const LeeJob& job) {
       throw Error(atmos::shape_only_message(name, find_field(atmos::lee_params(), name)->get(req),
                                             atmos::lee_param(name).flag, "--shape"));
   if (job.radius_um) req.radius_um = radius_span(job);
-  if (job.angle_deg) req.angle_deg = parse_span(*job.angle_deg, "--angle-deg", "degrees", false);
   atmos::LeeSpec s;
   try {
     s = atmos::make_lee_spec(req);
   } catch (const atmos::LeeShapeError& e) {  // said in the flags' words
     if (e.rule() == atmos::LeeShapeError::Rule::one_radius_columns)
       throw Error(fmt::format("--size {}: a single --radius-um {} makes one column; give --size 1x{}",
-                              job.request.size ? size_text(*job.request.size) : std::string(),
-                              job.radius_um.value_or(""), e.rows()));
+                              given_text("size", job.request.size), job.radius_um.value_or(""), e.rows()));
     throw Error(fmt::format("--angle-deg {}: a table of {} rows needs A < B (or --size Wx1 for one angle)",
-                            job.angle_deg.value_or(""), e.rows()));
+                            given_text("angle_deg", job.request.angle_deg), e.rows()));
   }
   if (!s.shape.spherical() &&
       (s.table != atmos::LeeTableKind::rainbow || s.theory.kind != scatter::TheoryKind::Airy || s.theory.p > 3))

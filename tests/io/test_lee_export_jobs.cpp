@@ -32,7 +32,7 @@ std::string error_of(const auto& f) {
 TEST(LeeJobSpec, TheTextsSetTheSpec) {
   LeeJob job;
   job.radius_um = "100:500";
-  job.angle_deg = "120:150";
+  job.request.angle_deg = std::array<double, 2>{120, 150};
   job.request.size = std::array<int, 2>{8, 32};
   job.wavelengths = "400:700:16";
   job.medium = "ice";

@@ -76,9 +76,7 @@ Command add_lee(CLI::App& app) {
                               "size parameter limits the largest: {:g} with Mie, --size-spread 0.1 and 380 nm",
                               atmos::kMinRadiusUm, atmos::kMaxRadiusUm,
                               atmos::max_radius_um(atmos::default_lee_spec(atmos::LeeTableKind::rainbow))));
-  declared("radius_scale", "radius_scale");
-  sub->add_option("--angle-deg", args->job->angle_deg, "Scattering angles A:B in degrees [0, 180] (0 forward, 180 antisolar) [table's default]");
-  declared("axis", "size");
+  declared("radius_scale", "size");
   declared("sun_disk_deg", "size_spread");
   sub->add_option("--wavelengths-nm", args->job->wavelengths,
                   "Wavelengths A:B[:N] in nanometres [360, 830]; N samples (default one per 10 nm)")
@@ -108,7 +106,6 @@ Command add_lee(CLI::App& app) {
   sub->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
   cmd.flags_for_quantity.insert(lee_table_quantities().begin(), lee_table_quantities().end());
   cmd.flags_for_quantity.insert({{"radius_um", "--radius-um"},
-                                 {"angle_deg", "--angle-deg"},
                                  {"wavelength_nm", "--wavelengths-nm"},
                                  {"wavelengths", "--wavelengths-nm"},
                                  {"temperature_k", "--sun"},

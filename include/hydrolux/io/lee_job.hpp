@@ -21,7 +21,6 @@ struct LeeJob {
   atmos::LeeRequest request;              // the declared values (--table, --radius-scale, ...), --shape, --size
   std::string theory = "mie";             // --theory
   std::optional<std::string> radius_um;   // --radius-um A:B or R
-  std::optional<std::string> angle_deg;   // --angle-deg A:B
   std::string wavelengths = "380:780";    // --wavelengths-nm A:B[:N]
   std::string medium = "water";           // --medium (the door checks it against --temperature-c)
   std::string sun = "astm-g173-direct";   // --sun
