@@ -38,13 +38,13 @@ struct Cancelled : std::exception {
 // other than Python's keywords needs to say it in its own words, no text rewritten: `quantity`, the
 // one refused (None for a ParamError), and `said(spellings)`, the message with each parameter spelled
 // by the dict (the batch jobs' {"near_m": "--near-m", ...}; a name it lacks stays as it is).
-template <class Said>
-void set_value_error(const Error& e, Said said, const std::string& quantity) {
+template <class NamingError>
+void set_value_error(const NamingError& e, const std::string& quantity) {
   py::object error = py::reinterpret_steal<py::object>(PyObject_CallFunction(PyExc_ValueError, "s", e.what()));
   if (!error) return;  // the call's own exception stands
   error.attr("quantity") = quantity.empty() ? py::object(py::none()) : py::object(py::str(quantity));
-  error.attr("said") = py::cpp_function([said](const std::map<std::string, std::string>& spellings) {
-    return said([&](std::string_view q) {
+  error.attr("said") = py::cpp_function([e](const std::map<std::string, std::string>& spellings) {
+    return e.said([&](std::string_view q) {
       const auto it = spellings.find(std::string(q));
       return it == spellings.end() ? std::string(q) : it->second;
     });
@@ -69,9 +69,9 @@ inline void register_errors() {
     } catch (const IoFailure& e) {
       PyErr_SetString(PyExc_OSError, e.what());
     } catch (const DomainError& e) {
-      set_value_error(e, [e](const Spelling& spell) { return e.said(spell); }, e.quantity());
+      set_value_error(e, e.quantity());
     } catch (const ParamError& e) {
-      set_value_error(e, [e](const Spelling& spell) { return e.said(spell); }, {});
+      set_value_error(e, {});
     } catch (const Error& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }

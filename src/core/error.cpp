@@ -13,8 +13,9 @@ bool is_relation(const std::string& context) {
 
 bool is_name_char(char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; }
 
-// Calls `name(q)` for each quantity {q} of `context` and `text(t)` for the text between them; "{{" and
-// "}}" are a brace of the text (escape_braces).
+// Calls `name(q)` for each quantity {q} of `context` (its name, possibly followed by '=' and a word:
+// "{mode=}", "{mode=half-dome}") and
+// `text(t)` for the text between them; "{{" and "}}" are a brace of the text (escape_braces).
 template <class Text, class Name>
 void scan(std::string_view context, Text&& text, Name&& name) {
   std::size_t at = 0;
@@ -31,8 +32,14 @@ void scan(std::string_view context, Text&& text, Name&& name) {
       continue;
     }
     const auto close = context[open] == '{' ? context.find('}', open) : std::string_view::npos;
-    bool quantity = close != std::string_view::npos && close > open + 1;
-    for (std::size_t i = open + 1; quantity && i < close; ++i) quantity = is_name_char(context[i]);
+    // A name, then possibly '=' and a word ("{mode=}", "{mode=half-dome}").
+    bool quantity = close != std::string_view::npos && close > open + 1 && is_name_char(context[open + 1]);
+    bool after_equals = false;
+    for (std::size_t i = open + 1; quantity && i < close; ++i) {
+      const char c = context[i];
+      if (c == '=' && !after_equals) after_equals = true;
+      else quantity = is_name_char(c) || (after_equals && c == '-');
+    }
     if (!quantity) {  // a lone brace
       text(context.substr(open, 1));
       at = open + 1;
@@ -85,12 +92,6 @@ DomainError::DomainError(Whole, std::string message, std::string quantity, doubl
 DomainError DomainError::with_message(std::string message, std::string quantity, double value, double lo,
                                       double hi, std::string unit) {
   return DomainError(Whole{}, std::move(message), std::move(quantity), value, lo, hi, std::move(unit));
-}
-
-std::vector<std::string> DomainError::related() const {
-  std::vector<std::string> out;
-  scan(context_, [](std::string_view) {}, [&](std::string_view q) { out.emplace_back(q); });
-  return out;
 }
 
 std::string DomainError::range_text(const Spelling& spell) const {

@@ -270,23 +270,10 @@ std::string ParamUse::reason(const Entry& e, bool only_with_failed, std::string_
     return fmt::format("used only with {} (omit {})", alts, spell(p.name));
   }
   // {name} spelled, {name=} with its value.
-  std::string out;
-  std::string_view rest = p.why;
-  while (!rest.empty()) {
-    const auto open = rest.find('{');
-    const auto close = open == std::string_view::npos ? open : rest.find('}', open);
-    if (close == std::string_view::npos) {
-      out += rest;
-      break;
-    }
-    out += rest.substr(0, open);
-    std::string_view name = rest.substr(open + 1, close - open - 1);
+  return spell_quantities(p.why, [this](std::string_view name) {
     const bool with_value = name.ends_with('=');
-    if (with_value) name.remove_suffix(1);
-    out += spell(name, with_value);
-    rest.remove_prefix(close + 1);
-  }
-  return out;
+    return spell(with_value ? name.substr(0, name.size() - 1) : name, with_value);
+  });
 }
 
 void ParamUse::report_unused() const {

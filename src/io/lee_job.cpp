@@ -26,22 +26,16 @@ std::string given_text(std::string_view name, const std::optional<std::array<T, 
   return value ? atmos::lee_param(name).value_text({double((*value)[0]), double((*value)[1])}) : std::string();
 }
 
-// "A:B" (or one value A, when `single_ok`), A <= B.
-std::array<double, 2> parse_span(const std::string& text, const std::string& flag, const std::string& unit,
-                                 bool single_ok) {
-  if (single_ok)
-    if (const auto v = parse::number(text)) return {*v, *v};
-  const auto p = parse::pair(text, ':');
-  if (!p || (*p)[1] < (*p)[0])
-    throw Error(fmt::format("{} '{}': expected A:B ({}, A <= B){}", flag, text, unit, single_ok ? " or one value" : ""));
-  return *p;
-}
-
-// --radius-um's span (one radius R is R:R), if given.
+// --radius-um's span "A:B" (A <= B), or one radius R as R:R, if given.
 std::optional<std::array<double, 2>> radius_span(const LeeJob& job) {
   if (!job.radius_um) return std::nullopt;
-  return parse_span(*job.radius_um, "--radius-um",
-                    fmt::format("micrometres in [{:g}, {:g}]", atmos::kMinRadiusUm, atmos::kMaxRadiusUm), true);
+  const std::string& text = *job.radius_um;
+  if (const auto v = parse::number(text)) return std::array<double, 2>{*v, *v};
+  const auto p = parse::pair(text, ':');
+  if (!p || (*p)[1] < (*p)[0])
+    throw Error(fmt::format("--radius-um '{}': expected A:B (micrometres in [{:g}, {:g}], A <= B) or one value", text,
+                            atmos::kMinRadiusUm, atmos::kMaxRadiusUm));
+  return *p;
 }
 
 // --wavelengths-nm "A:B" or "A:B:N" set on `s` (the range, and N samples when given).

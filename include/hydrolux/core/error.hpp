@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <vector>
 
 namespace hydrolux {
 
@@ -21,6 +20,8 @@ using Spelling = std::function<std::string(std::string_view quantity)>;
 
 // `text` with each quantity it names between braces ("beyond {near_m}") spelled by `spell`, or by its
 // name where `spell` is empty: how a message the library words for every door names the parameters.
+// A name may be followed by '=' and a word ("{mode=}": with its value; "{mode=half-dome}": with that
+// value, as ParamUse's reasons say them), passed to `spell` as it is.
 std::string spell_quantities(std::string_view text, const Spelling& spell);
 // `text` (a user's, or another error's message) to stand in such a text as it is: its braces doubled.
 std::string escape_braces(std::string_view text);
@@ -58,8 +59,6 @@ class DomainError : public Error {
   // What the range belongs to, e.g. "water (IAPWS R9-97)", or how it follows from another quantity
   // ("beyond {near_m}", "at most ...", "at least ..."), with its quantities between braces; may be empty.
   const std::string& context() const noexcept { return context_; }
-  // The quantities the context names ("near_m"), in order.
-  std::vector<std::string> related() const;
   // "outside the valid range [lo, hi] unit (context)", without the quantity: for callers that name it
   // themselves; the context's quantities spelled by `spell` (none: the library's names).
   std::string range_text(const Spelling& spell = {}) const;
