@@ -100,6 +100,7 @@ py::list params_of(const std::string& job) {
     const Param& p = *info.param;
     py::dict d;
     d["name"] = std::string(p.name), d["flag"] = std::string(p.flag), d["group"] = std::string(p.group);
+    d["short_flag"] = std::string(p.short_flag);  // "-o" for --output; "" for none
     d["kind"] = std::string(kind_name(p.kind));
     // A choice's words, or the names of a size's, span's or colour's parts ("W", "H"); empty otherwise.
     py::list words;
@@ -114,7 +115,9 @@ py::list params_of(const std::string& job) {
     // Where it has an effect (Param::only_with, not_with: words between '|'; "" where always).
     d["only_with"] = std::string(p.only_with), d["not_with"] = std::string(p.not_with);
     d["default_text"] = info.default_text();
-    if (std::isnan(info.default_value)) d["default"] = py::none();
+    if (p.kind == ParamKind::path)  // a file's or a folder's name, or None
+      d["default"] = info.default_path.empty() ? py::object(py::none()) : py::object(py::str(info.default_path));
+    else if (std::isnan(info.default_value)) d["default"] = py::none();
     else if (p.kind == ParamKind::real) d["default"] = info.default_value;
     else if (p.kind == ParamKind::integer) d["default"] = (long long)info.default_value;
     else if (p.kind == ParamKind::flag) d["default"] = info.default_value != 0;

@@ -34,6 +34,8 @@ inline ParamValue param_value(const Param& p, py::handle v, RealRanges ranges = 
       if (ranges == RealRanges::checked) p.check(x);  // "rain_rate_mmh = 600 is outside [0, 500] mm/h"
       return {x};
     }
+    case ParamKind::path:  // text, not a number (apply_kwargs stores it)
+      throw std::logic_error("param_value: " + name + " is a path");
     default:
       break;
   }
@@ -68,9 +70,21 @@ void apply_kwargs(Request& request, const py::dict& kw, std::span<const Field<Re
   for (const auto& f : fields)
     if (!f.param.excludes.empty() && given(f.param.name) && given(f.param.excludes))
       throw Error(fmt::format("{}: give {} or {}, not both", f.param.name, f.param.excludes, f.param.name));
-  for (const auto& f : fields)
-    if (given(f.param.name))
-      f.set_value(request, param_value(f.param, kw[std::string(f.param.name).c_str()], ranges));
+  for (const auto& f : fields) {
+    if (!given(f.param.name)) continue;
+    const py::handle v = kw[std::string(f.param.name).c_str()];
+    if (f.param.kind != ParamKind::path) {
+      f.set_value(request, param_value(f.param, v, ranges));
+      continue;
+    }
+    // A path: a str or an os.PathLike (pathlib.Path), as open() takes one.
+    py::object text = py::reinterpret_steal<py::object>(PyOS_FSPath(v.ptr()));
+    if (!text || !PyUnicode_Check(text.ptr())) {
+      PyErr_Clear();
+      throw py::type_error(fmt::format("{}: expected a path (str or os.PathLike), got {}", f.param.name, describe(v)));
+    }
+    f.set_text(request, text.cast<std::string>());
+  }
 }
 
 }  // namespace hydrolux::py_bind

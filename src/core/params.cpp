@@ -45,12 +45,14 @@ std::string_view kind_name(ParamKind kind) {
     case ParamKind::size: return "size";
     case ParamKind::span: return "span";
     case ParamKind::colour: return "colour";
+    case ParamKind::path: return "path";
   }
   return "real";
 }
 
 std::string Param::range_text() const {
   if (kind == ParamKind::flag) return {};
+  if (kind == ParamKind::path) return std::string(words);
   if (kind == ParamKind::choice) return alternatives(word_list());
   if (kind == ParamKind::integer || kind == ParamKind::size)
     return with_unit(fmt::format("[{}, {}]", (long long)lo, (long long)hi), unit);
@@ -115,6 +117,8 @@ std::string Param::value_text(const ParamValue& value, Door door) const {
     }
     case ParamKind::real:
       return fmt::format("{:g}", v);
+    case ParamKind::path:  // no number: its text is the request's (Field::text)
+      return {};
     default:
       break;
   }
@@ -134,7 +138,7 @@ ParamValue Param::parse_text(std::string_view text, Door door) const {
     v[0] = i;
     return v;
   }
-  if (parts() == 1) throw std::logic_error("Param::parse_text: " + std::string(name) + " is a number or a switch");
+  if (parts() == 1) throw std::logic_error("Param::parse_text: " + std::string(name) + " is a number, a switch or a path");
   // The parts, split at the kind's separator: exactly parts() numbers.
   int n = 0;
   std::string_view rest = text;
@@ -292,6 +296,7 @@ void ParamUse::report_unused() const {
 }
 
 std::string ParamInfo::default_text() const {
+  if (param->kind == ParamKind::path) return default_path;
   if (std::isnan(default_value)) return {};
   return param->parts() > 1 ? param->value_text(default_parts) : param->value_text(default_value);
 }

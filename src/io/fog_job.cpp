@@ -98,10 +98,7 @@ const EffectTraits& fog_traits() {
   static const EffectTraits t{
       .noun = "foggy frames",
       .folder_input_key = "input_dir",
-      .words = {.folder = " (one sky colour, from the first)",
-                .video = ", one sky colour from the first frame",
-                .mask = "The fog's coverage 1 - t for --image: .png (16-bit linear) or .exr; foggy = clear t + sky (1 - t) + glow",
-                .stats = "The fog's optics, the camera and per-frame statistics as JSON"}};
+      .paths = rain::fog_path_params()};
   return t;
 }
 

@@ -612,8 +612,9 @@ FrameRunResult run_frames(const FrameRequest& a, FrameEffect& effect, const Fram
   if (a.output_dir && !a.input_dir) throw Error("--output-dir: goes with --input-dir");
   if (a.mask_dir && !a.input_dir) throw Error("--mask-dir: goes with --input-dir (use --mask-out with --image)");
   if (a.depth_dir && !a.input_dir) throw Error("--depth-dir: goes with --input-dir (use --depth with --image)");
-  if ((a.layer_out && !effect.traits().layer) || ((a.depth || a.depth_dir) && !effect.traits().depth))
-    throw std::logic_error("run_frames: a path the effect does not take (--layer-out, --depth)");
+  for (const auto& f : rain::rain_path_params())  // every path there is (the rain takes them all)
+    if (!f.text(a).empty() && !find_field(effect.traits().paths, f.param.name))
+      throw std::logic_error("run_frames: a path the effect does not take: " + std::string(f.param.flag));
   rain::rain_param("png_compression").check(double(a.png_compression));  // the declared range (params.cpp)
   effect.check_options(a);
   const Driver run{a, effect, hooks, Clock::now(), {}};

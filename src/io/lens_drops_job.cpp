@@ -82,11 +82,7 @@ const EffectTraits& lens_drops_traits() {
   static const EffectTraits t{
       .noun = "frames with drops",
       .one_size = false,
-      .depth = false,
-      .words = {.folder = " (frame k: the drops of --seed + k)",
-                .video = " (frame k: the drops of --seed + k)",
-                .mask = "The drops' defocused coverage for --image: .png (16-bit linear) or .exr; out = clean (1 - mask) + drops",
-                .stats = "The drops' settings and per-frame statistics as JSON"}};
+      .paths = rain::lens_drops_path_params()};
   return t;
 }
 

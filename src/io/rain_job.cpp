@@ -117,11 +117,7 @@ class RainEffect final : public FrameEffect {
 const EffectTraits& rain_traits() {
   static const EffectTraits t{
       .noun = "rainy frames",
-      .layer = true,
-      .words = {.image = ", or 'builtin' for the built-in street scene",
-                .folder = ": one rain field across them",
-                .mask = "The rain's alpha for --image: .png (16-bit linear) or .exr; rainy = clear (1 - alpha) + layer",
-                .stats = "Parameters, seed, the field and per-frame statistics as JSON"}};
+      .paths = rain::rain_path_params()};
   return t;
 }
 

@@ -23,6 +23,7 @@ Json optional_text(std::string_view text) { return text.empty() ? Json(nullptr) 
 // or none (NaN).
 Json number(double v, ParamKind kind) {
   if (!std::isfinite(v)) return nullptr;
+  if (kind == ParamKind::path) return nullptr;  // no range
   const bool whole_kind = kind != ParamKind::real && kind != ParamKind::span && kind != ParamKind::colour;
   if (whole_kind && v == std::floor(v) && std::fabs(v) <= 9.007199254740992e15)  // to 2^53
     return static_cast<long long>(v);
@@ -40,12 +41,14 @@ Json param_json(const ParamInfo& info) {
   const Param& p = *info.param;
   Json row;
   row["name"] = std::string(p.name), row["flag"] = std::string(p.flag), row["group"] = std::string(p.group);
+  if (!p.short_flag.empty()) row["short_flag"] = std::string(p.short_flag);
   row["kind"] = kind_name(p.kind), row["unit"] = std::string(p.unit);
   row["lo"] = number(p.lo, p.kind), row["hi"] = number(p.hi, p.kind);
   // The default as the door takes it: a number, true/false, a choice's word, a list of a size's parts.
   Json parts = Json::array();
   for (int i = 0; i < p.parts(); ++i) parts.push_back(number(info.default_parts[std::size_t(i)], p.kind));
-  row["default"] = std::isnan(info.default_value)   ? Json(nullptr)
+  row["default"] = p.kind == ParamKind::path        ? optional_text(info.default_path)
+                   : std::isnan(info.default_value) ? Json(nullptr)
                    : p.kind == ParamKind::flag      ? Json(info.default_value != 0)
                    : p.kind == ParamKind::choice    ? Json(p.value_text(info.default_value))
                    : p.parts() > 1                  ? parts

@@ -9,6 +9,7 @@
 #include "hydrolux/drop/undistort.hpp"
 #include "hydrolux/optics/params.hpp"
 #include "hydrolux/rain/fog.hpp"
+#include "hydrolux/rain/frame_paths.hpp"
 #include "hydrolux/rain/lens_drops.hpp"
 #include "hydrolux/rain/params.hpp"
 #include "hydrolux/scatter/params.hpp"
@@ -22,7 +23,8 @@ const std::vector<JobSpec>& job_specs() {
     std::vector<JobSpec> v;
     {
       JobSpec rain{"rain", "hydrolux rain", "Rain over a photograph, a folder of frames or a video", {}};
-      rain.params = describe_fields(rain::rain_params());
+      rain.params = describe_fields(rain::rain_path_params());
+      for (const auto& p : describe_fields(rain::rain_params())) rain.params.push_back(p);
       for (const auto& p : describe_fields(rain::rain_file_params())) rain.params.push_back(p);
       rain.python = "hydrolux.rain, hydrolux.RainRenderer and hydrolux.builtin_scene (its camera); the batch job python3 -m hydrolux.batch rain takes the flags";
       rain.description =
@@ -34,7 +36,8 @@ const std::vector<JobSpec>& job_specs() {
     }
     {
       JobSpec lens{"lens_drops", "hydrolux lens-drops", "Water drops on the lens or windshield over a photograph, a folder of frames or a video", {}};
-      lens.params = describe_fields(rain::lens_drops_params());
+      lens.params = describe_fields(rain::lens_drops_path_params());
+      for (const auto& p : describe_fields(rain::lens_drops_params())) lens.params.push_back(p);
       for (const auto& p : describe_fields(rain::lens_drops_file_params())) lens.params.push_back(p);
       lens.python = "hydrolux.lens_drops";
       lens.description =
@@ -45,7 +48,8 @@ const std::vector<JobSpec>& job_specs() {
     }
     {
       JobSpec fog{"fog", "hydrolux fog", "Fog, haze or mist over a photograph, a folder of frames or a video", {}};
-      fog.params = describe_fields(rain::fog_params());
+      fog.params = describe_fields(rain::fog_path_params());
+      for (const auto& p : describe_fields(rain::fog_params())) fog.params.push_back(p);
       for (const auto& p : describe_fields(rain::fog_file_params())) fog.params.push_back(p);
       fog.python = "hydrolux.fog";
       fog.description =

@@ -365,7 +365,7 @@ TEST_F(Robustness, CaseListCoversEveryFlag) {
 
 // Every declared parameter (hydrolux/jobs.hpp) is a flag of its command, listed with the cases of its
 // kind: a real number's out-of-range, non-finite and non-numeric values; a whole number's fractions
-// too; a switch's; a choice's; a size's, span's or colour's listed texts. So a parameter added to a job's table gets its bad-input cases from the table.
+// too; a switch's; a choice's; a size's, span's or colour's listed texts; a path's file cases. So a parameter added to a job's table gets its bad-input cases from the table.
 TEST_F(Robustness, EveryDeclaredParameterHasItsCases) {
   const auto cases = read_cases();
   const auto tree = cli_tree();
@@ -386,6 +386,13 @@ TEST_F(Robustness, EveryDeclaredParameterHasItsCases) {
                          : p.kind == hydrolux::ParamKind::flag    ? "switch"
                          : p.kind == hydrolux::ParamKind::choice  ? "choice"
                                                                   : "text";
+      // A path is listed with the cases of the file it names: an input's or output's kind (an image, a
+      // table, a folder), or a text with its own bad paths.
+      if (p.kind == hydrolux::ParamKind::path) {
+        const bool file_kind = it->kind == "text" || it->kind.rfind("input-", 0) == 0 || it->kind.rfind("output-", 0) == 0;
+        EXPECT_TRUE(file_kind) << command << " " << flag << ": a path listed as " << it->kind;
+        continue;
+      }
       EXPECT_EQ(it->kind, kind) << command << " " << flag << ": listed as " << it->kind << ", declared " << kind;
     }
   }

@@ -42,10 +42,18 @@ void expect_row(const Json& row, const hydrolux::ParamInfo& info, const std::str
                      : p.kind == K::choice  ? "choice"
                      : p.kind == K::size    ? "size"
                      : p.kind == K::span    ? "span"
-                                            : "colour";
+                     : p.kind == K::colour  ? "colour"
+                                            : "path";
   EXPECT_EQ(row.at("kind"), kind) << where;
   EXPECT_EQ(row.at("words"), words(p.words)) << where;
   EXPECT_EQ(row.at("unit"), p.unit) << where;
+  EXPECT_EQ(row.value("short_flag", Json(nullptr)), optional_text(p.short_flag)) << where;
+  if (p.kind == K::path) {  // a file's or a folder's name: no range, its default a text or none
+    EXPECT_TRUE(row.at("lo").is_null() && row.at("hi").is_null()) << where;
+    EXPECT_EQ(row.at("default"), optional_text(info.default_path)) << where;
+    EXPECT_EQ(row.at("help"), p.help) << where;
+    return;
+  }
   EXPECT_EQ(row.at("lo").get<double>(), p.lo) << where;
   EXPECT_EQ(row.at("hi").get<double>(), p.hi) << where;
   if (p.kind != K::real && p.kind != K::span && p.kind != K::colour) {

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <optional>
+#include <span>
 #include <set>
 #include <string>
 
@@ -12,6 +14,7 @@
 #include "hydrolux/core/params.hpp"
 #include "hydrolux/core/shared_params.hpp"
 #include "hydrolux/jobs.hpp"
+#include "hydrolux/rain/frame_paths.hpp"
 #include "hydrolux/rain/params.hpp"
 
 namespace {
@@ -170,7 +173,10 @@ TEST(Params, EveryTableIsConsistent) {
       EXPECT_EQ(p.flag, (on_by_default ? "--no-" : "--") + kebab(p.name)) << where;
       EXPECT_FALSE(p.help.empty()) << where;
       EXPECT_FALSE(p.group.empty()) << where;
-      if (p.kind != ParamKind::flag) {
+      if (p.kind == ParamKind::path) {  // no range: FILE or DIR names what it is
+        EXPECT_TRUE(p.words == "FILE" || p.words == "DIR") << where;
+        EXPECT_TRUE(std::isnan(info.default_value)) << where;
+      } else if (p.kind != ParamKind::flag) {
         EXPECT_LT(p.lo, p.hi) << where;
         if (!std::isnan(info.default_value)) {
           if (p.parts() > 1) EXPECT_NO_THROW(p.check(info.default_parts, hydrolux::Door::library)) << where;
@@ -274,6 +280,51 @@ TEST(Params, CheckFieldsChecksEveryRow) {
   o.settings.wind_mps = 0;
   o.fov_deg = 171;
   EXPECT_THROW(hydrolux::check_fields(hydrolux::rain::rain_params(), o), hydrolux::DomainError);
+}
+
+// A path is a row too: text in and out through its accessors, no number, no range to check, its
+// default the request's own; the frame jobs declare theirs (rain/frame_paths.hpp), each effect only
+// the ones it takes.
+struct PathRequest {
+  std::string output = "out.exr";
+  std::optional<std::string> input;
+};
+
+TEST(Params, PathRowsHoldTextAndTheirDefault) {
+  static const hydrolux::Field<PathRequest> fields[] = {
+      {Param{"output", "--output", "files", ParamKind::path, "", 0, 0, "Output"}, HYDROLUX_PARAM_PATH(output)},
+      {Param{"input", "--input", "files", ParamKind::path, "", 0, 0, "Input"}, HYDROLUX_PARAM_PATH(input)},
+  };
+  const auto infos = hydrolux::describe_fields(std::span<const hydrolux::Field<PathRequest>>(fields));
+  EXPECT_EQ(infos[0].default_text(), "out.exr");
+  EXPECT_EQ(infos[1].default_text(), "");
+  EXPECT_TRUE(std::isnan(infos[0].default_value));
+  PathRequest r;
+  fields[1].set_text(r, "frames/a.png");
+  fields[0].set_text(r, "b.png");
+  EXPECT_EQ(r.input, std::optional<std::string>("frames/a.png"));
+  EXPECT_EQ(fields[0].text(r), "b.png");
+  EXPECT_TRUE(std::isnan(fields[0].get(r)));
+  EXPECT_NO_THROW(hydrolux::check_fields(std::span<const hydrolux::Field<PathRequest>>(fields), r));
+  EXPECT_EQ(hydrolux::kind_name(ParamKind::path), "path");
+  const Param dir{"input_dir", "--input-dir", "paths", ParamKind::path, "", 0, 0, "Frames", {}, {}, {}, {}, {}, "DIR"};
+  EXPECT_EQ(dir.range_text(), "DIR");
+
+  const auto names = [](auto table) {
+    std::set<std::string_view> out;
+    for (const auto& f : table) out.insert(f.param.name);
+    return out;
+  };
+  const auto rain = names(hydrolux::rain::rain_path_params()), fog = names(hydrolux::rain::fog_path_params()),
+             lens = names(hydrolux::rain::lens_drops_path_params());
+  for (const auto* n : {"image", "input_dir", "video", "output", "output_dir", "mask_out", "mask_dir", "stats_json"}) {
+    EXPECT_TRUE(rain.count(n) && fog.count(n) && lens.count(n)) << n;
+  }
+  EXPECT_TRUE(rain.count("layer_out") && !fog.count("layer_out") && !lens.count("layer_out"));
+  EXPECT_TRUE(fog.count("depth_dir") && !lens.count("depth") && !lens.count("depth_dir"));
+  // -o is --output's short flag in every frame job.
+  for (const auto& f : hydrolux::rain::fog_path_params())
+    EXPECT_EQ(f.param.short_flag, f.param.name == "output" ? "-o" : "") << f.param.name;
 }
 
 }  // namespace

@@ -19,8 +19,8 @@ namespace hydrolux::cli {
 Command add_fog(CLI::App& app) {
   auto a = std::make_shared<FrameArgs<io::FogJob>>();
   auto* sub = add_job_command(app, "fog");
-  add_frame_paths(*sub, a->job, io::fog_traits());
   Command cmd{sub, {}, {}};
+  add_params(*sub, std::shared_ptr<io::FramePaths>(a->job), io::fog_traits().paths, cmd.flags_for_quantity);
   add_params(*sub, std::shared_ptr<rain::FogOptions>(a->job, &a->job->options), rain::fog_params(), cmd.flags_for_quantity);
   add_params(*sub, std::shared_ptr<rain::FogFileOptions>(a->job, &a->job->files), rain::fog_file_params(),
              cmd.flags_for_quantity);

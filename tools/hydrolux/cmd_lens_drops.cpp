@@ -20,8 +20,8 @@ namespace hydrolux::cli {
 Command add_lens_drops(CLI::App& app) {
   auto a = std::make_shared<FrameArgs<io::LensDropsJob>>();
   auto* sub = add_job_command(app, "lens_drops");
-  add_frame_paths(*sub, a->job, io::lens_drops_traits());
   Command cmd{sub, {}, {}};
+  add_params(*sub, std::shared_ptr<io::FramePaths>(a->job), io::lens_drops_traits().paths, cmd.flags_for_quantity);
   add_params(*sub, std::shared_ptr<rain::LensDropSettings>(a->job, &a->job->settings), rain::lens_drops_params(),
              cmd.flags_for_quantity);
   add_params(*sub, std::shared_ptr<rain::LensDropsFileOptions>(a->job, &a->job->files), rain::lens_drops_file_params(),

@@ -19,9 +19,9 @@ namespace hydrolux::cli {
 Command add_rain(CLI::App& app) {
   auto a = std::make_shared<FrameArgs<io::RainJob>>();
   auto* sub = add_job_command(app, "rain");
-  add_frame_paths(*sub, a->job, io::rain_traits());
-  sub->add_option("--size", a->job->size, "Size WxH of --image builtin [1280x720]")->check(size_validator());
   Command cmd{sub, {}, {}};
+  add_params(*sub, std::shared_ptr<io::FramePaths>(a->job), io::rain_traits().paths, cmd.flags_for_quantity);
+  sub->add_option("--size", a->job->size, "Size WxH of --image builtin [1280x720]")->check(size_validator());
   // The declared parameters store straight into the job (shared_ptr aliasing its members).
   add_params(*sub, std::shared_ptr<rain::RainOptions>(a->job, &a->job->options), rain::rain_params(),
              cmd.flags_for_quantity);

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include "hydrolux/core/error.hpp"
-#include "hydrolux/io/frame_paths.hpp"
 #include "hydrolux/jobs.hpp"
 
 namespace hydrolux::cli {
@@ -31,6 +30,8 @@ CLI::Option* add_option_for(CLI::App& sub, const ParamInfo& info, const std::str
       const double turned = info.default_value != 0 ? 0 : 1;
       return sub.add_flag_callback(flag, [store = std::move(store), turned] { store({turned}); }, help);
     }
+    case ParamKind::path:
+      throw std::logic_error("add_param: a path is add_path_param's");
     default: {
       // A choice's word, or a size's, span's or colour's parts: the library's parser reads and checks the
       // text (its message names the flag), the value stored once the command line has parsed.
@@ -82,8 +83,13 @@ const std::map<std::string, std::string>& lee_table_quantities() {
   return names;
 }
 
-void add_frame_paths(CLI::App& sub, const std::shared_ptr<io::FramePaths>& paths, const io::EffectTraits& traits) {
-  for (const auto& p : io::frame_path_params(traits)) sub.add_option(std::string(p.flag), (*paths).*(p.path), p.help);
+CLI::Option* add_path_param(CLI::App& sub, const ParamInfo& info, std::function<void(const std::string&)> store) {
+  const Param& p = *info.param;
+  const std::string flags = p.short_flag.empty() ? std::string(p.flag) : fmt::format("{},{}", p.short_flag, p.flag);
+  CLI::Option* opt = sub.add_option_function<std::string>(flags, std::move(store), std::string(p.help));
+  opt->type_name(std::string(p.words));
+  if (const std::string shown = info.default_text(); !shown.empty()) opt->default_str(shown);
+  return opt;
 }
 
 CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(const ParamValue&)> store) {

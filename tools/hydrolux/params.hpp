@@ -12,19 +12,11 @@
 #include "common.hpp"
 #include "hydrolux/core/params.hpp"
 
-namespace hydrolux::io {
-struct FramePaths;
-struct EffectTraits;
-}  // namespace hydrolux::io
-
 namespace hydrolux::cli {
 
 // The subcommand of `parent` for the library's job `job` (hydrolux/jobs.hpp): named by the last word
 // of the job's command ("hydrolux drop render": render), its help the job's description.
 CLI::App* add_job_command(CLI::App& parent, std::string_view job);
-
-// The files the frame job of `traits` takes (io/frame_paths.hpp), as flags storing into *paths.
-void add_frame_paths(CLI::App& sub, const std::shared_ptr<io::FramePaths>& paths, const io::EffectTraits& traits);
 
 // The quantities the Lee tables' computation (atmos/lee.hpp, scatter) names that no flag of lee, sky or
 // export sets by that name, with the flag that does: the size parameter (--radius-um), the drop
@@ -34,6 +26,9 @@ const std::map<std::string, std::string>& lee_table_quantities();
 // One flag for a declared parameter; `store` receives the parsed, range-checked value. A parameter
 // with a deprecated name also takes its old flag (hidden from --help; a warning when given).
 CLI::Option* add_param(CLI::App& sub, const ParamInfo& info, std::function<void(const ParamValue&)> store);
+
+// One flag (and its short one, "-o,--output") for a declared path; `store` receives the text.
+CLI::Option* add_path_param(CLI::App& sub, const ParamInfo& info, std::function<void(const std::string&)> store);
 
 // Every field of `fields` as a flag on `sub`, storing into *request (kept alive by the action).
 // Parameters that replace one another (excludes) are registered as exclusive. The names map to
@@ -45,7 +40,10 @@ void add_params(CLI::App& sub, const std::shared_ptr<Request>& request, std::spa
   std::map<std::string_view, CLI::Option*> options;
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const Field<Request>& f = fields[i];
-    options[f.param.name] = add_param(sub, infos[i], [request, &f](const ParamValue& v) { f.set_value(*request, v); });
+    options[f.param.name] =
+        f.param.kind == ParamKind::path
+            ? add_path_param(sub, infos[i], [request, &f](const std::string& v) { f.set_text(*request, v); })
+            : add_param(sub, infos[i], [request, &f](const ParamValue& v) { f.set_value(*request, v); });
     flags.emplace(std::string(f.param.name), std::string(f.param.flag));
   }
   for (const auto& f : fields)

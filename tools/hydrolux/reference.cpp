@@ -74,7 +74,9 @@ std::string reference_markdown(const std::vector<Command>& commands) {
       if (const auto it = params.find(lname); it != params.end()) {
         const Param& p = *it->second->param;
         const std::string valid = p.kind == ParamKind::flag ? "switch" : p.form(Door::cli);
-        const std::string python = params_python ? fmt::format("`{}`", p.name) : std::string();
+        // The Python calls of a frame job take arrays, not files: a path is the CLI's and the batch's.
+        const bool in_python = params_python && p.kind != ParamKind::path;
+        const std::string python = in_python ? fmt::format("`{}`", p.name) : std::string();
         md += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", names, python, p.group, p.unit, cell(valid),
                           it->second->default_text(), cell(std::string(p.help)));
       } else {

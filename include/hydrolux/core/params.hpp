@@ -32,12 +32,16 @@ enum class ParamKind {
   size,    // two whole numbers, "WxH"
   span,    // two numbers, the first not above the second, "NEAR:FAR"
   colour,  // three numbers, "R,G,B"
+  // A file's or a folder's name, taken as written (io/files.hpp checks it when the job declares its
+  // files); Param::words names what it is in the help's type column, "FILE" or "DIR". Its row's
+  // accessors are Field::get_text and set_text, and it has no range.
+  path,
 };
 
 // The words of "a|b|c" (a choice's words, a condition's words); empty text: none.
 std::vector<std::string_view> split_words(std::string_view text);
 
-// "real", "integer", "flag", "choice", "size", "span", "colour": the kind as the JSON spec and Python name it.
+// "real", "integer", "flag", "choice", "size", "span", "colour", "path": the kind as the JSON spec and Python name it.
 std::string_view kind_name(ParamKind kind);
 
 // A parameter's value: its one number in [0], or its parts in order (a size, a span, a colour).
@@ -74,15 +78,18 @@ struct Param {
   // release: each door still takes it (the CLI as --rate-mmh, Python as the keyword) with one warning.
   std::string_view deprecated = {};
   // Words between '|': a choice's, in the order of their values (0, 1, ...), "physical|whitepaper"; a
-  // size's, span's or colour's part names, "W|H", "NEAR|FAR", "R|G|B".
+  // size's, span's or colour's part names, "W|H", "NEAR|FAR", "R|G|B"; a path's "FILE" or "DIR".
   std::string_view words = {};
+  // A one-letter flag besides `flag` ("-o" for --output), or empty.
+  std::string_view short_flag = {};
 
   // "--rate-mmh" for "rate_mmh": the flag of a name, as the CLI spells names it has no row for.
   static std::string flag_of(std::string_view name);
   // The warning a door prints once when the deprecated spelling `old` of this parameter is used.
   std::string deprecation_warning(std::string_view old, std::string_view now) const;
 
-  // "[0, 500] mm/h"; a choice's words: "per-pixel, cube-map or half-dome"; a size's "[1, 16384] px".
+  // "[0, 500] mm/h"; a choice's words: "per-pixel, cube-map or half-dome"; a size's "[1, 16384] px"; a
+  // path's "FILE" or "DIR".
   std::string range_text() const;
   // The parts of its value: 2 for a size or a span, 3 for a colour, else 1.
   int parts() const;
@@ -130,25 +137,32 @@ inline constexpr int kMaxImageSide = 16384;
 
 // A parameter bound to the request it fills, part by part (a size's width is part 0, its height part
 // 1; a single value is part 0). `get_part` reads (NaN where it has no value of its own until given, e.g.
-// a field of view that replaces the focal length); `set_part` stores a checked value.
+// a field of view that replaces the focal length); `set_part` stores a checked value. A path's row has
+// text accessors instead (get_text: empty while unset), and no number (NaN).
 template <class Request>
 struct Field {
   Param param;
-  double (*get_part)(const Request&, int part);
-  void (*set_part)(Request&, int part, double);
+  double (*get_part)(const Request&, int part) = nullptr;
+  void (*set_part)(Request&, int part, double) = nullptr;
+  std::string (*get_text)(const Request&) = nullptr;
+  void (*set_text)(Request&, std::string) = nullptr;
 
   // A single value (part 0).
-  double get(const Request& r) const { return get_part(r, 0); }
+  double get(const Request& r) const { return get_part ? get_part(r, 0) : std::numeric_limits<double>::quiet_NaN(); }
   void set(Request& r, double v) const { set_part(r, 0, v); }
   // Every part.
   ParamValue value(const Request& r) const {
     ParamValue v{};
-    for (int i = 0; i < param.parts(); ++i) v[std::size_t(i)] = get_part(r, i);
+    if (!get_part) v.fill(std::numeric_limits<double>::quiet_NaN());
+    else
+      for (int i = 0; i < param.parts(); ++i) v[std::size_t(i)] = get_part(r, i);
     return v;
   }
   void set_value(Request& r, const ParamValue& v) const {
     for (int i = 0; i < param.parts(); ++i) set_part(r, i, v[std::size_t(i)]);
   }
+  // A path's text (empty while unset, and for the other kinds).
+  std::string text(const Request& r) const { return get_text ? get_text(r) : std::string(); }
 };
 
 // The accessors of a table row (a Field's get_part and set_part) for a member of the request:
@@ -156,7 +170,8 @@ struct Field {
 // HYDROLUX_PARAM_OPTIONAL(fov_deg) for a std::optional<double> (NaN while unset: no default of its own),
 // HYDROLUX_PARAM_PARTS(camera.width, camera.height) for a size or a span of two members,
 // HYDROLUX_PARAM_INDEXED(light_color) for a colour (a member indexed [0], [1], [2]) and
-// HYDROLUX_PARAM_OPTIONAL_PARTS(size) for a std::optional<std::array<T, N>> (NaN parts while unset).
+// HYDROLUX_PARAM_OPTIONAL_PARTS(size) for a std::optional<std::array<T, N>> (NaN parts while unset) and
+// HYDROLUX_PARAM_PATH(output) for a path's std::string or std::optional<std::string> (empty while unset).
 #define HYDROLUX_PARAM_MEMBER(path)                         \
   [](const auto& o, int) { return double(o.path); },        \
       [](auto& o, int, double v) { o.path = decltype(o.path)(v); }
@@ -181,12 +196,25 @@ struct Field {
         (*o.path)[std::size_t(i)] = std::remove_reference_t<decltype((*o.path)[0])>(v);                \
       }
 
+namespace detail {
+// A path member's text: a std::string's own, a std::optional<std::string>'s or empty while unset.
+template <class T>
+std::string path_text(const T& member) {
+  if constexpr (requires { member.has_value(); }) return member.value_or(std::string());
+  else return member;
+}
+}  // namespace detail
+#define HYDROLUX_PARAM_PATH(path)                                                          \
+  nullptr, nullptr, [](const auto& o) { return ::hydrolux::detail::path_text(o.path); }, \
+      [](auto& o, std::string v) { o.path = std::move(v); }
+
 // A parameter with its default, for the doors that list them (docs, Python signatures, argparse).
 struct ParamInfo {
   const Param* param;
   double default_value;  // part 0; NaN: none (derived, or replaced by another parameter)
   ParamValue default_parts = {};  // every part (a size's width and height)
-  // The default as the CLI's help shows it: "25", "0.008", "on", "1280x720"; empty for none.
+  std::string default_path = {};  // a path's default; empty for none
+  // The default as the CLI's help shows it: "25", "0.008", "on", "1280x720", a path; empty for none.
   std::string default_text() const;
 };
 
@@ -209,7 +237,7 @@ std::vector<ParamInfo> describe_fields(std::span<const Field<Request>> fields) {
   const Request defaults{};
   std::vector<ParamInfo> out;
   out.reserve(fields.size());
-  for (const auto& f : fields) out.push_back({&f.param, f.get(defaults), f.value(defaults)});
+  for (const auto& f : fields) out.push_back({&f.param, f.get(defaults), f.value(defaults), f.text(defaults)});
   return out;
 }
 

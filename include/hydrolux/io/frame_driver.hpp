@@ -24,17 +24,12 @@
 
 #include "hydrolux/core/params.hpp"
 #include "hydrolux/io/image_io.hpp"
+#include "hydrolux/rain/frame_paths.hpp"
 
 namespace hydrolux::io {
 
-// What to read and where the results go, as the CLI's flags name them (messages quote them so).
-// Exactly one of image, input_dir, video. Every effect's job (RainJob, FogJob, LensDropsJob) is one;
-// a door leaves unset what its effect does not take (depth for lens drops, the layer but for rain).
-struct FramePaths {
-  std::optional<std::string> image, input_dir, video;
-  std::optional<std::string> depth, depth_dir;
-  std::optional<std::string> output, output_dir, mask_out, mask_dir, layer_out, stats_json;
-};
+// What to read and where the results go (rain/frame_paths.hpp: the paths declared, one table per effect).
+using rain::FramePaths;
 
 // The paths and how the files are encoded, as the driver takes them.
 struct FrameRequest : FramePaths {
@@ -82,24 +77,15 @@ struct SequenceStart {
   double extra_bytes_per_pixel = 0;  // what the pipeline holds besides one frame (memory checks)
 };
 
-// How an effect words its files in help (io/frame_paths.hpp): image, folder and video follow the
-// text every effect shares; mask and stats are the whole help of --mask-out and --stats-json.
-struct FramePathWords {
-  std::string_view image = {};   // after "Input photograph (PNG, JPEG, EXR, TIFF, ...)"
-  std::string_view folder = {};  // after "A folder of frames in name order"
-  std::string_view video = {};   // after "Input video (MP4, MOV, MKV, ...); frame rate and count are kept"
-  std::string_view mask = {};
-  std::string_view stats = {};
-};
-
 // What an effect names and supports.
 struct EffectTraits {
   std::string noun;                // "rainy frames": "--output-dir: give the folder for the <noun> ..."
   bool one_size = true;            // every frame of a sequence the first one's size
-  bool layer = false;              // --layer-out (a premultiplied RGBA .exr with --image)
-  bool depth = true;               // --depth, --depth-dir (else the paths must be unset)
   std::string folder_input_key = "input";  // the statistics' key for --input-dir's path
-  FramePathWords words = {};
+  // Its files, declared (rain/frame_paths.hpp): the CLI's flags and the batch's folder options. A path
+  // not in the table is one the effect does not take (--layer-out but for rain, --depth for lens
+  // drops), which a door leaves unset.
+  std::span<const Field<FramePaths>> paths = {};
 };
 
 // One effect over frames. The driver calls, in order: check_options, check_mode (once the mode is

@@ -34,7 +34,6 @@ class FrameJob:
     name: str          # the batch job's name, "fog" ("batch fog: ..." in messages)
     job: str           # its declared parameters' job, _core.params(job)
     noun: str          # what --output-dir receives, "foggy frames"
-    depth: bool        # whether it takes --depth-dir
     # From the first readable frame, the options and whether a ground plane stands for depth maps: the
     # job's entries for the manifest and the tasks (fog: its sky colour) and what the run's first line
     # adds (rain: "; N drops in the field"); raises ValueError naming a parameter for options the
@@ -60,15 +59,25 @@ def params(fj: FrameJob) -> tuple:
     return _declared(fj.job)
 
 
+# The paths of a frame job the batch takes (the folders; rain's also --video and -o): declared in the
+# library's table with the CLI's, read from it with their flags and help.
+FOLDER_PATHS = ("input_dir", "output_dir", "mask_dir", "depth_dir")
+
+
+def add_path_arguments(p: argparse.ArgumentParser, declared, names) -> None:
+    """The declared paths of ``declared`` named in ``names`` (those the job's table has), as options."""
+    for q in declared:
+        if q["kind"] == "path" and q["name"] in names:
+            flags = ([q["short_flag"]] if q["short_flag"] else []) + [q["flag"]]
+            p.add_argument(*flags, dest=q["name"], metavar=q["words"][0], help=q["help"].replace("%", "%%"))
+
+
 def add_arguments(p: argparse.ArgumentParser, fj: FrameJob) -> None:
-    p.add_argument("--input-dir", help="A folder of frames in name order")
-    p.add_argument("--output-dir", help=f"Folder for the {fj.noun} (created; never the input folder)")
-    p.add_argument("--mask-dir", help="Folder for the coverage masks (same names as the frames)")
-    if fj.depth:
-        p.add_argument("--depth-dir", help="Depth maps: each frame's stem as .exr (metres) or .png (16-bit codes x "
-                                           "--depth-scale-m); without, a ground plane")
+    add_path_arguments(p, params(fj), FOLDER_PATHS)
     for q in params(fj):
         text = q["help"].replace("%", "%%")
+        if q["kind"] == "path":
+            continue
         if q["kind"] == "flag":
             p.add_argument(q["flag"], dest=q["name"], action="store_const", const=not q["default"],
                            default=q["default"], help=text)
@@ -82,7 +91,7 @@ def add_arguments(p: argparse.ArgumentParser, fj: FrameJob) -> None:
 def _parse_numbers(a: argparse.Namespace, fj: FrameJob) -> None:
     _common.take_deprecated_flags(a, params(fj), lambda q: getattr(a, q["name"], None) is not None, f"batch {fj.name}")
     for p in params(fj):
-        if p["kind"] == "flag":
+        if p["kind"] in ("flag", "path"):
             continue
         value = getattr(a, p["name"], None)
         setattr(a, p["name"] + "_given", value is not None)
@@ -99,7 +108,7 @@ def _parse_numbers(a: argparse.Namespace, fj: FrameJob) -> None:
 
 def _options(a: argparse.Namespace, fj: FrameJob) -> Dict[str, Any]:
     opts = {p["name"]: getattr(a, p["name"]) for p in params(fj)
-            if p["group"] != "files" and getattr(a, p["name"], None) is not None}
+            if p["group"] != "files" and p["kind"] != "path" and getattr(a, p["name"], None) is not None}
     flags = {p["name"]: p["flag"] for p in params(fj)}
     for p in params(fj):
         if p["excludes"] and p["name"] in opts and p["excludes"] in opts:
@@ -234,7 +243,7 @@ def first_readable_frame(in_dir: str, frames: List[str]):
 def run(a: argparse.Namespace, fj: FrameJob, after_result=None) -> int:
     """The job: 0 when every frame is in place, 1 when some failed, a UsageError naming the flag for bad
     input before any work."""
-    depth_dir_arg = getattr(a, "depth_dir", None) if fj.depth else None
+    depth_dir_arg = getattr(a, "depth_dir", None)  # None where the job's table has no --depth-dir
     if a.input_dir is None:
         raise UsageError("--input-dir: give the folder of frames")
     if not a.output_dir:
@@ -256,7 +265,7 @@ def run_folder(a: argparse.Namespace, fj: FrameJob, opts: Dict[str, Any], after_
     ``chunk_frames``) and the cluster's (``workers``, ``threads_per_worker``, ``scheduler``, ``quiet``)."""
     tag = f"batch {fj.name}"
     task = task or render_frames
-    depth_dir_arg = (getattr(a, "depth_dir", None) or None) if fj.depth else None
+    depth_dir_arg = getattr(a, "depth_dir", None) or None
     start = a.frame_index if any(p["name"] == "frame_index" for p in params(fj)) else None
     plan = plan_folder(a.input_dir, a.output_dir, a.mask_dir or None, depth_dir_arg, tag)
     frames, names = plan["frames"], plan["outputs"]

@@ -68,7 +68,7 @@ def _require(opts: Dict[str, Any]) -> None:
                          "over the droplets")
 
 
-FOG = _folder.FrameJob(name="fog", job="fog", noun="foggy frames", depth=True, prepare=_prepare, render=_render,
+FOG = _folder.FrameJob(name="fog", job="fog", noun="foggy frames", prepare=_prepare, render=_render,
                        require=_require)
 
 

@@ -68,7 +68,7 @@ def _render(image, depth, k: int, job: Dict[str, Any]) -> tuple:
 
 
 # Each frame at its own size, as hydrolux lens-drops --input-dir renders a folder of frames of several sizes.
-LENS_DROPS = _folder.FrameJob(name="lens-drops", job="lens_drops", noun="frames with drops", depth=False,
+LENS_DROPS = _folder.FrameJob(name="lens-drops", job="lens_drops", noun="frames with drops",
                               prepare=_prepare, render=_render, one_size=False)
 
 

@@ -92,7 +92,7 @@ def parse_numbers(a: argparse.Namespace) -> None:
     conditional = _common.conditional(params())
     for p in params():
         name = p["name"]
-        if p["kind"] == "flag":
+        if p["kind"] in ("flag", "path"):
             continue
         value = getattr(a, name, None)
         if name in conditional:
@@ -122,17 +122,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     >>> a.input_dir, a.rain_rate_mmh, a.wind_mps, a.unresolved
     ('frames', 25.0, '3', False)
     """
-    p.add_argument("--input-dir", help="A folder of frames in name order: one rain field across them")
-    p.add_argument("--output-dir", help="Folder for the rainy frames (created; never the input folder)")
-    p.add_argument("--video", help="Input video (MP4, MOV, MKV, ...) instead of --input-dir; frame rate and count kept")
-    p.add_argument("-o", "--output", help="Output video with --video (.mp4, .mov or .mkv), H.264")
-    p.add_argument("--mask-dir", help="Folder for the rain's coverage masks (same names as the frames)")
-    p.add_argument("--depth-dir", help="Depth maps for --input-dir: each frame's stem as .exr (metres) or .png "
-                                       "(16-bit codes x --depth-scale-m); without, a ground plane")
+    _folder.add_path_arguments(p, params(), _folder.FOLDER_PATHS + ("video", "output"))
     # The declared parameters. Numbers are taken as text and parsed by the library's parsers in run(), as the
     # CLI parses them; a flag parameter's flag turns its default around (--no-unresolved).
     for q in params():
         text = q["help"].replace("%", "%%")  # argparse formats help with %
+        if q["kind"] == "path":
+            continue
         if q["kind"] == "flag":
             p.add_argument(q["flag"], dest=q["name"], action="store_const", const=not q["default"],
                            default=q["default"], help=text)
@@ -220,7 +216,7 @@ def _prepare(first, opts: Dict[str, Any], ground: bool) -> tuple:
     return {}, f"; {field['drops']} drops in the field"
 
 
-RAIN = _folder.FrameJob(name="rain", job="rain", noun="rainy frames", depth=True, prepare=_prepare, render=_render)
+RAIN = _folder.FrameJob(name="rain", job="rain", noun="rainy frames", prepare=_prepare, render=_render)
 
 
 def render_frames(job: Dict[str, Any], frames: List[tuple]) -> List[dict]:
