@@ -336,8 +336,9 @@ _PHASE = {p["name"]: p["default"] for p in _core.params("phase")}
 
 def phase(radius_um: Optional[float], wavelength_nm: float, theory: str = "mie", size_distribution: str = "mono",
           medium: str = "water", surrounding: str = "air", angles_deg: Union[ArrayLike, str] = _DEFAULT_ANGLES,
-          nodes: int = _PHASE["nodes"], temperature_c: Optional[float] = _PHASE["temperature_c"],
-          threads: int = _PHASE["threads"], mueller: bool = _PHASE["mueller"]) -> PhaseResult:
+          nodes: Optional[int] = _PHASE["nodes"], temperature_c: Optional[float] = _PHASE["temperature_c"],
+          threads: int = _PHASE["threads"], mueller: bool = _PHASE["mueller"],
+          tolerance: Optional[float] = None) -> PhaseResult:
     """The scattered intensity against angle of one drop or a size distribution (``hydrolux phase``):
     the same job, checks and numbers as the CLI, as a :class:`PhaseResult` of arrays.
 
@@ -346,12 +347,14 @@ def phase(radius_um: Optional[float], wavelength_nm: float, theory: str = "mie",
     ``theory``: "mie", "debye:P" (one Debye order: 0 diffraction + reflection, 2 primary rainbow, 3
     secondary), "airy" ("airy:P"; near the rainbow angle only) or "geometric" ("geometric:P").
     ``size_distribution``: "mono", "gamma:W" or "lognormal:W" (relative width W in [0.0001, 1]) or
-    "marshall-palmer:H" (H mm/h, radii 50-3000 um), averaged over ``nodes`` radii.
+    "marshall-palmer:H" (H mm/h, radii 50-3000 um), averaged over radii it chooses until the average
+    is within ``tolerance`` (None: the CLI's default, 0.005) of the converged one at every angle
+    (``info["error"]`` is its estimate), or over a fixed count of ``nodes`` radii instead.
     ``medium``, ``surrounding``: names as :func:`media` (or "const:1.49"). ``angles_deg``: scattering
     angles in [0, 180] degrees (0 = forward), an array or the CLI's text "A:B:N" or "0,10,90" (read
     by the CLI's parser: the same angles). ``temperature_c``: of the media that model it (water).
     ``threads``: 0 = all cores. ``mueller``: also the size-averaged Mueller elements and pol.
-    Declared parameters (``nodes``, ``temperature_c``, ``threads``, ``mueller``) take the ranges of
+    Declared parameters (``nodes``, ``tolerance``, ``temperature_c``, ``threads``, ``mueller``) take the ranges of
     the CLI's flags of the same names. A bad argument is a ValueError (a TypeError for a wrong type)
     naming it. Long jobs release the GIL and stop on Ctrl-C.
 
@@ -377,6 +380,8 @@ def phase(radius_um: Optional[float], wavelength_nm: float, theory: str = "mie",
         angles_deg = np.atleast_1d(_reals(angles_deg, "angles_deg"))
     options = {"nodes": nodes, "temperature_c": _opt_real(temperature_c, "temperature_c"), "threads": threads,
                "mueller": _flag(mueller, "mueller")}
+    if tolerance is not None:  # else the library's default (given with nodes, refused: they replace one another)
+        options["tolerance"] = tolerance
     d = _core.phase(theory, radius, wavelength, size_distribution, medium, surrounding, angles_deg, options)
     pol = None
     if "s11" in d:

@@ -295,9 +295,9 @@ py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wave
   }
   // The work: each radius's amplitudes at every angle, ~(x + 10) terms each.
   const auto& q = plan.quadrature;
-  double work = 0;
-  for (const double r : q.radius_m)
-    work += (plan.problem.x * r / q.radius_m.front() + 10) * double(plan.job.angles_deg.size() + 1);
+  const double x_per_m = plan.problem.x / (plan.refine ? plan.r_min : q.radius_m.front());
+  double work = plan.refine ? 1e9 : 0;  // an automatic average takes thousands of radii: cancellable
+  for (const double r : q.radius_m) work += (x_per_m * r + 10) * double(plan.job.angles_deg.size() + 1);
   scatter::PhaseResult res;
   try {
     if (work > 2e7) {
@@ -322,8 +322,12 @@ py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wave
   info["m"] = res.m;
   info["x"] = res.radii == 1 ? py::object(py::float_(res.x)) : py::object(py::none());
   info["radii"] = res.radii;
-  std::vector<double> radius_um(q.radius_m.size()), weight = q.weight;
-  for (std::size_t k = 0; k < radius_um.size(); ++k) radius_um[k] = q.radius_m[k] * 1e6;
+  const auto& used = res.quadrature;
+  std::vector<double> radius_um(used.radius_m.size()), weight = used.weight;
+  for (std::size_t k = 0; k < radius_um.size(); ++k) radius_um[k] = used.radius_m[k] * 1e6;
+  // The automatic average's estimated error and its tolerance (None for one radius or a fixed count).
+  info["error"] = res.error ? py::object(py::float_(*res.error)) : py::object(py::none());
+  info["tolerance"] = res.tolerance ? py::object(py::float_(*res.tolerance)) : py::object(py::none());
   info["radius_um"] = array(radius_um), info["weight"] = array(weight);
   py::list notes;
   for (const auto& n : res.notes) notes.append(n);

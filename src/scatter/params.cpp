@@ -43,10 +43,16 @@ const Field<MieRequest> kMie[] = {
 
 const Field<PhaseRequest> kPhase[] = {
     {{"nodes", "--nodes", "sizes", K::integer, "", 1, kMaxQuadratureNodes,
-      "Radii in the size average (Gauss-Legendre); cloud droplets' Mie ripple needs about 8 per unit of the size "
-      "parameters covered (a note says when there are fewer than 4)",
+      "A fixed count of radii in the size average (Gauss-Legendre in ln r) instead of the automatic refinement to "
+      "--tolerance; cloud droplets' Mie ripple needs about 8 per unit of the size parameters covered (a note says "
+      "when there are fewer than 4)",
       {}, kNodesOnlyWith, {}, kNodesWhy},
-     HYDROLUX_PARAM_MEMBER(nodes)},
+     HYDROLUX_PARAM_OPTIONAL(nodes)},
+    {{"tolerance", "--tolerance", "sizes", K::real, "", 1e-4, 0.1,
+      "The size average's relative error allowed at every angle: radii evenly spaced, halved until two spacings "
+      "agree to half of it (docs/mie.md, \"Size averages\")",
+      "nodes", kNodesOnlyWith, {}, "{size_distribution=} is one radius, with nothing to average (omit {tolerance})"},
+     HYDROLUX_PARAM_MEMBER(tolerance)},
     {kTemperature, HYDROLUX_PARAM_OPTIONAL(temperature_c)},
     {kThreads, HYDROLUX_PARAM_MEMBER(threads)},
     {flag_param("mueller", "--mueller", "output",

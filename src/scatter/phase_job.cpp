@@ -15,8 +15,16 @@ namespace hydrolux::scatter {
 
 namespace {
 
-// --size-distribution's quadrature over radius and its description.
-std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
+// --size-distribution's radii: a fixed quadrature (one radius; --nodes), or the distribution and the
+// range the automatic average refines over; and its description.
+struct SizeAverage {
+  RadiusQuadrature quadrature;
+  std::optional<SizeDistribution> refine;
+  double r_min = 0, r_max = 0;
+  std::string drops;
+};
+
+SizeAverage size_quadrature(const PhaseJob& job) {
   using Field = PhaseJobError::Field;
   SizeDistributionSpec spec;
   try {
@@ -24,7 +32,20 @@ std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
   } catch (const Error& e) {
     throw PhaseJobError(Field::size_distribution, " " + escape_braces(e.what()));
   }
-  const int nodes = job.numbers.nodes;
+  const std::optional<int> nodes = job.numbers.nodes;
+  // The automatic average's grid or the fixed quadrature, over [lo, hi] (m).
+  const auto average = [&](const SizeDistribution& d, double lo, double hi, std::string drops) {
+    SizeAverage out;
+    if (nodes) {
+      out.quadrature = d.quadrature(*nodes, lo, hi, d.kind() != SizeDistributionKind::marshall_palmer);
+      const bool rain = d.kind() == SizeDistributionKind::marshall_palmer;  // described by its range, as always
+      out.drops = rain ? std::move(drops) : fmt::format("{}, {} radii", drops, *nodes);
+    } else {
+      out.refine = d, out.r_min = lo, out.r_max = hi;
+      out.drops = std::move(drops);
+    }
+    return out;
+  };
   if (spec.kind == SizeDistributionKind::marshall_palmer) {
     if (job.radius_um)
       throw PhaseJobError(Field::radius_um,
@@ -33,25 +54,30 @@ std::pair<RadiusQuadrature, std::string> size_quadrature(const PhaseJob& job) {
                                       *job.radius_um, job.size_distribution, kPhaseRainMinRadiusUm,
                                       kPhaseRainMaxRadiusUm),
                           Field::size_distribution);
-    const auto d = SizeDistribution::marshall_palmer(spec.parameter);
-    return {d.quadrature(nodes, kPhaseRainMinRadiusUm * 1e-6, kPhaseRainMaxRadiusUm * 1e-6),
-            fmt::format("Marshall-Palmer rain, {:g} mm/h, radii {:g}-{:g} um", spec.parameter, kPhaseRainMinRadiusUm,
-                        kPhaseRainMaxRadiusUm)};
+    return average(SizeDistribution::marshall_palmer(spec.parameter), kPhaseRainMinRadiusUm * 1e-6,
+                   kPhaseRainMaxRadiusUm * 1e-6,
+                   fmt::format("Marshall-Palmer rain, {:g} mm/h, radii {:g}-{:g} um", spec.parameter,
+                               kPhaseRainMinRadiusUm, kPhaseRainMaxRadiusUm));
   }
   if (!job.radius_um) throw PhaseJobError(Field::radius_um, " is required (the mean radius for gamma and lognormal)");
   const double radius_um = *job.radius_um, r = radius_um * 1e-6;
   if (spec.kind == SizeDistributionKind::monodisperse) {
-    if (nodes != PhaseRequest{}.nodes) throw one_radius_nodes_error(nodes, job.size_distribution);
-    return {SizeDistribution::monodisperse(r).quadrature(1), fmt::format("radius {:g} um", radius_um)};
+    if (nodes) throw one_radius_nodes_error(*nodes, job.size_distribution);
+    // A tolerance other than the default (the library cannot tell the default given from one left alone).
+    if (job.numbers.tolerance != PhaseRequest{}.tolerance)
+      throw ParamError(fmt::format("{{tolerance}} {:g}: {{size_distribution}} {} is one radius, with nothing to average "
+                                   "(omit {{tolerance}})",
+                                   job.numbers.tolerance, escape_braces(job.size_distribution)));
+    return {SizeDistribution::monodisperse(r).quadrature(1), std::nullopt, 0, 0, fmt::format("radius {:g} um", radius_um)};
   }
   const bool gamma = spec.kind == SizeDistributionKind::gamma;
   const auto d = gamma ? SizeDistribution::gamma(r, spec.parameter) : SizeDistribution::log_normal(r, spec.parameter);
-  // Gauss-Legendre over a range holding the number and r^4-weighted tails: Mie intensities
-  // oscillate in r, which a range rule with enough nodes resolves (a Gaussian rule of n(r) would
-  // alias).
-  return {intensity_quadrature(d, nodes),
-          fmt::format("{} distribution, mean radius {:g} um, relative width {:g}, {} radii", gamma ? "gamma" : "lognormal",
-                      radius_um, spec.parameter, nodes)};
+  // A range holding the number and r^4-weighted tails: Mie intensities oscillate in r, which a range
+  // rule with enough radii resolves (a Gaussian rule of n(r) would alias).
+  const auto [lo, hi] = intensity_range(d);
+  return average(d, lo, hi,
+                 fmt::format("{} distribution, mean radius {:g} um, relative width {:g}", gamma ? "gamma" : "lognormal",
+                             radius_um, spec.parameter));
 }
 
 }  // namespace
@@ -104,12 +130,17 @@ PhasePlan plan_phase(PhaseJob job) {
   } catch (const Error& e) {
     throw ParamError("{angles_deg}: " + escape_braces(e.what()));
   }
-  auto [quadrature, drops] = size_quadrature(job);
+  SizeAverage sizes = size_quadrature(job);
   // The media at this wavelength (and temperature), so that a bad wavelength fails before any work.
-  plan.problem =
-      sphere_problem(quadrature.radius_m.front() * 1e6, job.wavelength_nm, sphere, outside, job.numbers.temperature_c);
-  plan.quadrature = std::move(quadrature);
-  plan.drops = std::move(drops);
+  const double first_m = sizes.refine ? sizes.r_min : sizes.quadrature.radius_m.front();
+  plan.problem = sphere_problem(first_m * 1e6, job.wavelength_nm, sphere, outside, job.numbers.temperature_c);
+  if (sizes.refine) {  // the largest drop too, whose x bounds the work (and must be in the theory's domain)
+    (void)sphere_problem(sizes.r_max * 1e6, job.wavelength_nm, sphere, outside, job.numbers.temperature_c);
+  }
+  plan.quadrature = std::move(sizes.quadrature);
+  plan.refine = std::move(sizes.refine);
+  plan.r_min = sizes.r_min, plan.r_max = sizes.r_max;
+  plan.drops = std::move(sizes.drops);
   plan.job = std::move(job);
   return plan;
 }
@@ -134,10 +165,25 @@ PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress) {
   const PhaseJob& job = plan.job;
   std::vector<double> theta(job.angles_deg.size());
   for (std::size_t i = 0; i < theta.size(); ++i) theta[i] = deg_to_rad(job.angles_deg[i]);
-  const auto averaged = average_intensities(plan.theory, plan.quadrature, job.wavelength_nm, *job.medium,
-                                            *job.surrounding, job.numbers.temperature_c, theta, job.numbers.threads,
-                                            progress);
   PhaseResult r;
+  Intensities averaged;
+  if (plan.refine) {
+    auto refined = refine_average_intensities(plan.theory, *plan.refine, plan.r_min, plan.r_max, job.wavelength_nm,
+                                              *job.medium, *job.surrounding, job.numbers.temperature_c, theta,
+                                              job.numbers.tolerance, job.numbers.threads, progress);
+    averaged = std::move(refined.averaged);
+    r.quadrature = std::move(refined.quadrature);
+    r.error = refined.error;
+    r.tolerance = job.numbers.tolerance;
+    if (!refined.converged)
+      r.notes.push_back(fmt::format("the size average stopped at {} radii (the most) with an estimated error of {:.2g}% "
+                                    "at its worst angle, above --tolerance {:g}% (docs/mie.md, \"Size averages\")",
+                                    r.quadrature.size(), 100 * refined.error, 100 * job.numbers.tolerance));
+  } else {
+    averaged = average_intensities(plan.theory, plan.quadrature, job.wavelength_nm, *job.medium, *job.surrounding,
+                                   job.numbers.temperature_c, theta, job.numbers.threads, progress);
+    r.quadrature = plan.quadrature;
+  }
   r.angles_deg = job.angles_deg;
   if (job.numbers.mueller) r.mueller = mueller_elements(averaged);
   r.i1 = averaged.i1;
@@ -149,7 +195,7 @@ PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress) {
   r.wavelength_nm = job.wavelength_nm;
   r.m = plan.problem.m;
   r.x = plan.problem.x;
-  r.radii = plan.quadrature.size();
+  r.radii = r.quadrature.size();
   if (plan.theory.kind == TheoryKind::Airy)
     r.notes.push_back(fmt::format("Airy theory approximates order {} near its rainbow angle {:.2f} deg only (within a "
                                   "few degrees for x ~ 1000, less for larger drops); use mie or debye:{} elsewhere",

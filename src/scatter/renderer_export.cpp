@@ -235,7 +235,16 @@ MediumPlan plan_medium(MediumJob job) {
   phase.size_distribution = job.size_distribution;
   phase.medium = job.medium;
   phase.surrounding = job.surrounding;
-  phase.numbers.nodes = job.numbers.nodes;
+  // The medium keeps a fixed count of radii. For one radius only a count other than the default is a
+  // count given (plan_phase refuses it); a text that is no distribution is plan_phase's to refuse.
+  const bool one_radius = [&] {
+    try {
+      return parse_size_distribution(job.size_distribution).kind == SizeDistributionKind::monodisperse;
+    } catch (const Error&) {
+      return false;
+    }
+  }();
+  if (!one_radius || job.numbers.nodes != MediumRequest{}.nodes) phase.numbers.nodes = job.numbers.nodes;
   phase.numbers.temperature_c = job.numbers.temperature_c;
   phase.numbers.threads = job.numbers.threads;
   MediumPlan plan;

@@ -3,10 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <stdexcept>
 
 #include <charconv>
 #include <cmath>
 #include <vector>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/scatter/airy.hpp"
@@ -78,25 +82,30 @@ void amplitudes(const Theory& t, Complex m, double x, std::span<const double> th
   }
 }
 
-RadiusQuadrature intensity_quadrature(const SizeDistribution& d, int nodes) {
+std::pair<double, double> intensity_range(const SizeDistribution& d) {
   switch (d.kind()) {
-    case SizeDistributionKind::monodisperse: return d.quadrature(1);
+    case SizeDistributionKind::monodisperse: return {d.radius(), d.radius()};
     case SizeDistributionKind::gamma: {
       // Ten standard deviations (sqrt(a) b) either side of the mean a b, the lower end kept above
       // a thousandth of the mean for wide distributions. A fixed lower end at 1e-3 of the mean put
       // every node outside the peak of a narrow distribution (relative width 1e-3: 64 nodes 1.6%
       // apart across a peak 0.1% wide).
       const double a = d.alpha(), b = d.beta();
-      const double lo = std::max(1e-3 * d.mean_radius(), b * (a - 10 * std::sqrt(a)));
-      return d.quadrature(nodes, lo, b * (a + 4 + 10 * std::sqrt(a + 4)), true);
+      return {std::max(1e-3 * d.mean_radius(), b * (a - 10 * std::sqrt(a))), b * (a + 4 + 10 * std::sqrt(a + 4))};
     }
     case SizeDistributionKind::log_normal: {
       const double mu = d.mu(), s = d.sigma();
-      return d.quadrature(nodes, std::exp(mu - 8 * s), std::exp(mu + 4 * s * s + 8 * s), true);
+      return {std::exp(mu - 8 * s), std::exp(mu + 4 * s * s + 8 * s)};
     }
     case SizeDistributionKind::marshall_palmer: break;
   }
   throw Error("intensity_quadrature: give Marshall-Palmer rain its radius range explicitly");
+}
+
+RadiusQuadrature intensity_quadrature(const SizeDistribution& d, int nodes) {
+  if (d.kind() == SizeDistributionKind::monodisperse) return d.quadrature(1);
+  const auto [lo, hi] = intensity_range(d);
+  return d.quadrature(nodes, lo, hi, true);
 }
 
 Intensities average_intensities(const Theory& t, const RadiusQuadrature& q, double wavelength_nm,
@@ -126,6 +135,121 @@ Intensities average_intensities(const Theory& t, const RadiusQuadrature& q, doub
     out.i2[i] /= total;
     out.s2_s1conj[i] /= total;
   }
+  return out;
+}
+
+namespace {
+
+// Sums over radii of n(r) w_trapezoid times each intensity, per angle.
+struct WeightedSums {
+  std::vector<double> i1, i2;
+  std::vector<Complex> c;
+  double weight = 0;
+  explicit WeightedSums(std::size_t angles) : i1(angles), i2(angles), c(angles) {}
+  Intensities mean() const {
+    Intensities out{i1, i2, c};
+    for (std::size_t k = 0; k < i1.size(); ++k) {
+      out.i1[k] /= weight;
+      out.i2[k] /= weight;
+      out.s2_s1conj[k] /= weight;
+    }
+    return out;
+  }
+};
+
+// The largest change from `before` to `after` at any angle, in i1, i2 or S2 S1*, relative to S11 there.
+double largest_change(const Intensities& before, const Intensities& after) {
+  double worst = 0;
+  for (std::size_t k = 0; k < after.i1.size(); ++k) {
+    const double s11 = (after.i1[k] + after.i2[k]) / 2;
+    const double change = std::max({std::abs(after.i1[k] - before.i1[k]), std::abs(after.i2[k] - before.i2[k]),
+                                    std::abs(after.s2_s1conj[k] - before.s2_s1conj[k])});
+    worst = std::max(worst, s11 > 0 ? change / s11 : (change > 0 ? INFINITY : 0.0));
+  }
+  return worst;
+}
+
+}  // namespace
+
+RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistribution& d, double r_min, double r_max,
+                                              double wavelength_nm, const optics::Medium& drop,
+                                              const optics::Medium& surrounding, std::optional<double> temperature_c,
+                                              std::span<const double> theta_rad, double tolerance, int threads,
+                                              const ProgressFn& progress) {
+  if (!(r_min > 0) || !(r_max > r_min) || !(tolerance > 0))
+    throw std::logic_error("refine_average_intensities: needs 0 < r_min < r_max and a tolerance > 0");
+  const std::size_t angles = theta_rad.size();
+  // The first grid: 2^k + 1 radii, at least kMinRefinedRadii, and for a wave theory kRefineStartStepX apart in x
+  // at most (x is proportional to r at one wavelength).
+  const double x_per_m = sphere_problem(r_max * 1e6, wavelength_nm, drop, surrounding, temperature_c).x / r_max;
+  const bool wave = t.kind == TheoryKind::Mie || t.kind == TheoryKind::Debye;
+  const double wanted = wave ? (r_max - r_min) * x_per_m / kRefineStartStepX + 1 : 0;
+  std::size_t intervals = kMinRefinedRadii - 1;
+  while (double(intervals + 1) < wanted && 4 * intervals + 1 <= kMaxRefinedRadii) intervals *= 2;  // one halving left
+
+  WeightedSums sums(angles);
+  std::vector<double> radii;  // every radius computed, in the order computed
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  // Adds the radii r_min + (first + j stride) h for j < count, weighted n(r) (half at the range's ends): in
+  // blocks computed in parallel, one radius a task, and summed in order (the same sums on any thread count).
+  const auto add = [&](double h, std::size_t first, std::size_t stride, std::size_t count, std::size_t level_total) {
+    constexpr std::size_t kBlock = 64;
+    std::vector<Complex> s1(kBlock * angles), s2(kBlock * angles);
+    for (std::size_t b0 = 0; b0 < count; b0 += kBlock) {
+      const std::size_t nb = std::min(kBlock, count - b0);
+      std::vector<double> r(nb);
+      for (std::size_t j = 0; j < nb; ++j) r[j] = r_min + double(first + (b0 + j) * stride) * h;
+      arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), nb, [&](std::size_t j) {
+          const auto sp = sphere_problem(r[j] * 1e6, wavelength_nm, drop, surrounding, temperature_c);
+          amplitudes(t, sp.m, sp.x, theta_rad, std::span(s1).subspan(j * angles, angles),
+                     std::span(s2).subspan(j * angles, angles), 1);
+        });
+      });
+      for (std::size_t j = 0; j < nb; ++j) {
+        const bool end = first + (b0 + j) * stride == 0 || r[j] >= r_max - 0.5 * h;
+        const double w = d.number_density(r[j]) * (end ? 0.5 : 1.0);
+        for (std::size_t k = 0; k < angles; ++k) {
+          const Complex a1 = s1[j * angles + k], a2 = s2[j * angles + k];
+          sums.i1[k] += w * std::norm(a1);
+          sums.i2[k] += w * std::norm(a2);
+          sums.c[k] += w * (a2 * std::conj(a1));
+        }
+        sums.weight += w;
+        radii.push_back(r[j]);
+      }
+      if (progress)
+        progress(double(radii.size()) / double(level_total),
+                 fmt::format("{} of {} radii (refining to {:g}%)", radii.size(), level_total, 100 * tolerance));
+    }
+  };
+
+  double h = (r_max - r_min) / double(intervals);
+  add(h, 0, 1, intervals + 1, intervals + 1);
+  if (!(sums.weight > 0)) throw Error("size distribution: no drops in the range averaged over");
+  RefinedIntensities out;
+  out.averaged = sums.mean();
+  out.error = INFINITY;
+  while (2 * intervals + 1 <= kMaxRefinedRadii) {
+    // Halve the spacing: the new radii are the midpoints, odd multiples of the new step.
+    h /= 2;
+    add(h, 1, 2, intervals, 2 * intervals + 1);
+    intervals *= 2;
+    Intensities next = sums.mean();
+    out.error = largest_change(out.averaged, next);
+    out.averaged = std::move(next);
+    if (out.error < tolerance / 2) {
+      out.converged = true;
+      break;
+    }
+  }
+  // The last grid's radii and weights, ascending (the weights summed so that they add up to the number
+  // the trapezoid rule gives, n(r) h).
+  std::sort(radii.begin(), radii.end());
+  out.quadrature.radius_m = radii;
+  out.quadrature.weight.resize(radii.size());
+  for (std::size_t j = 0; j < radii.size(); ++j)
+    out.quadrature.weight[j] = d.number_density(radii[j]) * h * (j == 0 || j + 1 == radii.size() ? 0.5 : 1.0);
   return out;
 }
 

@@ -47,7 +47,8 @@ std::vector<double> phase_per_sr(const MediumJob& m, const std::vector<double>& 
   job.wavelength_nm = nm;
   job.medium = m.medium;
   job.surrounding = m.surrounding;
-  job.numbers.nodes = m.numbers.nodes;
+  // The medium's fixed count of radii (one radius has none to count).
+  if (m.size_distribution != "mono") job.numbers.nodes = m.numbers.nodes;
   job.angles_deg = angles_deg;
   const PhasePlan plan = plan_phase(job);
   const PhaseResult r = compute_phase(plan);

@@ -44,7 +44,7 @@ int run_phase(const PhaseArgs& a) {
   job.numbers = *a.r;
   const scatter::PhasePlan plan = scatter::plan_phase(std::move(job));
   refuse_unused_size_flags(*a.sub, scatter::phase_params(), a.drops);
-  ProgressBar bar("phase", a.quiet || plan.quadrature.size() < 2);
+  ProgressBar bar("phase", a.quiet || (plan.quadrature.size() < 2 && !plan.refine));
   const auto result = scatter::compute_phase(plan, bar.callback());
   bar.finish();
   const auto& mm = result.mueller;
@@ -56,7 +56,11 @@ int run_phase(const PhaseArgs& a) {
     fmt::print("# theory {}, {}, wavelength {:g} nm: m = {:.6g}{:+.3g}i{}\n", result.theory, result.drops,
                result.wavelength_nm, result.m.real(), result.m.imag(),
                result.radii == 1 ? fmt::format(", x = {:.6g}", result.x) : std::string());
-    if (result.radii > 1) fmt::print("# number-weighted mean over {} radii\n", result.radii);
+    if (result.radii > 1)
+      fmt::print("# number-weighted mean over {} radii{}\n", result.radii,
+                 result.error ? fmt::format(" (chosen for --tolerance {:g}%: estimated error {:.2g}% at the worst angle)",
+                                            100 * *result.tolerance, 100 * *result.error)
+                              : std::string());
     for (const auto& note : result.notes) fmt::print("# {}\n", note);
     fmt::print("# i1 = |S1|^2 (perpendicular), i2 = |S2|^2 (parallel), i = (i1 + i2) / 2 "
                "(Bohren & Huffman normalisation)\n");
@@ -91,10 +95,10 @@ Command add_phase(CLI::App& app) {
               {{"wavelength_nm", "--wavelength-nm"},
                {"temperature_c", "--temperature-c"},
                {"p", "--theory (order P)"}}};
-  // The declared parameters (nodes; temperature_c; threads; mueller) among this command's own.
+  // The declared parameters (nodes, tolerance; temperature_c; threads; mueller) among this command's own.
   const auto params = scatter::phase_params();
-  const auto declared = [&](std::size_t from) {
-    add_params(*sub, args->r, params.subspan(from, 1), cmd.flags_for_quantity);
+  const auto declared = [&](std::size_t from, std::size_t count = 1) {
+    add_params(*sub, args->r, params.subspan(from, count), cmd.flags_for_quantity);
   };
   sub->add_option("--theory", args->theory,
                   "mie, debye:P (Debye order P: 0 diffraction + reflection, 2 primary rainbow, 3 "
@@ -102,20 +106,20 @@ Command add_phase(CLI::App& app) {
                   "0-3 with interference; geometric:P for orders 0..P)")
       ->capture_default_str();
   add_drop_size_flags(*sub, args->drops, ": no --radius-um", cmd.flags_for_quantity);
-  declared(0);  // --nodes
+  declared(0, 2);  // --nodes, --tolerance (which replace one another)
   sub->add_option("--wavelength-nm", args->wavelength_nm, "Vacuum wavelength, nanometres")
       ->required()
       ->check(positive_number(1e6, "nm"));
   add_media_flags(*sub, args->drops);
-  declared(1);  // --temperature-c
+  declared(2);  // --temperature-c
   sub->add_option("--angles-deg", args->angles,
                   "Scattering angles, degrees (0 = forward): A:B:N (N >= 2, or 1 with A == B) or a list 0,10,90, "
                   "strictly increasing or decreasing")
       ->capture_default_str();
-  declared(2);  // --threads
+  declared(3);  // --threads
   sub->add_flag("--csv", args->csv,
                 "Comma-separated output with a header row: theta_deg,i1,i2,i[,s11,s12,s33,s34 with --mueller]");
-  declared(3);  // --mueller
+  declared(4);  // --mueller
   sub->add_flag("-q,--quiet", args->quiet, "No progress on stderr");
   return cmd;
 }

@@ -22,7 +22,10 @@ struct MieRequest {
 };
 
 struct PhaseRequest {
-  int nodes = 64;  // radii in the size average
+  // Radii in the size average: a fixed Gauss-Legendre count; unset, the average chooses its own radii
+  // to `tolerance` (refine_average_intensities).
+  std::optional<int> nodes;
+  double tolerance = 0.005;  // the size average's relative error allowed at every angle
   std::optional<double> temperature_c;
   int threads = 0;
   bool mueller = false;  // the Mueller matrix elements too

@@ -79,7 +79,11 @@ Theory phase_theory(std::string_view text);
 struct PhasePlan {
   PhaseJob job;
   Theory theory;
-  RadiusQuadrature quadrature;  // the drops averaged over: one radius for mono
+  RadiusQuadrature quadrature;  // the drops averaged over: one radius for mono, or --nodes radii
+  // Without --nodes, a distribution of many radii: averaged to the tolerance over [r_min, r_max] (m)
+  // by refine_average_intensities, which chooses the radii.
+  std::optional<SizeDistribution> refine;
+  double r_min = 0, r_max = 0;
   std::string drops;            // "radius 10 um", "gamma distribution, mean radius 10 um, ..."
   SphereProblem problem;        // of the first radius: m, and x (the drop's for one radius)
 };
@@ -120,6 +124,10 @@ struct PhaseResult {
   Complex m;                 // relative index at the first radius
   double x = 0;              // size parameter of the first radius (the drop's, for one radius)
   std::size_t radii = 0;     // radii averaged over
+  RadiusQuadrature quadrature;  // those radii and their weights
+  // The automatic average's estimated error (the last halving's largest change at any angle,
+  // relative to S11 there) and the tolerance it was refined to; unset for one radius and --nodes.
+  std::optional<double> error, tolerance;
   // Where the theory is out of its depth for this job, one line each (Airy theory away from its
   // rainbow angle, geometric optics at x < 100).
   std::vector<std::string> notes;

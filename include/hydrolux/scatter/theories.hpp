@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "hydrolux/core/progress.hpp"
@@ -44,6 +45,9 @@ void amplitudes(const Theory& t, Complex m, double x, std::span<const double> th
 // Monodisperse gives its one radius. (Marshall-Palmer rain is usually cut to physical radii: use
 // SizeDistribution::quadrature(nodes, r_min, r_max).)
 RadiusQuadrature intensity_quadrature(const SizeDistribution& d, int nodes);
+// The range of radii intensity_quadrature integrates over, in metres (gamma, log-normal; monodisperse:
+// its one radius twice; Marshall-Palmer: Error, as there).
+std::pair<double, double> intensity_range(const SizeDistribution& d);
 
 // Intensities i1 = |S1|^2 and i2 = |S2|^2 averaged over the drops of a size distribution: the
 // number-weighted mean over the quadrature's radii, each drop solved at its own size parameter
@@ -59,5 +63,31 @@ Intensities average_intensities(const Theory& t, const RadiusQuadrature& q, doub
                                 const optics::Medium& drop, const optics::Medium& surrounding,
                                 std::optional<double> temperature_c, std::span<const double> theta_rad,
                                 int threads = 0, const ProgressFn& progress = {});
+
+// The same average to a tolerance, choosing its own radii: the trapezoid rule on radii evenly spaced
+// over [r_min, r_max] (n(r) vanishes at both ends of a distribution's intensity_range, so the rule
+// converges fast once the spacing resolves what the intensities do between radii), the spacing
+// halved (each grid keeps the last one's radii) until two grids agree to tolerance / 2 at every
+// angle, relative to S11 = (i1 + i2) / 2 there, in i1, i2 and S2 S1* alike. A wave theory (Mie,
+// Debye) starts at radii kRefineStartStepX apart in x, which resolves the interference of rays
+// between radii (its ripple is ~0.8 in x) so that two grids cannot agree by aliasing it alike; its
+// morphology-dependent resonances, far narrower, are what the halvings then average. At most
+// kMaxRefinedRadii radii: converged is false where the last change is still above tolerance / 2.
+// Measured on cloud droplets (gamma 2-20 um, relative width 0.05-0.5, 550 nm) against 2^18 radii:
+// the reported error within a factor of 2 of the true one (docs/mie.md, "Size averages").
+inline constexpr double kRefineStartStepX = 0.25;
+inline constexpr std::size_t kMinRefinedRadii = 65;
+inline constexpr std::size_t kMaxRefinedRadii = (std::size_t(1) << 18) + 1;
+struct RefinedIntensities {
+  Intensities averaged;
+  RadiusQuadrature quadrature;  // the last grid: its radii and their trapezoid weights n(r) h
+  double error = 0;             // the last halving's largest change, relative to S11 at its angle
+  bool converged = false;
+};
+RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistribution& d, double r_min, double r_max,
+                                              double wavelength_nm, const optics::Medium& drop,
+                                              const optics::Medium& surrounding, std::optional<double> temperature_c,
+                                              std::span<const double> theta_rad, double tolerance, int threads = 0,
+                                              const ProgressFn& progress = {});
 
 }  // namespace hydrolux::scatter
