@@ -37,7 +37,7 @@ fs::path dir() {
 constexpr int kSide = 2048;
 
 // An 8-bit PNG of kSide^2 that does not compress (a hash per value), as a photograph's noise does not.
-const fs::path& noisy_png() {
+[[maybe_unused]] const fs::path& noisy_png() {  // unused under ASan (its memory is not the program's)
   static const fs::path p = [] {
     Image img(kSide, kSide, 3);
     std::uint32_t h = 2166136261u;
@@ -52,7 +52,7 @@ const fs::path& noisy_png() {
   return p;
 }
 
-void expect_bound(const std::vector<std::string>& args, std::uint64_t estimate) {
+[[maybe_unused]] void expect_bound(const std::vector<std::string>& args, std::uint64_t estimate) {
   const auto r = hydrolux::testing::run_argv(args);
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_GT(r.peak_rss_bytes, 0u);
