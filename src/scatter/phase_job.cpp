@@ -173,12 +173,13 @@ PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress) {
                                               job.numbers.tolerance, job.numbers.threads, progress);
     averaged = std::move(refined.averaged);
     r.quadrature = std::move(refined.quadrature);
-    r.error = refined.error;
+    r.last_change = refined.last_change;
     r.tolerance = job.numbers.tolerance;
     if (!refined.converged)
-      r.notes.push_back(fmt::format("the size average stopped at {} radii (the most) with an estimated error of {:.2g}% "
-                                    "at its worst angle, above --tolerance {:g}% (docs/mie.md, \"Size averages\")",
-                                    r.quadrature.size(), 100 * refined.error, 100 * job.numbers.tolerance));
+      r.notes.push_back(fmt::format("the size average stopped at {} radii (the most) while its last halving still moved "
+                                    "it by {:.2g}% at its worst angle: not within --tolerance {:g}% (docs/mie.md, "
+                                    "\"Size averages\")",
+                                    r.quadrature.size(), 100 * refined.last_change, 100 * job.numbers.tolerance));
   } else {
     averaged = average_intensities(plan.theory, plan.quadrature, job.wavelength_nm, *job.medium, *job.surrounding,
                                    job.numbers.temperature_c, theta, job.numbers.threads, progress);

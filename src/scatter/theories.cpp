@@ -229,16 +229,16 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
   if (!(sums.weight > 0)) throw Error("size distribution: no drops in the range averaged over");
   RefinedIntensities out;
   out.averaged = sums.mean();
-  out.error = INFINITY;
+  out.last_change = INFINITY;
   while (2 * intervals + 1 <= kMaxRefinedRadii) {
     // Halve the spacing: the new radii are the midpoints, odd multiples of the new step.
     h /= 2;
     add(h, 1, 2, intervals, 2 * intervals + 1);
     intervals *= 2;
     Intensities next = sums.mean();
-    out.error = largest_change(out.averaged, next);
+    out.last_change = largest_change(out.averaged, next);
     out.averaged = std::move(next);
-    if (out.error < tolerance / 2) {
+    if (out.last_change < tolerance / 2) {
       out.converged = true;
       break;
     }

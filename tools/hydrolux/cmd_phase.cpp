@@ -58,8 +58,9 @@ int run_phase(const PhaseArgs& a) {
                result.radii == 1 ? fmt::format(", x = {:.6g}", result.x) : std::string());
     if (result.radii > 1)
       fmt::print("# number-weighted mean over {} radii{}\n", result.radii,
-                 result.error ? fmt::format(" (chosen for --tolerance {:g}%: estimated error {:.2g}% at the worst angle)",
-                                            100 * *result.tolerance, 100 * *result.error)
+                 result.last_change
+                     ? fmt::format(" (chosen for --tolerance {:g}% at every angle; the last halving moved it {:.2g}% at most)",
+                                   100 * *result.tolerance, 100 * *result.last_change)
                               : std::string());
     for (const auto& note : result.notes) fmt::print("# {}\n", note);
     fmt::print("# i1 = |S1|^2 (perpendicular), i2 = |S2|^2 (parallel), i = (i1 + i2) / 2 "

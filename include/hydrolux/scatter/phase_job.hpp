@@ -125,9 +125,9 @@ struct PhaseResult {
   double x = 0;              // size parameter of the first radius (the drop's, for one radius)
   std::size_t radii = 0;     // radii averaged over
   RadiusQuadrature quadrature;  // those radii and their weights
-  // The automatic average's estimated error (the last halving's largest change at any angle,
-  // relative to S11 there) and the tolerance it was refined to; unset for one radius and --nodes.
-  std::optional<double> error, tolerance;
+  // The automatic average's tolerance and its last halving's largest change at any angle (relative to
+  // S11 there: RefinedIntensities::last_change); unset for one radius and --nodes.
+  std::optional<double> tolerance, last_change;
   // Where the theory is out of its depth for this job, one line each (Airy theory away from its
   // rainbow angle, geometric optics at x < 100).
   std::vector<std::string> notes;
