@@ -349,8 +349,9 @@ def phase(radius_um: Optional[float], wavelength_nm: float, theory: str = "mie",
     ``size_distribution``: "mono", "gamma:W" or "lognormal:W" (relative width W in [0.0001, 1]) or
     "marshall-palmer:H" (H mm/h, radii 50-3000 um), averaged over radii it chooses until the average
     is within ``tolerance`` (None: the CLI's default, 0.005) of the converged one at every angle
-    (``info["last_change"]``: how much the last halving of the radii's spacing moved it), or over a
-    fixed count of ``nodes`` radii instead.
+    (``info["last_change"]``: how much the last halving of the radii's spacing moved it;
+    ``info["error"]``: the estimated error of each Mueller element at its worst angle, relative to S11
+    there, a dict of s11, s12, s33, s34), or over a fixed count of ``nodes`` radii instead.
     ``medium``, ``surrounding``: names as :func:`media` (or "const:1.49"). ``angles_deg``: scattering
     angles in [0, 180] degrees (0 = forward), an array or the CLI's text "A:B:N" or "0,10,90" (read
     by the CLI's parser: the same angles). ``temperature_c``: of the media that model it (water).

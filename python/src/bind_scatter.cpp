@@ -325,9 +325,17 @@ py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wave
   const auto& used = res.quadrature;
   std::vector<double> radius_um(used.radius_m.size()), weight = used.weight;
   for (std::size_t k = 0; k < radius_um.size(); ++k) radius_um[k] = used.radius_m[k] * 1e6;
-  // The automatic average's tolerance and its last halving's largest change (None for one radius or a
-  // fixed count).
+  // The automatic average's tolerance, its last halving's largest change and its estimated error per
+  // Mueller element (None for one radius or a fixed count).
   info["last_change"] = res.last_change ? py::object(py::float_(*res.last_change)) : py::object(py::none());
+  if (res.error) {
+    py::dict error;
+    error["s11"] = res.error->s11, error["s12"] = res.error->s12, error["s33"] = res.error->s33,
+    error["s34"] = res.error->s34;
+    info["error"] = error;
+  } else {
+    info["error"] = py::none();
+  }
   info["tolerance"] = res.tolerance ? py::object(py::float_(*res.tolerance)) : py::object(py::none());
   info["radius_um"] = array(radius_um), info["weight"] = array(weight);
   py::list notes;

@@ -174,6 +174,7 @@ PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress) {
     averaged = std::move(refined.averaged);
     r.quadrature = std::move(refined.quadrature);
     r.last_change = refined.last_change;
+    r.error = refined.error;
     r.tolerance = job.numbers.tolerance;
     if (!refined.converged)
       r.notes.push_back(fmt::format("the size average stopped at {} radii (the most) while its last halving still moved "

@@ -7,12 +7,14 @@
 
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "hydrolux/core/error.hpp"
+#include "hydrolux/core/math.hpp"
 #include "hydrolux/scatter/airy.hpp"
 #include "hydrolux/scatter/amplitudes.hpp"
 #include "hydrolux/scatter/debye.hpp"
@@ -157,16 +159,32 @@ struct WeightedSums {
   }
 };
 
-// The largest change from `before` to `after` at any angle, in i1, i2 or S2 S1*, relative to S11 there.
-double largest_change(const Intensities& before, const Intensities& after) {
-  double worst = 0;
+// The change from `before` to `after` at each angle, relative to S11 there, in i1, i2 and S2 S1*, and
+// in the Mueller elements S11, S12, S33 and S34 the output derives from them at the first `asked` angles.
+struct Changes {
+  double largest = 0;      // in i1, i2 or S2 S1* at any angle: what the refinement stops on
+  double sum_squares = 0;  // of i1, i2 and |S2 S1*| over every angle: the spread of the change
+  MuellerErrors element;   // the largest in each Mueller element at an angle asked
+};
+Changes changes(const Intensities& before, const Intensities& after, std::size_t asked) {
+  Changes c;
+  const auto relative = [](double change, double s11) { return s11 > 0 ? change / s11 : (change > 0 ? INFINITY : 0.0); };
   for (std::size_t k = 0; k < after.i1.size(); ++k) {
     const double s11 = (after.i1[k] + after.i2[k]) / 2;
-    const double change = std::max({std::abs(after.i1[k] - before.i1[k]), std::abs(after.i2[k] - before.i2[k]),
-                                    std::abs(after.s2_s1conj[k] - before.s2_s1conj[k])});
-    worst = std::max(worst, s11 > 0 ? change / s11 : (change > 0 ? INFINITY : 0.0));
+    const double d1 = relative(std::abs(after.i1[k] - before.i1[k]), s11),
+                 d2 = relative(std::abs(after.i2[k] - before.i2[k]), s11);
+    const Complex dc = after.s2_s1conj[k] - before.s2_s1conj[k];
+    const double d3 = relative(std::abs(dc), s11);
+    c.largest = std::max({c.largest, d1, d2, d3});
+    c.sum_squares += d1 * d1 + d2 * d2 + d3 * d3;
+    if (k >= asked) continue;
+    const double di1 = after.i1[k] - before.i1[k], di2 = after.i2[k] - before.i2[k];
+    c.element.s11 = std::max(c.element.s11, relative(std::abs(di1 + di2) / 2, s11));
+    c.element.s12 = std::max(c.element.s12, relative(std::abs(di2 - di1) / 2, s11));
+    c.element.s33 = std::max(c.element.s33, relative(std::abs(dc.real()), s11));
+    c.element.s34 = std::max(c.element.s34, relative(std::abs(dc.imag()), s11));
   }
-  return worst;
+  return c;
 }
 
 }  // namespace
@@ -178,14 +196,24 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
                                               const ProgressFn& progress) {
   if (!(r_min > 0) || !(r_max > r_min) || !(tolerance > 0))
     throw std::logic_error("refine_average_intensities: needs 0 < r_min < r_max and a tolerance > 0");
-  const std::size_t angles = theta_rad.size();
+  // The angles checked: those asked, and a kRefineProbeStepDeg grid's angles more than half a step from
+  // every one of them, so that a few angles asked cannot let resonances pass unseen.
+  std::vector<double> checked(theta_rad.begin(), theta_rad.end());
+  const double probe_step = deg_to_rad(kRefineProbeStepDeg);
+  for (int i = 0; double(i) * kRefineProbeStepDeg <= 180 + 1e-9; ++i) {
+    const double probe = double(i) * probe_step;
+    bool near = false;
+    for (const double a : theta_rad) near = near || std::abs(a - probe) <= probe_step / 2;
+    if (!near) checked.push_back(probe);
+  }
+  const std::size_t angles = checked.size();
   // The first grid: 2^k + 1 radii, at least kMinRefinedRadii, and for a wave theory kRefineStartStepX apart in x
   // at most (x is proportional to r at one wavelength).
   const double x_per_m = sphere_problem(r_max * 1e6, wavelength_nm, drop, surrounding, temperature_c).x / r_max;
   const bool wave = t.kind == TheoryKind::Mie || t.kind == TheoryKind::Debye;
   const double wanted = wave ? (r_max - r_min) * x_per_m / kRefineStartStepX + 1 : 0;
   std::size_t intervals = kMinRefinedRadii - 1;
-  while (double(intervals + 1) < wanted && 4 * intervals + 1 <= kMaxRefinedRadii) intervals *= 2;  // one halving left
+  while (double(intervals + 1) < wanted && 8 * intervals + 1 <= kMaxRefinedRadii) intervals *= 2;  // two halvings left
 
   WeightedSums sums(angles);
   std::vector<double> radii;  // every radius computed, in the order computed
@@ -202,7 +230,7 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
       arena.execute([&] {
         tbb::parallel_for(std::size_t(0), nb, [&](std::size_t j) {
           const auto sp = sphere_problem(r[j] * 1e6, wavelength_nm, drop, surrounding, temperature_c);
-          amplitudes(t, sp.m, sp.x, theta_rad, std::span(s1).subspan(j * angles, angles),
+          amplitudes(t, sp.m, sp.x, checked, std::span(s1).subspan(j * angles, angles),
                      std::span(s2).subspan(j * angles, angles), 1);
         });
       });
@@ -230,19 +258,37 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
   RefinedIntensities out;
   out.averaged = sums.mean();
   out.last_change = INFINITY;
-  while (2 * intervals + 1 <= kMaxRefinedRadii) {
+  std::optional<Changes> previous;  // the halving before
+  for (int halvings = 1; 2 * intervals + 1 <= kMaxRefinedRadii; ++halvings) {
     // Halve the spacing: the new radii are the midpoints, odd multiples of the new step.
     h /= 2;
     add(h, 1, 2, intervals, 2 * intervals + 1);
     intervals *= 2;
     Intensities next = sums.mean();
-    out.last_change = largest_change(out.averaged, next);
+    const Changes now = changes(out.averaged, next, theta_rad.size());
     out.averaged = std::move(next);
-    if (out.last_change < tolerance / 2) {
+    out.last_change = now.largest;
+    if (previous) {
+      // The error left: the changes to come, were each halving to shrink them by the ratio r of the last
+      // two (root mean square over every angle checked, steadier than the largest: a change at one angle
+      // can vanish or grow by chance), a geometric series, r / (1 - r) times the last; r capped at
+      // kErrorRatioCap where halving no longer shrinks the change (resonances the spacing still misses).
+      const double ratio = previous->sum_squares > 0 ? std::sqrt(now.sum_squares / previous->sum_squares) : 0.0;
+      const double r = std::min(ratio, kErrorRatioCap), factor = r / (1 - r);
+      out.error = {now.element.s11 * factor, now.element.s12 * factor, now.element.s33 * factor,
+                   now.element.s34 * factor};
+      out.change_ratio = ratio;
+    }
+    previous = now;
+    if (halvings >= 2 && out.last_change < tolerance / 2) {
       out.converged = true;
       break;
     }
   }
+  // The angles asked, without the probes.
+  out.averaged.i1.resize(theta_rad.size());
+  out.averaged.i2.resize(theta_rad.size());
+  out.averaged.s2_s1conj.resize(theta_rad.size());
   // The last grid's radii and weights, ascending (the weights summed so that they add up to the number
   // the trapezoid rule gives, n(r) h).
   std::sort(radii.begin(), radii.end());

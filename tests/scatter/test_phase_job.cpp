@@ -1,6 +1,7 @@
 // The phase-function job (scatter/phase_job.hpp), which hydrolux phase and hydrolux.phase share: its
 // numbers are average_intensities' and mueller_elements' exactly, its checks come in the documented
 // order and name the job's fields, and its notes say where a theory is out of its depth.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -207,18 +208,28 @@ TEST(PhaseJob, ErrorsNameTheField) {
   EXPECT_THROW((void)plan_phase(bad), Error);
 }
 
-// Without --nodes a size distribution is averaged to the tolerance over radii the job chooses
-// (refine_average_intensities). The independent reference: the same distribution's trapezoid rule on
-// 2^16 evenly spaced radii, summed by average_intensities (the fixed-quadrature path, not the
-// refinement), converged here to 1e-12 (measured: halving its spacing again changes S11 by 1.6e-13
-// at most at these angles). Cloud droplets of 2 um (x up to 47 and 53) at 550 nm.
-TEST(PhaseJob, TheAutomaticSizeAverageIsWithinItsTolerance) {
-  for (const char* distribution : {"gamma:0.1", "lognormal:0.1"}) {
-    SCOPED_TRACE(distribution);
-    auto job = water_drop(2, {0, 20, 60, 100, 120, 140, 150, 160, 170, 180});
-    job.size_distribution = distribution;
+// The default size average against the same trapezoid rule on 2^19 evenly spaced radii over the same range
+// (which agrees with 2^20 to 2e-4 of S11 or better for these drops, measured), summed by the
+// fixed-quadrature code (average_intensities), every 5 degrees: over cloud droplets from the
+// fast-converging (x < 50) to the resonant (x ~ 350) and the wide, each Mueller element (written out from
+// the intensities, Bohren & Huffman eq. 4.77) within the tolerance at every angle, and the error estimate
+// within a factor of 3 of the error at the worst angle (issue 39). Measured here: 0.87-2.3 times; over
+// gamma 2-20 um at 62 angles against 2^20 radii, 0.58-2.9 (docs/mie.md, "Size averages").
+TEST(PhaseJob, TheAutomaticSizeAverageIsWithinItsToleranceAndStatesItsError) {
+  struct Case {
+    double radius_um;
+    const char* distribution;
+  };
+  for (const Case c : {Case{2, "gamma:0.1"}, Case{2, "lognormal:0.1"}, Case{2, "gamma:0.5"}, Case{5, "gamma:0.2"},
+                       Case{20, "gamma:0.05"}}) {
+    SCOPED_TRACE(fmt::format("{} um {}", c.radius_um, c.distribution));
+    std::vector<double> every_5_deg;
+    for (int a = 0; a <= 180; a += 5) every_5_deg.push_back(a);
+    auto job = water_drop(c.radius_um, every_5_deg);
+    job.size_distribution = c.distribution;
+    job.numbers.mueller = true;
     const PhaseResult got = run_phase_job(job);
-    ASSERT_TRUE(got.last_change && got.tolerance);
+    ASSERT_TRUE(got.last_change && got.tolerance && got.error && got.mueller);
     EXPECT_EQ(*got.tolerance, 0.005);
     EXPECT_LT(*got.last_change, 0.0025);  // converged: two spacings agree to half the tolerance
     EXPECT_TRUE(got.notes.empty());
@@ -228,7 +239,7 @@ TEST(PhaseJob, TheAutomaticSizeAverageIsWithinItsTolerance) {
     const PhasePlan plan = plan_phase(job);
     ASSERT_TRUE(plan.refine);
     RadiusQuadrature fine;
-    constexpr std::size_t kIntervals = std::size_t(1) << 16;
+    constexpr std::size_t kIntervals = std::size_t(1) << 19;
     const double h = (plan.r_max - plan.r_min) / double(kIntervals);
     for (std::size_t j = 0; j <= kIntervals; ++j) {
       const double r = plan.r_min + double(j) * h;
@@ -238,14 +249,19 @@ TEST(PhaseJob, TheAutomaticSizeAverageIsWithinItsTolerance) {
     std::vector<double> theta;
     for (const double a : job.angles_deg) theta.push_back(deg_to_rad(a));
     const auto want = average_intensities({}, fine, 550, *job.medium, *job.surrounding, {}, theta);
-    double worst = 0;
+    MuellerErrors worst;
     for (std::size_t k = 0; k < theta.size(); ++k) {
-      const double s11 = (want.i1[k] + want.i2[k]) / 2;
-      worst = std::max({worst, std::abs(got.i1[k] - want.i1[k]) / s11, std::abs(got.i2[k] - want.i2[k]) / s11});
+      // The elements written out from the intensities (Bohren & Huffman eq. 4.77), not through mueller_elements.
+      const double s11 = (want.i1[k] + want.i2[k]) / 2, s12 = (want.i2[k] - want.i1[k]) / 2;
+      worst.s11 = std::max(worst.s11, std::abs(got.mueller->s11[k] - s11) / s11);
+      worst.s12 = std::max(worst.s12, std::abs(got.mueller->s12[k] - s12) / s11);
+      worst.s33 = std::max(worst.s33, std::abs(got.mueller->s33[k] - want.s2_s1conj[k].real()) / s11);
+      worst.s34 = std::max(worst.s34, std::abs(got.mueller->s34[k] - want.s2_s1conj[k].imag()) / s11);
     }
-    EXPECT_LT(worst, *got.tolerance);
-    // Here, where the rule converges fast, the last halving's change is above the error.
-    EXPECT_GE(*got.last_change, worst);
+    EXPECT_LT(worst.largest(), *got.tolerance);
+    const double ratio = got.error->largest() / worst.largest();
+    EXPECT_GT(ratio, 1.0 / 3) << "estimate " << got.error->largest() << ", error " << worst.largest();
+    EXPECT_LT(ratio, 3.0) << "estimate " << got.error->largest() << ", error " << worst.largest();
   }
 }
 
@@ -257,7 +273,7 @@ TEST(PhaseJob, NodesReplaceTheRefinementAndOneRadiusTakesNoTolerance) {
   fixed.numbers.nodes = 16;
   const PhaseResult r = run_phase_job(fixed);
   EXPECT_EQ(r.radii, 16u);
-  EXPECT_FALSE(r.last_change || r.tolerance);
+  EXPECT_FALSE(r.last_change || r.tolerance || r.error);
   auto mono = water_drop(2, {90});
   mono.numbers.tolerance = 0.01;
   try {

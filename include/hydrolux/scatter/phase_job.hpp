@@ -125,9 +125,11 @@ struct PhaseResult {
   double x = 0;              // size parameter of the first radius (the drop's, for one radius)
   std::size_t radii = 0;     // radii averaged over
   RadiusQuadrature quadrature;  // those radii and their weights
-  // The automatic average's tolerance and its last halving's largest change at any angle (relative to
-  // S11 there: RefinedIntensities::last_change); unset for one radius and --nodes.
+  // The automatic average's tolerance, its last halving's largest change at any angle (relative to
+  // S11 there: RefinedIntensities::last_change) and its estimated error per Mueller element
+  // (RefinedIntensities::error); unset for one radius and --nodes.
   std::optional<double> tolerance, last_change;
+  std::optional<MuellerErrors> error;
   // Where the theory is out of its depth for this job, one line each (Airy theory away from its
   // rainbow angle, geometric optics at x < 100).
   std::vector<std::string> notes;
