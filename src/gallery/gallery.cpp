@@ -309,7 +309,8 @@ Entry drop_radiance_profile_figure() {
       fmt::format("Radiance leaving a water drop (mu = 1.333) towards the camera along each path, for "
                   "a uniform environment (Le = 1) and the drop on the optical axis, against the "
                   "distance rho from the centre of the drop's image (1 = rim). Refraction carries "
-                  "96% of the light everywhere but at the rim, where reflection takes over. The "
+                  "96% of the light at the centre, 92% at rho 0.8 and 84% at 0.9; near the rim reflection takes over "
+                  "(half at rho 0.98). The "
                   "refracted rays see a {:.1f} degree field of view (the paper: about 165). "
                   "Checked against an exact ray trace of the sphere.",
                   drop::field_of_view_deg(1.333)),

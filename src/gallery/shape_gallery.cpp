@@ -130,7 +130,7 @@ Entry bow_real_drops_figure() {
       "at the top, its sides at left and right), the sun 2 degrees up, Marshall-Palmer rain of 5 mm/h with drops "
       "of 0.1-1.1 mm radius, Airy theory of each drop's plane section, the sun's disk; both panels at one "
       "exposure. Left: spherical drops, the same bow all round, its supernumeraries washed out by the spread of "
-      "sizes. Right: the same drops with Beard & Chuang's flattening (axis ratio 0.998 at 0.1 mm to 0.94 at 1.1 "
+      "sizes. Right: the same drops with Beard & Chuang's flattening (axis ratio 0.999 at 0.1 mm to 0.91 at 1.1 "
       "mm): the sides are unchanged, but towards the top the larger drops' bows move inward and spread (the "
       "Moebius shift, about a degree per percent of flattening) so the top is dimmer and broader, and the small "
       "drops whose Moebius shift offsets their Airy offset leave faint supernumeraries inside it: the "

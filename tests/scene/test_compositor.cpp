@@ -224,7 +224,7 @@ TEST(Compositor, RainRateSetsTheBowsBrightness) {
   // beta_geo grows as R^0.63: 4.3 times per decade of rain rate while the curtain is thin.
   EXPECT_GT(bow[1], 2 * bow[0]);
   EXPECT_GT(bow[2], bow[1]);
-  EXPECT_LT(bow[2], 1.5 * bow[1]);  // saturating: tau = 3.9 at 50 mm/h
+  EXPECT_LT(bow[2], 1.5 * bow[1]);  // saturating: tau = 4.3 at 50 mm/h
 }
 
 TEST(Compositor, GroundAndMoistureStopTheBow) {
