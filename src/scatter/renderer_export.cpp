@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include "hydrolux/core/error.hpp"
@@ -264,9 +265,11 @@ MediumPlan plan_medium(MediumJob job) {
     double n = 0;
     for (const double w : plan.phase.quadrature.weight) n += w;
     plan.number_per_m3 = n * plan.weight_scale;
-    plan.spectral = SizeDistribution::marshall_palmer(spec.parameter, kMarshallPalmerN0PerRadius)
-                        .quadrature(std::max(kSpectralRainNodes, job.numbers.nodes), kPhaseRainMinRadiusUm * 1e-6,
+    const auto rain = SizeDistribution::marshall_palmer(spec.parameter, kMarshallPalmerN0PerRadius);
+    plan.spectral = rain.quadrature(std::max(kSpectralRainNodes, job.numbers.nodes), kPhaseRainMinRadiusUm * 1e-6,
                                     kPhaseRainMaxRadiusUm * 1e-6);
+    plan.spectra_drops = rain;
+    plan.spectra_r_min = kPhaseRainMinRadiusUm * 1e-6, plan.spectra_r_max = kPhaseRainMaxRadiusUm * 1e-6;
   } else {
     if (!job.numbers.number_per_cm3 && !job.numbers.lwc_g_m3)
       throw ParamError("{number_per_cm3} (drops per cm^3, in [1e-06, 1e+24]) or {lwc_g_m3} (g/m^3) is required for " +
@@ -292,6 +295,11 @@ MediumPlan plan_medium(MediumJob job) {
                         ? plan.phase.quadrature
                         : intensity_quadrature(d, std::max(kSpectralNodes, job.numbers.nodes));
     for (double& w : plan.spectral.weight) w *= number;
+    if (spec.kind != SizeDistributionKind::monodisperse) {
+      plan.spectra_drops = d;
+      std::tie(plan.spectra_r_min, plan.spectra_r_max) = intensity_range(d);
+      plan.spectra_scale = number;
+    }
   }
   // The media over the whole grid, so that a medium without data there fails before any work.
   for (const double nm : spectral_grid())
@@ -314,17 +322,40 @@ void compute_spectra(const MediumPlan& plan, MediumOptics& out, const Report& re
   for (std::size_t i = 0; i < scaled.size(); ++i) volume += scaled.weight[i] * 4.0 / 3 * kPi<> * std::pow(scaled.radius_m[i], 3);
   out.lwc_g_m3 = volume * kWaterDensityGM3;
   out.wavelength_nm = spectral_grid();
-  for (std::size_t i = 0; i < out.wavelength_nm.size(); ++i) {
-    const double nm = out.wavelength_nm[i];
+  // The export's wavelengths and the phase's, last.
+  std::vector<Complex> m;
+  std::vector<double> k;
+  for (const double nm : out.wavelength_nm) {
     const SphereProblem p = sphere_problem(1, nm, *job.medium, *job.surrounding, req.temperature_c);
-    const double k = 2 * kPi<> * p.n_surrounding / (nm * 1e-9);
-    const MieBulkOptics b = mie_bulk_optics(p.m, k, scaled, req.threads);
-    out.extinction_per_m.push_back(b.extinction_per_m);
-    out.scattering_per_m.push_back(b.scattering_per_m);
-    out.absorption_per_m.push_back(b.absorption_per_m);
-    out.g.push_back(b.g);
-    report(0.1 * double(i + 1) / double(out.wavelength_nm.size()), "spectra");
+    m.push_back(p.m);
+    k.push_back(2 * kPi<> * p.n_surrounding / (nm * 1e-9));
   }
+  const SphereProblem p0 = sphere_problem(1, req.phase_wavelength_nm, *job.medium, *job.surrounding, req.temperature_c);
+  m.push_back(p0.m);
+  k.push_back(2 * kPi<> * p0.n_surrounding / (req.phase_wavelength_nm * 1e-9));
+  std::vector<MieBulkOptics> bulk;
+  if (plan.spectra_drops) {
+    // One grid of radii for every wavelength, chosen to the tolerance (refine_bulk_optics).
+    const RefinedBulkOptics r = refine_bulk_optics(m, k, *plan.spectra_drops, plan.spectra_r_min, plan.spectra_r_max,
+                                                   plan.spectra_scale, kSpectraTolerance, req.threads);
+    bulk = r.optics;
+    out.spectra_error_extinction = r.error_extinction;
+    out.spectra_error_g = r.error_g;
+    out.spectra_radii = r.radii;
+    report(0.1, "spectra");
+  } else {
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      bulk.push_back(mie_bulk_optics(m[i], k[i], scaled, req.threads));
+      report(0.1 * double(i + 1) / double(m.size()), "spectra");
+    }
+  }
+  for (std::size_t i = 0; i < out.wavelength_nm.size(); ++i) {
+    out.extinction_per_m.push_back(bulk[i].extinction_per_m);
+    out.scattering_per_m.push_back(bulk[i].scattering_per_m);
+    out.absorption_per_m.push_back(bulk[i].absorption_per_m);
+    out.g.push_back(bulk[i].g);
+  }
+  out.at_phase_wavelength = bulk.back();
 }
 
 // The table found: the last level analysed, its quarter points and the chosen cut.
@@ -484,7 +515,6 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
 
   const SphereProblem p0 = sphere_problem(1, req.phase_wavelength_nm, *job.medium, *job.surrounding, req.temperature_c);
   const double k0 = 2 * kPi<> * p0.n_surrounding / (req.phase_wavelength_nm * 1e-9);
-  out.at_phase_wavelength = mie_bulk_optics(p0.m, k0, plan.spectral, req.threads);
   // The phase's own normalisation and asymmetry parameter: over the phase's radii (so that the table
   // integrates to 1 exactly), which may differ from the spectra's denser radii by the ripple noise.
   const MieBulkOptics of_phase = mie_bulk_optics(p0.m, k0, plan.phase.quadrature, req.threads);
@@ -551,6 +581,11 @@ std::vector<std::string> header_lines(const MediumOptics& o, RendererFormat form
                           o.scattering_per_m[i550] / o.extinction_per_m[i550], o.g[i550]));
   l.push_back(fmt::format("spectra: {:g} to {:g} nm every {:g} nm (vacuum wavelengths); one scene unit = {:g} m",
                           kExportMinNm, kExportMaxNm, kExportStepNm, o.scene_unit_m));
+  if (o.spectra_error_extinction)
+    l.push_back(fmt::format("spectra's size average: over {} radii, chosen for {:g}% at every wavelength; estimated "
+                            "error at the worst wavelength: extinction {:.2g}%, g {:.2g}%",
+                            o.spectra_radii, 100 * kSpectraTolerance, 100 * *o.spectra_error_extinction,
+                            100 * *o.spectra_error_g));
   for (const auto& note : o.notes) l.push_back("note (the phase): " + note);
   if (t.cut_intervals > 0)
     l.push_back(fmt::format("forward cut: the fraction {:.6g} of the scattered light, scattered within {:.4g} deg of "

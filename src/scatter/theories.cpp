@@ -299,4 +299,86 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
   return out;
 }
 
+RefinedBulkOptics refine_bulk_optics(std::span<const Complex> m, std::span<const double> wavenumber_per_m,
+                                     const SizeDistribution& d, double r_min, double r_max, double scale,
+                                     double tolerance, int threads) {
+  if (!(r_min > 0) || !(r_max > r_min) || !(tolerance > 0) || m.size() != wavenumber_per_m.size() || m.empty())
+    throw std::logic_error("refine_bulk_optics: needs 0 < r_min < r_max, a tolerance > 0 and one k per m");
+  const std::size_t waves = m.size();
+  // Per wavelength, sums of n(r) scale times each radius's cross sections (mie_bulk_optics on the new
+  // radii, weighted n(r) scale, half at the range's ends); the trapezoid rule is h times them.
+  struct Sums {
+    double ext = 0, sca = 0, abs = 0, back = 0, gsca = 0;
+  };
+  std::vector<Sums> sums(waves);
+  std::size_t intervals = kMinRefinedRadii - 1;
+  double h = (r_max - r_min) / double(intervals);
+  RefinedBulkOptics out;
+  const auto add = [&](std::size_t first, std::size_t stride, std::size_t count) {
+    RadiusQuadrature q;
+    for (std::size_t j = 0; j < count; ++j) {
+      const std::size_t i = first + j * stride;
+      const double r = r_min + double(i) * h;
+      q.radius_m.push_back(r);
+      q.weight.push_back(d.number_density(r) * scale * (i == 0 || i == intervals ? 0.5 : 1.0));
+    }
+    for (std::size_t w = 0; w < waves; ++w) {
+      const MieBulkOptics b = mie_bulk_optics(m[w], wavenumber_per_m[w], q, threads);
+      Sums& s = sums[w];
+      s.ext += b.extinction_per_m, s.sca += b.scattering_per_m, s.abs += b.absorption_per_m;
+      s.back += b.backscatter_per_m, s.gsca += b.g * b.scattering_per_m;
+    }
+    out.radii += count;
+  };
+  const auto optics = [&] {
+    std::vector<MieBulkOptics> all(waves);
+    for (std::size_t w = 0; w < waves; ++w) {
+      const Sums& s = sums[w];
+      MieBulkOptics& b = all[w];
+      b.extinction_per_m = h * s.ext, b.scattering_per_m = h * s.sca, b.absorption_per_m = h * s.abs;
+      b.backscatter_per_m = h * s.back, b.g = s.sca > 0 ? s.gsca / s.sca : 0.0;
+    }
+    return all;
+  };
+  add(0, 1, intervals + 1);
+  for (const Sums& s : sums)
+    if (!(s.ext > 0)) throw Error("size distribution: no drops in the range averaged over");
+  out.optics = optics();
+  out.last_change = INFINITY;
+  double previous = 0;  // the halving before's sum of squared changes
+  for (int halvings = 1; 2 * intervals + 1 <= kMaxRefinedRadii; ++halvings) {
+    h /= 2;
+    intervals *= 2;
+    add(1, 2, intervals / 2);
+    const std::vector<MieBulkOptics> next = optics();
+    double largest = 0, squares = 0, d_ext_max = 0, d_g_max = 0;
+    for (std::size_t w = 0; w < waves; ++w) {
+      const MieBulkOptics &a = out.optics[w], &b = next[w];
+      const double ext = b.extinction_per_m;
+      const double d_ext = std::abs(b.extinction_per_m - a.extinction_per_m) / ext,
+                   d_sca = std::abs(b.scattering_per_m - a.scattering_per_m) / ext,
+                   d_abs = std::abs(b.absorption_per_m - a.absorption_per_m) / ext,
+                   d_g = b.g != 0 ? std::abs(b.g - a.g) / std::abs(b.g) : 0.0;
+      largest = std::max({largest, d_ext, d_sca, d_abs, d_g});
+      squares += d_ext * d_ext + d_sca * d_sca + d_abs * d_abs + d_g * d_g;
+      d_ext_max = std::max({d_ext_max, d_ext, d_sca, d_abs});
+      d_g_max = std::max(d_g_max, d_g);
+    }
+    out.optics = next;
+    out.last_change = largest;
+    if (halvings >= 2) {
+      const double ratio = previous > 0 ? std::sqrt(squares / previous) : 0.0;
+      const double r = std::min(ratio, kErrorRatioCap), factor = r / (1 - r);
+      out.error_extinction = d_ext_max * factor;
+      out.error_g = d_g_max * factor;
+    }
+    previous = squares;
+    if (halvings >= 2 && out.last_change < tolerance / 2) {
+      out.converged = true;
+      break;
+    }
+  }
+  return out;
+}
+
 }  // namespace hydrolux::scatter

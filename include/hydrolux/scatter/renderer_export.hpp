@@ -102,11 +102,16 @@ struct MediumPlan {
   PhasePlan phase;          // the drops (quadrature, description) at the phase wavelength
   double number_per_m3 = 0;  // drops per m^3
   double weight_scale = 1;  // phase.quadrature's weights times this are drops per m^3
-  // The radii of the spectra (drops per m^3): kSpectralNodes of them, or the phase's if more, since
-  // the efficiencies cost little and their ripple in r (~ lambda / 10) needs dense nodes (64 leave
-  // +-1.5% noise across the spectrum of 10 um fog).
+  // The radii of the liquid water content (drops per m^3), and of the spectra for one radius:
+  // kSpectralNodes of them, or the phase's if more.
   RadiusQuadrature spectral;
+  // A distribution's spectra average over radii they choose (refine_bulk_optics) to
+  // kSpectraTolerance: n(r) spectra_scale drops per m^3 per m over [spectra_r_min, spectra_r_max].
+  // A fixed count left +-1.5% noise across the spectrum of 10 um fog at 64 radii, 0.1% at 1024.
+  std::optional<SizeDistribution> spectra_drops;
+  double spectra_r_min = 0, spectra_r_max = 0, spectra_scale = 1;
 };
+inline constexpr double kSpectraTolerance = 0.005;
 // Rain's drops (x ~ 10^3 to 10^4) ripple far less (extinction within 0.1% of 2 + 2 x^(-2/3)) and each
 // costs ~x terms: 256 radii over 50-3000 um.
 inline constexpr int kSpectralNodes = 1024, kSpectralRainNodes = 256;
@@ -148,6 +153,10 @@ struct MediumOptics {
   // Where the phase is less accurate than the table: too few radii for the Mie ripple
   // (phase_job.hpp's undersampled_ripple_note). The files state them; the CLI warns.
   std::vector<std::string> notes;
+  // A distribution's spectra: the largest estimated error over the wavelengths (relative, of the
+  // extinction and of g; refine_bulk_optics) and the radii they took; unset for one radius.
+  std::optional<double> spectra_error_extinction, spectra_error_g;
+  std::size_t spectra_radii = 0;
 };
 
 // The spectra, then the table (growing it and choosing the cut as the request says). `progress`

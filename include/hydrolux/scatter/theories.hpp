@@ -111,4 +111,23 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
                                               std::span<const double> theta_rad, double tolerance, int threads = 0,
                                               const ProgressFn& progress = {});
 
+// A distribution's bulk optics (mie_bulk_optics) at several wavelengths (relative index m[i] and
+// wavenumber k[i] each) to a tolerance, on one grid of radii: the trapezoid rule over radii evenly spaced
+// on [r_min, r_max], from kMinRefinedRadii, halved at least twice and until two spacings agree to
+// tolerance / 2 at every wavelength in the extinction, in the scattering and absorption (relative to the
+// extinction) and in g. The cross sections ripple far less than the intensities at one angle, so no start
+// in x is needed. n(r) times `scale` is drops per m^3 per m of radius. The errors estimated as
+// RefinedIntensities::error: each quantity's last change times r / (1 - r), r the ratio of the last two
+// halvings' changes (root mean square over the wavelengths and quantities), capped at kErrorRatioCap.
+struct RefinedBulkOptics {
+  std::vector<MieBulkOptics> optics;         // per wavelength
+  double error_extinction = 0, error_g = 0;  // estimated, relative to the extinction and to g; the largest
+  double last_change = 0;
+  std::size_t radii = 0;
+  bool converged = false;
+};
+RefinedBulkOptics refine_bulk_optics(std::span<const Complex> m, std::span<const double> wavenumber_per_m,
+                                     const SizeDistribution& d, double r_min, double r_max, double scale,
+                                     double tolerance, int threads = 0);
+
 }  // namespace hydrolux::scatter
