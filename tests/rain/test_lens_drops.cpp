@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <string>
 
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/drop/trace.hpp"
@@ -361,6 +363,50 @@ TEST(LensDrops, NegativeLightReadsAsZeroAndIsCounted) {
   EXPECT_EQ(out.negative_values_clamped, 2u);
   for (float v : out.image.pixels) ASSERT_GE(v, 0.f);
   EXPECT_EQ(render_lens_drops(test_scene(80, 60), s).negative_values_clamped, 0u);
+}
+
+// A frame with a NaN or an infinity is refused before any work, naming the first such pixel in row
+// order, as rain and fog refuse one (docs/rain.md lines 143-148, "A non-finite value (NaN, +-inf) in
+// any channel is refused with its position"; the lens-drops check is src/rain/lens_drops.cpp, whose
+// message is "pixel (x, y) is not finite; give an image of finite values": the position, without the
+// channel or the value rain's NonFinitePixel adds; docs/lens-drops.md says nothing of it). The
+// position is checked in a 3- and a 4-channel frame (the pixel is the value's index over the channel
+// count); a finite frame with the same drops passes, and its output is finite.
+TEST(LensDrops, NonFinitePixelsAreRefusedNamingThePixel) {
+  LensDropSettings s;
+  s.drops = 10;
+  const auto refusal = [&](const Image& img) -> std::string {
+    try {
+      (void)render_lens_drops(img, s);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  for (int channels : {3, 4}) {
+    Image img(80, 60, channels);
+    const Image scene = test_scene(80, 60);
+    for (int y = 0; y < 60; ++y)
+      for (int x = 0; x < 80; ++x)
+        for (int c = 0; c < channels; ++c) img.at(x, y, c) = c < 3 ? scene.at(x, y, c) : 1.f;
+    const Image finite = img;
+    img.at(61, 9, 1) = std::numeric_limits<float>::quiet_NaN();  // row 9
+    img.at(12, 40, 0) = std::numeric_limits<float>::infinity();  // row 40
+    // Both: the NaN comes first in row order (row 9 before row 40, though its column is larger).
+    EXPECT_EQ(refusal(img), "pixel (61, 9) is not finite; give an image of finite values") << channels;
+    // The +inf alone.
+    img.at(61, 9, 1) = finite.at(61, 9, 1);
+    EXPECT_EQ(refusal(img), "pixel (12, 40) is not finite; give an image of finite values") << channels;
+    // -inf in the last light channel of the last pixel.
+    Image last = finite;
+    last.at(79, 59, 2) = -std::numeric_limits<float>::infinity();
+    EXPECT_EQ(refusal(last), "pixel (79, 59) is not finite; give an image of finite values") << channels;
+    // The same frame without them renders, every output value finite.
+    const auto out = render_lens_drops(finite, s);
+    EXPECT_GT(out.drops, 0u);
+    for (float v : out.image.pixels) ASSERT_TRUE(std::isfinite(v));
+    for (float v : out.mask.pixels) ASSERT_TRUE(std::isfinite(v));
+  }
 }
 
 }  // namespace

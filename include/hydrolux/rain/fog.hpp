@@ -167,8 +167,8 @@ FogVeil fog_veil(const Image& frame, const Image* depth, const RainCamera& camer
 Image apply_fog_veil(const Image& frame, const FogVeil& veil);
 
 // Fog over `frame` (linear RGB, >= 3 channels, the camera's size). `depth`: null (the ground plane)
-// or 1 channel of camera z, m. `sky`: the airlight colour, or estimate_sky(frame). NonFinitePixel
-// for a non-finite input value; negative values read as 0. Deterministic, single-threaded.
+// or 1 channel of camera z, m. `sky`: the airlight colour, or estimate_sky(frame). Error naming the
+// pixel and channel for a non-finite input value (NaN, +-inf); negative values read as 0. Deterministic, single-threaded.
 // `progress` as fog_veil's (a throwing callback stops the work).
 FogFrame render_fog(const Image& frame, const Image* depth, const RainCamera& camera, const FogSettings& s,
                     const FogOptics& optics, std::optional<Vec3> sky = std::nullopt, const ProgressFn& progress = {});
