@@ -413,7 +413,9 @@ class RendererMedium(NamedTuple):
     ``number_per_m3``, ``lwc_g_m3``, ``scene_unit_m``, the physical ``extinction_per_m`` and
     ``scattering_per_m``, ``phase_wavelength_nm``, ``l1_error`` (of the table, estimated),
     ``target_met``, ``cut_deg``, ``cut_fraction``, ``g``, ``hg_g`` and ``hg_l1_error`` (pbrt-v4's
-    Henyey-Greenstein), ``normalisation``.
+    Henyey-Greenstein), ``normalisation``, and for a distribution ``spectra_radii`` and
+    ``spectra_error`` (a dict of ``extinction`` and ``g``: the spectra's size average's estimated
+    relative error at the worst wavelength; None for one radius).
 
     Example:
 

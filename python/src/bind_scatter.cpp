@@ -430,6 +430,15 @@ py::dict renderer_medium(py::handle radius_arg, const std::string& size_distribu
   info["cut_fraction"] = o.phase.cut_fraction, info["g"] = o.phase.g, info["hg_g"] = o.phase.hg_g;
   info["hg_l1_error"] = o.phase.hg_l1, info["normalisation"] = o.phase.normalisation;
   info["notes"] = o.notes;
+  // A distribution's spectra: the radii chosen and the estimated error at the worst wavelength.
+  if (o.spectra_error_extinction) {
+    py::dict error;
+    error["extinction"] = *o.spectra_error_extinction, error["g"] = *o.spectra_error_g;
+    info["spectra_error"] = error;
+  } else {
+    info["spectra_error"] = py::none();
+  }
+  info["spectra_radii"] = o.spectra_radii;
   d["info"] = info;
   return d;
 }

@@ -27,6 +27,12 @@ def test_arrays_and_normalisation():
     np.testing.assert_array_equal(m.albedo, m.sigma_s_per_m / m.sigma_t_per_m)
     assert m.info["cut_deg"] == 0 and m.info["l1_error"] > 0
     assert abs(m.info["normalisation"] - 1) <= m.info["l1_error"]
+    # The spectra's size average states its radii and estimated error (held against a finer rule by
+    # tests/scatter/test_renderer_export.cpp); one radius has none.
+    assert m.info["spectra_radii"] >= 65 and set(m.info["spectra_error"]) == {"extinction", "g"}
+    assert 0 <= m.info["spectra_error"]["extinction"] < 0.005
+    one = hydrolux.renderer_medium(3, number_per_cm3=50, values=257)
+    assert one.info["spectra_error"] is None and one.info["spectra_radii"] == 0
 
 
 @pytest.mark.parametrize("kwargs,message", [
