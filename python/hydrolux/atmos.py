@@ -22,7 +22,9 @@ class LeeTable(NamedTuple):
     scattering-plane basis (Q > 0: polarised tangentially to the bow; U = 0 in this basis); dolp,
     (rows, columns) float64, Q_Y / I_Y, the luminance-weighted degree of linear polarisation (0 where
     I_Y = 0). Both None otherwise. info: the theory, colour space, display exposure and white, the
-    evaluations, the drops' shape, and for :meth:`to_xarray` the labelled description
+    evaluations, the drops' shape, ``notes`` (what the table cannot resolve at its settings, e.g.
+    supernumeraries narrower than its rows, naming the keywords that fix it; empty when nothing), and
+    for :meth:`to_xarray` the labelled description
     (``dataset``, whose arrays are these) and the call's ``history`` line.
 
     Example:
@@ -154,7 +156,8 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
     options["stokes"] = _flag(stokes, "stokes")
     d = _core.lee(theory, radius_um, wavelengths_nm, wavelengths, shape, medium, sun, color_space,
                   options)
-    info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape", "dataset")}
+    info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape", "dataset",
+                              "notes")}
     info["history"] = _history(lee, arguments)
     return LeeTable(d["rgb"], d["xyz"], d["display"], d["radius_um"], d["angle_deg"], d["cos_angle"],
                     d["wavelengths_nm"], info, d.get("q_xyz"), d.get("dolp"))

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "bindings.hpp"
+#include "hydrolux/core/error.hpp"
 #include "hydrolux/atmos/lee.hpp"
 #include "hydrolux/atmos/lee_params.hpp"
 #include "hydrolux/color/cie.hpp"
@@ -97,6 +98,10 @@ py::dict lee(const std::string& theory, std::optional<std::pair<double, double>>
   d["cos_angle"] = arrays["cos_scattering_angle"], d["wavelengths_nm"] = arrays["wavelength"];
   d["theory"] = scatter::theory_name(s.theory);
   d["color_space"] = std::string(color::rgb_space_name(s.rgb_space));
+  // What the table cannot resolve, naming the keywords that fix it (atmos::lee_resolution_notes).
+  py::list notes;
+  for (const auto& n : t.notes) notes.append(spell_quantities(n, {}));
+  d["notes"] = notes;
   d["exposure"] = im.exposure, d["white"] = im.white;
   d["evaluations"] = t.work.evaluations;
   // The drops' shape as the JSON sidecar states it (io/lee_files.cpp): its name, and for

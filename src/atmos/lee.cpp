@@ -27,6 +27,7 @@
 #include "hydrolux/scatter/geometric.hpp"
 #include "hydrolux/scatter/mie.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
+#include "hydrolux/scatter/sphere.hpp"
 
 namespace hydrolux::atmos {
 
@@ -1090,10 +1091,80 @@ void apply_disk(const AngleCells& cells, const std::vector<double>& cell_xyz, co
 
 }  // namespace
 
+double supernumerary_spacing_deg(double n, double x, int p) {
+  constexpr double kZ2 = 3.248198, kZ3 = 4.820099;  // -a'_2, -a'_3
+  return rad_to_deg((kZ3 - kZ2) / scatter::airy_angular_scale(n, x, p));
+}
+
+std::vector<std::string> lee_resolution_notes(const LeeSpec& spec) {
+  std::vector<std::string> notes;
+  if (spec.table != LeeTableKind::rainbow) return notes;
+  const auto drop = optics::find_medium(spec.drop_medium);
+  const auto air = optics::find_medium(spec.surrounding_medium);
+  const std::vector<double> radii = column_radii_um(spec);
+  const int rows = std::max(spec.rows, 1);
+  // Airy's maxima of Ai(-z)^2 at z = -a'_k (A&S Table 10.13): the second supernumerary's, and the spacing.
+  constexpr double kZ3 = 4.820099, kSpacingZ = kZ3 - 3.248198;
+  const scatter::SphereProblem short_wave = scatter::sphere_problem(1, spec.wavelength_min_nm, *drop, *air,
+                                                                    spec.temperature_c);
+  const double n = short_wave.m.real();
+  for (const int p : {2, 3}) {
+    const double bow_deg = rad_to_deg(scatter::rainbow_angle(n, p));
+    if (!(bow_deg >= spec.angle_min_deg && bow_deg <= spec.angle_max_deg) || rows < 2) continue;
+    // The fringes' spacing (deg) of a column's drops at the shortest wavelength, where it is narrowest.
+    const auto spacing_deg = [&](double radius_um) { return supernumerary_spacing_deg(n, short_wave.x * radius_um, p); };
+    double largest = 0;  // the largest drops whose fringes the sun's disk leaves
+    for (const double r : radii)
+      if (spacing_deg(r) >= spec.sun_disk_deg) largest = std::max(largest, r);
+    if (!(largest > 0)) continue;
+    const double spacing = spacing_deg(largest);
+    const double span = spec.angle_max_deg - spec.angle_min_deg;
+    const double step = spec.axis == AngleAxis::angle
+                            ? span / (rows - 1)
+                            : rad_to_deg((std::cos(deg_to_rad(spec.angle_min_deg)) -
+                                          std::cos(deg_to_rad(spec.angle_max_deg))) /
+                                         (rows - 1) / std::sin(deg_to_rad(bow_deg)));
+    if (step > spacing / 4)
+      notes.push_back(fmt::format(
+          "the rows are {:.3g} deg apart at the {} bow ({:.1f} deg), more than a quarter of the {:.3g} deg spacing of "
+          "the supernumeraries of its {:.4g} um drops{}: they are aliased; give {{size}} with at least {} rows, or a "
+          "narrower {{angle_deg}}",
+          step, p == 2 ? "primary" : "secondary", bow_deg, spacing, largest,
+          spec.sun_disk_deg > 0 ? ", the largest whose fringes the sun's disk leaves" : "",
+          int(std::ceil(double(rows - 1) * step / (spacing / 4))) + 1));
+  }
+  if (spec.theory.kind == scatter::TheoryKind::Airy) {
+    const scatter::SphereProblem long_wave = scatter::sphere_problem(1, spec.wavelength_max_nm, *drop, *air,
+                                                                      spec.temperature_c);
+    const double smallest = *std::min_element(radii.begin(), radii.end());
+    const double from_um = kAiryMinX / long_wave.x;
+    if (smallest < from_um)
+      notes.push_back(fmt::format(
+          "Airy theory for drops of {:.3g} um (x = {:.0f} at {:g} nm): below x = {:g} ({:.0f} um) its peak is ~5% off "
+          "Mie's and its first supernumerary ~20% (docs/rainbow-theories.md, \"Validity\"); give {{radius_um}} from "
+          "{:.0f}{}",
+          smallest, long_wave.x * smallest, spec.wavelength_max_nm, kAiryMinX, from_um, std::ceil(from_um),
+          spec.shape.spherical() ? ", or {theory} mie" : ""));
+  }
+  if (spec.size_spread == 0 && radii.size() > 1) {
+    double jump = 0;  // the largest relative step between neighbouring columns
+    for (std::size_t i = 1; i < radii.size(); ++i) jump = std::max(jump, radii[i] / radii[i - 1] - 1);
+    // The fringe at z moves as a^(-2/3): (2/3) jump z between columns, against half the spacing.
+    if (2.0 / 3 * jump * kZ3 > kSpacingZ / 2)
+      notes.push_back(fmt::format(
+          "neighbouring columns are up to {:.0f}% apart in radius with no size spread: the supernumeraries jump by "
+          "more than half their spacing from one column to the next; give more columns ({{size}}) or a "
+          "{{size_spread}}",
+          100 * jump));
+  }
+  return notes;
+}
+
 LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   validate(spec);
   LeeTable t;
   t.spec = spec;
+  t.notes = lee_resolution_notes(spec);
   const std::vector<double> sin_angle = set_axes(spec, t);
   const std::size_t cols = t.radius_um.size();
   const auto drop = optics::find_medium(spec.drop_medium);

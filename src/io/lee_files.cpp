@@ -49,11 +49,24 @@ nlohmann::json stokes_json() {
           {"dolp", "Q_Y / I_Y: the luminance-weighted degree of linear polarisation, signed as Q"}};
 }
 
+// What the table cannot resolve (atmos::lee_resolution_notes), in the library's names.
+nlohmann::json notes_json(const atmos::LeeTable& t) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& n : t.notes) a.push_back(spell_quantities(n, {}));
+  return a;
+}
+std::string notes_text(const atmos::LeeTable& t) {
+  std::string s;
+  for (const auto& n : t.notes) s += (s.empty() ? "" : "; ") + spell_quantities(n, {});
+  return s;
+}
+
 }  // namespace
 
 nlohmann::json lee_profile_json(const atmos::LeeTable& t) {
   nlohmann::json j;
   j["radius_um"] = t.radius_um.front();
+  j["notes"] = notes_json(t);
   j["theory"] = scatter::theory_name(t.spec.theory);
   j["drop_shape"] = drop_shape_json(t);
   j["units"] = "sr^-1";
@@ -93,6 +106,7 @@ nlohmann::json lee_sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im,
   j["hydrolux_version"] = kVersion;
   j["table"] = atmos::table_kind_name(s.table);
   j["theory"] = scatter::theory_name(s.theory);
+  j["notes"] = notes_json(t);
   j["quantity"] =
       "T = <dsigma_sca/dOmega> / <pi a^2>: radiance scattered once per unit incident irradiance per unit "
       "projected-area optical depth of the drops (L = E_sun * tau_geo * T; tau_geo = path * sum pi a^2 n(a), "
@@ -278,6 +292,7 @@ Dataset lee_dataset(const atmos::LeeTable& t, const atmos::LeeImages& im, std::s
       .text("surrounding_medium", s.surrounding_medium);
   if (s.temperature_c) a.number("temperature_c", *s.temperature_c);
   a.text("drop_shape", atmos::drop_shape_name(s.shape));
+  if (!t.notes.empty()) a.text("resolution_notes", notes_text(t));
   if (!s.shape.spherical())
     a.number("sun_elevation_deg", s.sun_elevation_deg)
         .number("position_deg", s.position_deg)

@@ -197,6 +197,8 @@ LeeJobResult run_lee_job(const LeeJob& job, atmos::LeeSpec s, const LeeJobHooks&
   FileSet files;
   std::optional<LeeOutputs> out;
   if (!job.output.empty()) out = declare_lee_outputs(files, job.output, h);
+  if (h.warn)
+    for (const auto& note : atmos::lee_resolution_notes(s)) h.warn(note);
 
   const auto start = std::chrono::steady_clock::now();
   const atmos::LeeTable t = atmos::compute_lee_table(s, h.progress);

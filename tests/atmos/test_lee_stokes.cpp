@@ -103,8 +103,8 @@ TEST(LeeStokes, PolarisationOfThePrimaryAndSecondaryPeaks) {
 // (2) The ray limit. Airy theory takes the Fresnel factors at the rainbow ray, so its dolp is the
 // ray limit at every angle, to rounding (1e-12): this checks the integration carries Q as I. The
 // Debye series of the primary (debye:2, exact wave theory of that order) at 1000 um approaches it
-// from below as the drop grows (Konnen & de Boer 1979): measured 0.9229, 0.9241, 0.9250, 0.9255 at
-// 250, 500, 1000 and 2000 um against 0.9248 (550 nm): its peak lies z = 1.0188 inside the rainbow
+// as the drop grows (Konnen & de Boer 1979), from below up to 500 um and just past it beyond:
+// measured 0.9229, 0.9241, 0.9250, 0.9255 at 250, 500, 1000 and 2000 um against 0.9248 (550 nm): its peak lies z = 1.0188 inside the rainbow
 // ray (docs/rainbow-theories.md), where the Fresnel ratio differs by O(x^(-1/3)); 0.002 holds the
 // 1000 um value (x = 11400) with room for that offset. The secondary's bow is sharper (its q is
 // 5.7 times the primary's, van de Hulst's h), so the peak's offset and the Fresnel ratio's change

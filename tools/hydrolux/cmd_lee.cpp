@@ -3,6 +3,7 @@
 // over files is io/lee_job.hpp's: this file registers the flags, checks the medium, calls the job and reports.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <iostream>
@@ -38,6 +39,7 @@ int run_lee(const LeeArgs& a) {
     if (given(*a.sub, atmos::lee_param(name))) job.given.insert(std::string(name));
   job.command_line = command_line();
   atmos::LeeSpec spec = io::lee_job_spec(job);
+
   const auto drop = medium_flag("--medium", job.medium);  // the media's flags in the CLI's words (common.hpp)
   check_temperature_flag(job.request.temperature_c, {drop.get()});
   ProgressBar bar("lee", a.quiet || job.json);
@@ -51,6 +53,15 @@ int run_lee(const LeeArgs& a) {
   };
   hooks.progress = [&bar](double f, std::string_view label) { bar.update(f, label); };
   hooks.finish_progress = [&bar] { bar.finish(); };
+  // What the table will not resolve, said before the work in the flags' words (the sidecar and the
+  // profile keep it too).
+  hooks.warn = [](std::string_view note) {
+    warn(spell_quantities(note, [](std::string_view q) {
+      std::string flag = "--" + std::string(q);
+      std::replace(flag.begin(), flag.end(), '_', '-');
+      return flag;
+    }));
+  };
   const io::LeeJobResult r = io::run_lee_job(job, std::move(spec), hooks);
   if (!r.written.empty() && !a.quiet) fmt::print(stderr, "{}\n", io::lee_summary(r));
   return 0;

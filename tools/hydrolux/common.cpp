@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <system_error>
+
 #include <charconv>
 
 #include <cmath>
@@ -161,7 +163,14 @@ void set_command_line(int argc, const char* const* argv) {
 }
 std::string command_line() { return command_line_storage(); }
 
-void warn(const std::string& text) { fmt::print(stderr, "{}: warning: {}\n", program_name(), printable(text)); }
+void warn(const std::string& text) {
+  // A warning that cannot be written (a full disk under stderr) is dropped: the job goes on to its own
+  // outcome, which the exit code reports.
+  try {
+    fmt::print(stderr, "{}: warning: {}\n", program_name(), printable(text));
+  } catch (const std::system_error&) {
+  }
+}
 
 int report_left_out(const std::vector<std::string>& left_out, std::size_t frames_total) {
   if (left_out.empty()) return 0;

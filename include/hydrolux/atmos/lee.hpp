@@ -263,6 +263,7 @@ struct LeeTable {
   color::Mat3 xyz_to_rgb{};            // Bradford (sun -> D65) then XYZ -> linear RGB
   std::vector<double> wavelengths_nm;  // the K sampled wavelengths
   LeeWork work;
+  std::vector<std::string> notes;  // lee_resolution_notes(spec)
 
   int columns() const { return int(radius_um.size()); }
   int rows() const { return int(angle_deg.size()); }
@@ -277,6 +278,23 @@ struct LeeTable {
 
 // Computes a table. `progress` is called after each wavelength with the fraction of the work done.
 LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress = {});
+
+// What a rainbow table cannot resolve at its settings, one line each, naming the parameters that fix
+// it between braces ({size}, {angle_deg}, {theory}, {radius_um}, {size_spread}: core/error.hpp's
+// spell_quantities), empty when nothing (cheap: from the spec alone; compute_lee_table keeps them
+// in LeeTable::notes, and the sidecar, the profile and the doors say them):
+// - rows wider than a quarter of the spacing of the first supernumeraries (Airy's z = 3.25 to 4.82,
+//   at the shortest wavelength) of the largest drops whose fringes the sun's disk leaves (spacing at
+//   least the disk's diameter), at a bow in the angle range: the fringes are aliased;
+// - Airy theory below x = kAiryMinX (the columns' drops at the longest wavelength), where its peak is
+//   ~5% off Mie's and its first supernumerary ~20% (docs/rainbow-theories.md, "Validity");
+// - without a size spread, neighbouring columns so far apart in radius (more than kMaxFringeJump
+//   of the spacing) that the second supernumerary jumps by more than half its spacing between them.
+inline constexpr double kAiryMinX = 1000;
+std::vector<std::string> lee_resolution_notes(const LeeSpec& spec);
+// The spacing in degrees between the first two supernumeraries (Airy's maxima at z = 3.248198 and
+// 4.820099, A&S Table 10.13) of the order-p bow of drops of size parameter x and real index n.
+double supernumerary_spacing_deg(double n, double x, int p);
 
 // The table as images: RGB (gamut-mapped linear RGB) followed by X, Y, Z (unmapped), 6 channels;
 // and the display version, by Reinhard et al.'s photographic operator (SIGGRAPH 2002) on

@@ -41,6 +41,9 @@ struct LeeJobHooks {
   std::function<void(std::string_view)> out;               // standard output (--json's profile)
   std::function<void(double, std::string_view)> progress;  // the table's work, fraction done; may be empty
   std::function<void()> finish_progress;
+  // Each of atmos::lee_resolution_notes, once the job is checked and its outputs reserved, before the
+  // work (the text names parameters between braces: the door spells them); may be empty.
+  std::function<void(std::string_view)> warn;
 };
 
 struct LeeJobResult {
