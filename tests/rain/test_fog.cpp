@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -198,6 +199,27 @@ TEST(Fog, PhaseTableAgainstMieAsymmetry) {
   EXPECT_NEAR(o.phase.total(), 1, 1e-12);
   EXPECT_NEAR(g, o.g, 0.01) << g << " " << o.g;
   EXPECT_GT(o.g, 0.8);  // fog droplets scatter forward
+}
+
+// The 64 radii of the phase table are too few for the Mie ripple at single angles (measured against
+// 4096: up to 48% off at the worst u for mode 10 um, 45% for 4 um, where the table is small), but not
+// for what the glow uses, the apparent phase's cumulative (the glow's energy within a cone) and g:
+// against 4096 radii (Gauss-Legendre in ln r, the same rule) within 0.5% of the total and of g
+// (measured 0.42% and 0.31% for the cumulative, 0.31% and 0.23% for g; issue 39: the default's error
+// stated, docs/fog.md). A convergence check of the count, not an independent reference.
+TEST(Fog, PhaseRadiiConvergeInWhatTheGlowUses) {
+  for (const double mode_um : {10.0, 4.0}) {
+    SCOPED_TRACE(mode_um);
+    FogSettings s;
+    s.visibility_m = 100;
+    s.mode_radius_um = mode_um;
+    const FogOptics o = fog_optics(s), fine = fog_optics(s, 1025, 4096);
+    double worst = 0;
+    for (std::size_t i = 0; i < o.apparent.cum.size(); ++i)
+      worst = std::max(worst, std::abs(o.apparent.cum[i] - fine.apparent.cum[i]));
+    EXPECT_LT(worst, 0.005);
+    EXPECT_NEAR(o.g / fine.g, 1, 0.005);
+  }
 }
 
 // Henyey-Greenstein: F(theta) = (1 - g^2) / (2 g) [1 / (1 - g) - (1 + g^2 - 2 g mu)^-1/2].
