@@ -415,7 +415,9 @@ class RendererMedium(NamedTuple):
     ``target_met``, ``cut_deg``, ``cut_fraction``, ``g``, ``hg_g`` and ``hg_l1_error`` (pbrt-v4's
     Henyey-Greenstein), ``normalisation``, and for a distribution ``spectra_radii`` and
     ``spectra_error`` (a dict of ``extinction`` and ``g``: the spectra's size average's estimated
-    relative error at the worst wavelength; None for one radius).
+    relative error at the worst wavelength; None for one radius), and ``phase_size_l1``: the phase's
+    size average's own error estimated, the L1 distance to the same average over twice the radii
+    (None for one radius and rain).
 
     Example:
 

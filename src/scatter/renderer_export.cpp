@@ -498,6 +498,40 @@ void fill_table(const TableSearch& found, bool target_met, TabulatedPhase& t) {
 
 }  // namespace
 
+namespace {
+
+// MediumOptics::phase_size_l1: the phase over the job's radii against twice as many, L1 over the sphere.
+std::optional<double> size_average_l1(const MediumPlan& plan) {
+  const RadiusQuadrature& q = plan.phase.quadrature;
+  const int twice = std::min(2 * int(q.size()), kMaxQuadratureNodes);
+  if (q.size() < 2 || twice <= int(q.size()) ||
+      parse_size_distribution(plan.phase.job.size_distribution).kind == SizeDistributionKind::marshall_palmer)
+    return std::nullopt;
+  PhaseJob job = plan.phase.job;
+  job.numbers.nodes = twice;
+  const PhasePlan finer = plan_phase(std::move(job));
+  std::vector<double> theta(kSizeCheckPoints);
+  const double dmu = 2.0 / (kSizeCheckPoints - 1);
+  for (int i = 0; i < kSizeCheckPoints; ++i) theta[std::size_t(i)] = std::acos(std::clamp(-1 + i * dmu, -1.0, 1.0));
+  const MediumJob& m = plan.job;
+  const auto normalised = [&](const RadiusQuadrature& radii) {
+    const Intensities a = average_intensities(Theory{}, radii, m.numbers.phase_wavelength_nm, *m.medium,
+                                              *m.surrounding, m.numbers.temperature_c, theta, m.numbers.threads);
+    std::vector<double> p(theta.size());
+    double total = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) p[i] = (a.i1[i] + a.i2[i]) / 2;
+    for (std::size_t i = 0; i + 1 < p.size(); ++i) total += (p[i] + p[i + 1]) / 2 * dmu;
+    for (double& v : p) v /= total;  // integral over mu = 1: the L1 below is the sphere's
+    return p;
+  };
+  const std::vector<double> a = normalised(q), b = normalised(finer.quadrature);
+  double l1 = 0;
+  for (std::size_t i = 0; i + 1 < a.size(); ++i) l1 += (std::abs(a[i] - b[i]) + std::abs(a[i + 1] - b[i + 1])) / 2 * dmu;
+  return l1;
+}
+
+}  // namespace
+
 MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) {
   const MediumJob& job = plan.job;
   const MediumRequest& req = job.numbers;
@@ -512,6 +546,13 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
   out.phase_wavelength_nm = req.phase_wavelength_nm;
   if (auto note = undersampled_ripple_note(plan.phase, "nodes")) out.notes.push_back(std::move(*note));
   compute_spectra(plan, out, report);
+  out.phase_size_l1 = size_average_l1(plan);
+  if (out.phase_size_l1 && *out.phase_size_l1 > req.max_error)
+    out.notes.push_back(fmt::format("the size average over {} radii is itself {:.3g} (L1 over the sphere) from the same "
+                                    "average over {} radii, more than max_error {:g}: give more nodes",
+                                    plan.phase.quadrature.size(), *out.phase_size_l1,
+                                    std::min(2 * int(plan.phase.quadrature.size()), kMaxQuadratureNodes),
+                                    req.max_error));
 
   const SphereProblem p0 = sphere_problem(1, req.phase_wavelength_nm, *job.medium, *job.surrounding, req.temperature_c);
   const double k0 = 2 * kPi<> * p0.n_surrounding / (req.phase_wavelength_nm * 1e-9);
@@ -581,6 +622,10 @@ std::vector<std::string> header_lines(const MediumOptics& o, RendererFormat form
                           o.scattering_per_m[i550] / o.extinction_per_m[i550], o.g[i550]));
   l.push_back(fmt::format("spectra: {:g} to {:g} nm every {:g} nm (vacuum wavelengths); one scene unit = {:g} m",
                           kExportMinNm, kExportMaxNm, kExportStepNm, o.scene_unit_m));
+  if (o.phase_size_l1)
+    l.push_back(fmt::format("phase's size average: L1 distance {:.3g} over the sphere to the same average over twice the "
+                            "radii (an estimate of its own error; the table's error below is against this average)",
+                            *o.phase_size_l1));
   if (o.spectra_error_extinction)
     l.push_back(fmt::format("spectra's size average: over {} radii, chosen for {:g}% at every wavelength; estimated "
                             "error at the worst wavelength: extinction {:.2g}%, g {:.2g}%",

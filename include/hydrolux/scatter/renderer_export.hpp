@@ -112,6 +112,7 @@ struct MediumPlan {
   double spectra_r_min = 0, spectra_r_max = 0, spectra_scale = 1;
 };
 inline constexpr double kSpectraTolerance = 0.005;
+inline constexpr int kSizeCheckPoints = 4097;
 // Rain's drops (x ~ 10^3 to 10^4) ripple far less (extinction within 0.1% of 2 + 2 x^(-2/3)) and each
 // costs ~x terms: 256 radii over 50-3000 um.
 inline constexpr int kSpectralNodes = 1024, kSpectralRainNodes = 256;
@@ -157,6 +158,12 @@ struct MediumOptics {
   // extinction and of g; refine_bulk_optics) and the radii they took; unset for one radius.
   std::optional<double> spectra_error_extinction, spectra_error_g;
   std::size_t spectra_radii = 0;
+  // The phase's size average's own error, estimated (gamma and lognormal drops): the L1 distance over
+  // the sphere, on kSizeCheckPoints values uniform in cos theta, between the phase over the job's radii
+  // and over twice as many (the same rule; at most kMaxQuadratureNodes), each normalised. Measured
+  // against 4096 radii: 1.2-1.5 times the true distance for 64 radii (cloud droplets 2-10 um). A note
+  // says when it is above --max-error. Unset for one radius, rain and the largest counts.
+  std::optional<double> phase_size_l1;
 };
 
 // The spectra, then the table (growing it and choosing the cut as the request says). `progress`
