@@ -161,7 +161,7 @@ struct MediumOptics {
   // The phase's size average's own error, estimated (gamma and lognormal drops): the L1 distance over
   // the sphere, on kSizeCheckPoints values uniform in cos theta, between the phase over the job's radii
   // and over twice as many (the same rule; at most kMaxQuadratureNodes), each normalised. Measured
-  // against 4096 radii: 1.2-1.5 times the true distance for 64 radii (cloud droplets 2-10 um). A note
+  // against 4096 radii: 1.2-1.6 times the true distance for 64 radii (cloud droplets 2-10 um). A note
   // says when it is above --max-error. Unset for one radius, rain and the largest counts.
   std::optional<double> phase_size_l1;
 };
