@@ -196,11 +196,12 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
                                               const ProgressFn& progress) {
   if (!(r_min > 0) || !(r_max > r_min) || !(tolerance > 0))
     throw std::logic_error("refine_average_intensities: needs 0 < r_min < r_max and a tolerance > 0");
-  // The angles checked: those asked, and a kRefineProbeStepDeg grid's angles more than half a step from
-  // every one of them, so that a few angles asked cannot let resonances pass unseen.
+  // The angles checked: those asked, and for Mie a kRefineProbeStepDeg grid's angles more than half a step
+  // from every one of them, so that a few angles asked cannot let resonances pass unseen. (One Debye order,
+  // Airy theory and geometric optics leave most angles dark, where a relative change is noise.)
   std::vector<double> checked(theta_rad.begin(), theta_rad.end());
   const double probe_step = deg_to_rad(kRefineProbeStepDeg);
-  for (int i = 0; double(i) * kRefineProbeStepDeg <= 180 + 1e-9; ++i) {
+  for (int i = 0; t.kind == TheoryKind::Mie && double(i) * kRefineProbeStepDeg <= 180 + 1e-9; ++i) {
     const double probe = double(i) * probe_step;
     bool near = false;
     for (const double a : theta_rad) near = near || std::abs(a - probe) <= probe_step / 2;

@@ -79,8 +79,9 @@ Intensities average_intensities(const Theory& t, const RadiusQuadrature& q, doub
 inline constexpr double kRefineStartStepX = 0.25;
 inline constexpr std::size_t kMinRefinedRadii = 65;
 inline constexpr std::size_t kMaxRefinedRadii = (std::size_t(1) << 18) + 1;
-// The angles the refinement checks besides those asked: every kRefineProbeStepDeg degrees where no angle
-// asked is within half a step (none for the 1-degree default grid). A resonance shows at some angles only:
+// The angles a Mie refinement checks besides those asked: every kRefineProbeStepDeg degrees where no angle
+// asked is within half a step (none for the 1-degree default grid; none for the other theories, whose
+// single orders leave most angles dark). A resonance shows at some angles only:
 // checked on ten angles, averages stopped at a quarter of the radii with 4 times the error.
 inline constexpr double kRefineProbeStepDeg = 5;
 // The error estimate's largest ratio of one halving's change to the one before (RefinedIntensities::error:
