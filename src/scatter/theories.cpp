@@ -278,7 +278,6 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
       const double r = std::min(ratio, kErrorRatioCap), factor = r / (1 - r);
       out.error = {now.element.s11 * factor, now.element.s12 * factor, now.element.s33 * factor,
                    now.element.s34 * factor};
-      out.change_ratio = ratio;
     }
     previous = now;
     if (halvings >= 2 && out.last_change < tolerance / 2) {

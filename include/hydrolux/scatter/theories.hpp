@@ -103,7 +103,6 @@ struct RefinedIntensities {
   // angles checked) capped at kErrorRatioCap. Measured against 2^19-2^20 radii on cloud droplets (gamma 2-20 um, widths 0.05-0.5,
   // and lognormal:0.3 10 um) at the default tolerance: 0.37 to 2.9 times the error (docs/mie.md).
   MuellerErrors error;
-  double change_ratio = 0;  // r before the cap
   bool converged = false;
 };
 RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistribution& d, double r_min, double r_max,
