@@ -415,9 +415,11 @@ class RendererMedium(NamedTuple):
     ``target_met``, ``cut_deg``, ``cut_fraction``, ``g``, ``hg_g`` and ``hg_l1_error`` (pbrt-v4's
     Henyey-Greenstein), ``normalisation``, and for a distribution ``spectra_radii`` and
     ``spectra_error`` (a dict of ``extinction`` and ``g``: the spectra's size average's estimated
-    relative error at the worst wavelength; None for one radius), and ``phase_size_l1``: the phase's
-    size average's own error estimated, the L1 distance to the same average over twice the radii
-    (None for one radius and rain).
+    relative error at the worst wavelength; None for one radius), ``phase_radii`` (the radii the phase
+    averages over; unless ``nodes`` is given, gamma and lognormal drops double them from 64 until the
+    phase moves by at most half of ``max_error`` when they are doubled again), ``phase_radii_chosen``
+    (so chosen) and ``phase_size_l1``: the phase's size average's own error estimated, the L1 distance
+    to the same average over twice the radii (None for one radius and rain).
 
     Example:
 
@@ -440,7 +442,7 @@ def renderer_medium(radius_um: Optional[float], size_distribution: str = "mono",
                     number_per_cm3: Optional[float] = _RENDERER_MEDIUM["number_per_cm3"],
                     lwc_g_m3: Optional[float] = _RENDERER_MEDIUM["lwc_g_m3"],
                     format: str = "mitsuba3", name: str = "hydrolux_medium", medium: str = "water",
-                    surrounding: str = "air", nodes: int = _RENDERER_MEDIUM["nodes"],
+                    surrounding: str = "air", nodes: Optional[int] = _RENDERER_MEDIUM["nodes"],
                     temperature_c: Optional[float] = _RENDERER_MEDIUM["temperature_c"],
                     phase_wavelength_nm: float = _RENDERER_MEDIUM["phase_wavelength_nm"],
                     values: Optional[int] = None, max_error: float = _RENDERER_MEDIUM["max_error"],

@@ -33,10 +33,11 @@ const Field<MediumRequest> kMedium[] = {
       "Liquid water content instead of the count (fog 0.01-0.5, cloud 0.1-1)", "number_per_cm3"},
      HYDROLUX_PARAM_OPTIONAL(lwc_g_m3)},
     {{"nodes", "--nodes", "drops", K::integer, "", 1, kMaxQuadratureNodes,
-      "Radii in the size average (Gauss-Legendre); cloud droplets' Mie ripple needs about 8 per unit of the size "
-      "parameters covered (a note says when there are fewer than 4)",
+      "Radii in the phase's size average (Gauss-Legendre in ln r); default: gamma and lognormal from 64, doubled "
+      "until twice as many move the phase by at most half of --max-error (L1 over the sphere); 64 for "
+      "marshall-palmer",
       {}, kNodesOnlyWith, {}, kNodesWhy},
-     HYDROLUX_PARAM_MEMBER(nodes)},
+     HYDROLUX_PARAM_OPTIONAL(nodes)},
     {{"temperature_c", "--temperature-c", "media", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
       "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither medium does"},
      HYDROLUX_PARAM_OPTIONAL(temperature_c)},
@@ -81,9 +82,10 @@ std::string xml_comment_text(std::string s) {
   return s;
 }
 
-// The phase per steradian at the points mu (any order), through the job's quadrature.
+// The phase per steradian at the points mu (any order), over the radii chosen (PhaseRadii).
 struct PhaseEvaluator {
   const MediumPlan& plan;
+  const RadiusQuadrature& radii;
   double k_per_m = 0;   // in the surrounding medium, at the phase wavelength
   double mean_csca = 0;  // number-weighted mean scattering cross section, m^2
   std::vector<double> operator()(std::span<const double> one_minus_mu, const ProgressFn& progress) const {
@@ -91,7 +93,7 @@ struct PhaseEvaluator {
     for (std::size_t i = 0; i < theta.size(); ++i)
       theta[i] = 2 * std::asin(std::sqrt(std::clamp(one_minus_mu[i] / 2, 0.0, 1.0)));
     const auto& job = plan.job;
-    const auto avg = average_intensities(Theory{}, plan.phase.quadrature, job.numbers.phase_wavelength_nm,
+    const auto avg = average_intensities(Theory{}, radii, job.numbers.phase_wavelength_nm,
                                          *job.medium, *job.surrounding, job.numbers.temperature_c, theta,
                                          job.numbers.threads, progress);
     std::vector<double> p(theta.size());
@@ -236,8 +238,8 @@ MediumPlan plan_medium(MediumJob job) {
   phase.size_distribution = job.size_distribution;
   phase.medium = job.medium;
   phase.surrounding = job.surrounding;
-  // The medium keeps a fixed count of radii. For one radius only a count other than the default is a
-  // count given (plan_phase refuses it); a text that is no distribution is plan_phase's to refuse.
+  // The phase's radii: the count given, or kMediumStartNodes (compute_medium doubles them for gamma and
+  // lognormal). For one radius a count given is plan_phase's to refuse, as is a text that is no distribution.
   const bool one_radius = [&] {
     try {
       return parse_size_distribution(job.size_distribution).kind == SizeDistributionKind::monodisperse;
@@ -245,7 +247,7 @@ MediumPlan plan_medium(MediumJob job) {
       return false;
     }
   }();
-  if (!one_radius || job.numbers.nodes != MediumRequest{}.nodes) phase.numbers.nodes = job.numbers.nodes;
+  if (!one_radius || job.numbers.nodes) phase.numbers.nodes = job.numbers.nodes.value_or(kMediumStartNodes);
   phase.numbers.temperature_c = job.numbers.temperature_c;
   phase.numbers.threads = job.numbers.threads;
   MediumPlan plan;
@@ -266,7 +268,7 @@ MediumPlan plan_medium(MediumJob job) {
     for (const double w : plan.phase.quadrature.weight) n += w;
     plan.number_per_m3 = n * plan.weight_scale;
     const auto rain = SizeDistribution::marshall_palmer(spec.parameter, kMarshallPalmerN0PerRadius);
-    plan.spectral = rain.quadrature(std::max(kSpectralRainNodes, job.numbers.nodes), kPhaseRainMinRadiusUm * 1e-6,
+    plan.spectral = rain.quadrature(std::max(kSpectralRainNodes, job.numbers.nodes.value_or(0)), kPhaseRainMinRadiusUm * 1e-6,
                                     kPhaseRainMaxRadiusUm * 1e-6);
     plan.spectra_drops = rain;
     plan.spectra_r_min = kPhaseRainMinRadiusUm * 1e-6, plan.spectra_r_max = kPhaseRainMaxRadiusUm * 1e-6;
@@ -293,7 +295,7 @@ MediumPlan plan_medium(MediumJob job) {
     plan.number_per_m3 = number;
     plan.spectral = spec.kind == SizeDistributionKind::monodisperse
                         ? plan.phase.quadrature
-                        : intensity_quadrature(d, std::max(kSpectralNodes, job.numbers.nodes));
+                        : intensity_quadrature(d, std::max(kSpectralNodes, job.numbers.nodes.value_or(0)));
     for (double& w : plan.spectral.weight) w *= number;
     if (spec.kind != SizeDistributionKind::monodisperse) {
       plan.spectra_drops = d;
@@ -366,10 +368,10 @@ struct TableSearch {
 };
 
 // The table: levels of 2^k + 1 values (or the one size asked for), each analysed from p at its
-// quarter points; a level's quarter points hold the previous level's, which are reused (progress 0.1
-// to 1).
+// quarter points; a level's quarter points hold the previous level's, which are reused (progress 0.3
+// to 1). The automatic choices aim at `target` (max_error less the size average's own error).
 TableSearch search_table(const MediumPlan& plan, const PhaseEvaluator& eval, double k0, double g_uncut,
-                         const Report& report) {
+                         double target, const Report& report) {
   const MediumRequest& req = plan.job.numbers;
   const bool auto_size = !req.values;
   std::vector<int> sizes;
@@ -384,8 +386,8 @@ TableSearch search_table(const MediumPlan& plan, const PhaseEvaluator& eval, dou
   // drops: N ~ 3.3 x^2). Then a cut is considered at every size; otherwise only once the largest
   // size without one falls short (a cut changes the physics; a larger table only costs time).
   double m2 = 0, m3 = 0;
-  for (std::size_t i = 0; i < plan.phase.quadrature.size(); ++i) {
-    const double r = plan.phase.quadrature.radius_m[i], w = plan.phase.quadrature.weight[i];
+  for (std::size_t i = 0; i < eval.radii.size(); ++i) {
+    const double r = eval.radii.radius_m[i], w = eval.radii.weight[i];
     m2 += w * r * r;
     m3 += w * r * r * r;
   }
@@ -413,7 +415,7 @@ TableSearch search_table(const MediumPlan& plan, const PhaseEvaluator& eval, dou
     }
     const double before = evaluated;
     const auto values = eval(todo, [&](double f, std::string_view) {
-      report(0.1 + 0.9 * (before + f * double(todo.size())) / planned, fmt::format("phase, {} values", n));
+      report(0.3 + 0.7 * (before + f * double(todo.size())) / planned, fmt::format("phase, {} values", n));
     });
     evaluated += double(todo.size());
     for (std::size_t i = 0; i < where.size(); ++i) next[where[i]] = values[i];
@@ -430,14 +432,14 @@ TableSearch search_table(const MediumPlan& plan, const PhaseEvaluator& eval, dou
     } else {
       found.best = choose(level, found.q, 0, g_uncut);
       const bool last = li + 1 == sizes.size();
-      for (int m = 1; (hopeless || last) && found.best.error > req.max_error && m < n - 1 &&
+      for (int m = 1; (hopeless || last) && found.best.error > target && m < n - 1 &&
                       cut_angle_deg(level, m) <= kAutoMaxCutDeg;
            ++m) {
         const Choice c = choose(level, found.q, m, g_uncut);
         if (c.error < found.best.error) found.best = c;
       }
     }
-    if (!auto_size || found.best.error <= req.max_error) break;
+    if (!auto_size || found.best.error <= target) break;
   }
   return found;
 }
@@ -500,20 +502,28 @@ void fill_table(const TableSearch& found, bool target_met, TabulatedPhase& t) {
 
 namespace {
 
-// MediumOptics::phase_size_l1: the phase over the job's radii against twice as many, L1 over the sphere.
-std::optional<double> size_average_l1(const MediumPlan& plan) {
-  const RadiusQuadrature& q = plan.phase.quadrature;
-  const int twice = std::min(2 * int(q.size()), kMaxQuadratureNodes);
-  if (q.size() < 2 || twice <= int(q.size()) ||
+// The radii the phase averages over: the count given, or (MediumRequest::nodes unset, gamma and
+// lognormal) kMediumStartNodes doubled while the phase over them is more than kMediumSizeShare of
+// max_error from the phase over twice as many; with that distance as the average's own error
+// (MediumOptics::phase_size_l1), L1 over the sphere between the two phases, each normalised on
+// kSizeCheckPoints values uniform in mu (progress 0.1 to 0.3).
+struct PhaseRadii {
+  PhasePlan plan;                // the drops, described, and their radii
+  std::optional<double> l1;      // against twice the radii; unset for one radius, rain and the largest counts
+  bool chosen = false;
+};
+
+PhaseRadii choose_phase_radii(const MediumPlan& plan, const Report& report) {
+  const MediumJob& m = plan.job;
+  PhaseRadii out{plan.phase, std::nullopt, false};
+  const int given = int(plan.phase.quadrature.size());
+  if (given < 2 || 2 * given > kMaxQuadratureNodes ||
       parse_size_distribution(plan.phase.job.size_distribution).kind == SizeDistributionKind::marshall_palmer)
-    return std::nullopt;
-  PhaseJob job = plan.phase.job;
-  job.numbers.nodes = twice;
-  const PhasePlan finer = plan_phase(std::move(job));
+    return out;
+  out.chosen = !m.numbers.nodes;
   std::vector<double> theta(kSizeCheckPoints);
   const double dmu = 2.0 / (kSizeCheckPoints - 1);
   for (int i = 0; i < kSizeCheckPoints; ++i) theta[std::size_t(i)] = std::acos(std::clamp(-1 + i * dmu, -1.0, 1.0));
-  const MediumJob& m = plan.job;
   const auto normalised = [&](const RadiusQuadrature& radii) {
     const Intensities a = average_intensities(Theory{}, radii, m.numbers.phase_wavelength_nm, *m.medium,
                                               *m.surrounding, m.numbers.temperature_c, theta, m.numbers.threads);
@@ -524,10 +534,25 @@ std::optional<double> size_average_l1(const MediumPlan& plan) {
     for (double& v : p) v /= total;  // integral over mu = 1: the L1 below is the sphere's
     return p;
   };
-  const std::vector<double> a = normalised(q), b = normalised(finer.quadrature);
-  double l1 = 0;
-  for (std::size_t i = 0; i + 1 < a.size(); ++i) l1 += (std::abs(a[i] - b[i]) + std::abs(a[i + 1] - b[i + 1])) / 2 * dmu;
-  return l1;
+  const auto with_nodes = [&](int n) {
+    PhaseJob job = plan.phase.job;
+    job.numbers.nodes = n;
+    return plan_phase(std::move(job));
+  };
+  std::vector<double> a = normalised(plan.phase.quadrature);
+  for (int n = given;; n *= 2) {
+    report(0.1 + 0.2 * std::min(1.0, std::log2(double(n) / given) / 6), fmt::format("phase's radii, {}", n));
+    PhasePlan finer = with_nodes(2 * n);
+    std::vector<double> b = normalised(finer.quadrature);
+    double l1 = 0;
+    for (std::size_t i = 0; i + 1 < a.size(); ++i) l1 += (std::abs(a[i] - b[i]) + std::abs(a[i + 1] - b[i + 1])) / 2 * dmu;
+    out.l1 = l1;
+    if (!out.chosen || l1 <= kMediumSizeShare * m.numbers.max_error || 2 * n > kMediumMaxChosenNodes) break;
+    out.plan = std::move(finer);
+    a = std::move(b);
+  }
+  report(0.3, "phase's radii");
+  return out;
 }
 
 }  // namespace
@@ -539,34 +564,44 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
     if (progress) progress(std::clamp(f, 0.0, 1.0), label);
   };
   MediumOptics out;
-  out.drops = plan.phase.drops;
   out.media = media_text(job);
   out.number_per_m3 = plan.number_per_m3;
   out.scene_unit_m = req.scene_unit_m;
   out.phase_wavelength_nm = req.phase_wavelength_nm;
-  if (auto note = undersampled_ripple_note(plan.phase, "nodes")) out.notes.push_back(std::move(*note));
   compute_spectra(plan, out, report);
-  out.phase_size_l1 = size_average_l1(plan);
-  if (out.phase_size_l1 && *out.phase_size_l1 > req.max_error)
+  const PhaseRadii radii = choose_phase_radii(plan, report);
+  const RadiusQuadrature& q = radii.plan.quadrature;
+  out.drops = radii.plan.drops;
+  out.phase_radii = q.size();
+  out.phase_radii_chosen = radii.chosen;
+  out.phase_size_l1 = radii.l1;
+  // Where the count is given (or rain's), the ripple it leaves (phase_job.hpp); a count chosen states its
+  // error instead.
+  if (!radii.chosen)
+    if (auto note = undersampled_ripple_note(plan.phase, "nodes")) out.notes.push_back(std::move(*note));
+  const double size_share = kMediumSizeShare * req.max_error;
+  if (radii.l1 && *radii.l1 > size_share)
     out.notes.push_back(fmt::format("the size average over {} radii is itself {:.3g} (L1 over the sphere) from the same "
-                                    "average over {} radii, more than max_error {:g}: give more nodes",
-                                    plan.phase.quadrature.size(), *out.phase_size_l1,
-                                    std::min(2 * int(plan.phase.quadrature.size()), kMaxQuadratureNodes),
-                                    req.max_error));
+                                    "average over {} radii, more than half of max_error {:g}: {}",
+                                    q.size(), *radii.l1, 2 * q.size(), req.max_error,
+                                    radii.chosen ? fmt::format("{} radii are the most chosen", q.size())
+                                                 : std::string("give more nodes, or none to have them chosen")));
 
   const SphereProblem p0 = sphere_problem(1, req.phase_wavelength_nm, *job.medium, *job.surrounding, req.temperature_c);
   const double k0 = 2 * kPi<> * p0.n_surrounding / (req.phase_wavelength_nm * 1e-9);
   // The phase's own normalisation and asymmetry parameter: over the phase's radii (so that the table
   // integrates to 1 exactly), which may differ from the spectra's denser radii by the ripple noise.
-  const MieBulkOptics of_phase = mie_bulk_optics(p0.m, k0, plan.phase.quadrature, req.threads);
+  const MieBulkOptics of_phase = mie_bulk_optics(p0.m, k0, q, req.threads);
   const double csca_sum = of_phase.scattering_per_m;
   double weight_sum = 0;
-  for (const double w : plan.phase.quadrature.weight) weight_sum += w;
+  for (const double w : q.weight) weight_sum += w;
   if (!(csca_sum > 0)) throw Error("the drops scatter no light (m = 1?): no phase function to export");
-  const PhaseEvaluator eval{plan, k0, csca_sum / weight_sum};
+  const PhaseEvaluator eval{plan, q, k0, csca_sum / weight_sum};
 
-  const TableSearch found = search_table(plan, eval, k0, of_phase.g, report);
-  fill_table(found, req.values.has_value() || found.best.error <= req.max_error, out.phase);
+  // The table aims at what the size average leaves of max_error (at least half of it).
+  const double size_error = std::min(radii.l1.value_or(0), size_share);
+  const TableSearch found = search_table(plan, eval, k0, of_phase.g, req.max_error - size_error, report);
+  fill_table(found, req.values.has_value() || found.best.error + radii.l1.value_or(0) <= req.max_error, out.phase);
   compare_henyey_greenstein(found, out.phase);
 
   // The coefficients as exported: the cut light leaves the scattering (and the extinction).
@@ -623,8 +658,14 @@ std::vector<std::string> header_lines(const MediumOptics& o, RendererFormat form
   l.push_back(fmt::format("spectra: {:g} to {:g} nm every {:g} nm (vacuum wavelengths); one scene unit = {:g} m",
                           kExportMinNm, kExportMaxNm, kExportStepNm, o.scene_unit_m));
   if (o.phase_size_l1)
-    l.push_back(fmt::format("phase's size average: L1 distance {:.3g} over the sphere to the same average over twice the "
-                            "radii (an estimate of its own error; the table's error below is against this average)",
+    l.push_back(fmt::format("phase's size average: over {} radii{}; L1 distance {:.3g} over the sphere to the same "
+                            "average over twice the radii (an estimate of its own error; the table's error below is "
+                            "against this average, and the two add up)",
+                            o.phase_radii,
+                            o.phase_radii_chosen ? fmt::format(", doubled from {} until twice as many move it by at "
+                                                               "most half of the error asked for",
+                                                               kMediumStartNodes)
+                                                 : std::string(" (as given)"),
                             *o.phase_size_l1));
   if (o.spectra_error_extinction)
     l.push_back(fmt::format("spectra's size average: over {} radii, chosen for {:g}% at every wavelength; estimated "
