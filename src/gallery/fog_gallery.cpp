@@ -43,7 +43,7 @@ Entry fog_figure() {
       "radius 10 um). The buildings and the horizon fade into the sky's colour (estimated from the frame's top "
       "rows: the dusk sky's blue-grey) and the near road keeps more of its contrast. Each lamp gains a small round "
       "halo of light scattered once and spread by the droplets' forward peak, in proportion to tau e^-tau: at "
-      "300 m every lamp keeps its halo; at 80 m the farthest lamps (about 90 m away, optical depth about 4) are "
+      "300 m every lamp keeps its halo; at 80 m the farthest lamps (about 83 m away, optical depth about 4) are "
       "dimmer points with smaller halos, most of their light scattered many times into the veil.",
       [] {
         const Image clear = dusk_street();

@@ -192,7 +192,7 @@ std::span<const Field<LensDropSettings>> lens_drops_params() {
     {{"trail_length_mm", "--trail-length-mm", "drops", K::real, "mm", 0, 500, "Length of those trails, mm"},
      HYDROLUX_PARAM_MEMBER(trail_length_mm)},
     {{"contact_angle_deg", "--contact-angle-deg", "drops", K::real, "deg", 5, 90,
-      "Contact angle of the caps, degrees (clean glass ~20-40, a water-repellent coating ~90)"},
+      "Contact angle of the caps, degrees (smaller on clean glass, larger on a water-repellent coating)"},
      HYDROLUX_PARAM_MEMBER(contact_angle_deg)},
     {{"glass_distance_m", "--glass-distance-m", "camera", K::real, "m", 0.005, 10,
       "Distance of the glass in front of the camera, m (a lens cover ~0.01, a windshield ~0.1-0.5)"},
