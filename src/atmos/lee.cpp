@@ -1140,8 +1140,8 @@ std::vector<std::string> lee_resolution_notes(const LeeSpec& spec) {
     const double from_um = kAiryMinX / long_wave.x;
     if (smallest < from_um)
       notes.push_back(fmt::format(
-          "Airy theory for drops of {:.3g} um (x = {:.0f} at {:g} nm): below x = {:g} ({:.0f} um) its peak is ~5% off "
-          "Mie's and its first supernumerary ~20% (docs/rainbow-theories.md, \"Validity\"); give {{radius_um}} from "
+          "Airy theory for drops of {:.3g} um (x = {:.0f} at {:g} nm): below x = {:g} ({:.0f} um) its first "
+          "supernumerary is ~20% off Mie's (docs/rainbow-theories.md, \"Validity\"); give {{radius_um}} from "
           "{:.0f}{}",
           smallest, long_wave.x * smallest, spec.wavelength_max_nm, kAiryMinX, from_um, std::ceil(from_um),
           spec.shape.spherical() ? ", or {theory} mie" : ""));

@@ -121,9 +121,9 @@ Entry lee_disk_spread_figure() {
       "lee_disk_spread.png", "The sun's disk and a size spread",
       "The Mie Lee diagram (5-800 um, 90-180 degrees) four ways, from left: a point sun and one radius per column; the "
       "sun's 0.53 degree disk; a 10% gamma spread of radii under a point sun; both. The disk blurs the bows of "
-      "large drops (their fine interference, a few hundredths of a degree apart, disappears and the primary "
-      "widens to about half a degree); the spread washes out the supernumeraries of small drops beyond the first "
-      "two; together they give the smooth diagram a real sky shows. One exposure for all four.",
+      "large drops over its width (their fine interference disappears); the spread washes out the "
+      "supernumeraries of small drops beyond the first two; together they give the smooth diagram a real sky "
+      "shows. One exposure for all four.",
       [] {
         std::vector<atmos::LeeTable> tables;
         const std::pair<double, double> order[] = {{0.0, 0.0}, {atmos::kSunDiskDeg, 0.0}, {0.0, 0.1}};

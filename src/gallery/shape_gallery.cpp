@@ -159,9 +159,10 @@ Entry bow_twinned_figure() {
       "projected area) of Beard-Chuang drops: 200 um (axis ratio 0.997) and 600 um (0.974), each with a 5% spread "
       "of radii. At the sides (the feet of the bow, where the scattering plane cuts the drops along their round "
       "equator) the two bows coincide; towards the top the flattened 600 um drops' bow moves inward by the "
-      "Moebius shift, 2.7 degrees at the top against 0.3 for the 200 um drops, and the bow splits into two that "
-      "share their feet: a twinned rainbow, the extra bow inside, as in the photographs Haussmann (Appl. Opt. "
-      "54(4), B117, 2015) reconstructs from a bimodal drop population.",
+      "Moebius shift (about a degree per percent of flattening: some 2.4-2.5 degrees more than the 200 um "
+      "drops' at the top), and the bow splits into two that share their feet: a twinned rainbow, the extra bow "
+      "inside, as in the photographs Haussmann (Appl. Opt. 54(4), B117, 2015) reconstructs from a bimodal drop "
+      "population.",
       [] {
         atmos::LeeSpec s = drops(200, 600, 2, 0.05);
         s.shape = atmos::parse_drop_shape("beard-chuang");

@@ -286,8 +286,8 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress = {})
 // - rows wider than a quarter of the spacing of the first supernumeraries (Airy's z = 3.25 to 4.82,
 //   at the shortest wavelength) of the largest drops whose fringes the sun's disk leaves (spacing at
 //   least the disk's diameter), at a bow in the angle range: the fringes are aliased;
-// - Airy theory below x = kAiryMinX (the columns' drops at the longest wavelength), where its peak is
-//   ~5% off Mie's and its first supernumerary ~20% (docs/rainbow-theories.md, "Validity");
+// - Airy theory below x = kAiryMinX (the columns' drops at the longest wavelength), where its first
+//   supernumerary is ~20% off Mie's (docs/rainbow-theories.md, "Validity");
 // - without a size spread, neighbouring columns so far apart in radius (more than kMaxFringeJump
 //   of the spacing) that the second supernumerary jumps by more than half its spacing between them.
 inline constexpr double kAiryMinX = 1000;

@@ -44,7 +44,8 @@
 // that focus onto the axis (the glory caustic, infinite in geometric optics) are left out there.
 // Complex m: the ray geometry uses Re m, the Fresnel factors and the internal attenuation use m
 // (van de Hulst section 14.2); valid for weak absorption, Im m << Re m - 1.
-// Validated offline against exact Mie theory (x = 1000-16000, water): docs/rainbow-theories.md.
+// Checked order by order against the Debye series (p = 1-3, x = 1e3 and 1e4, water):
+// tests/scatter/test_claims_rainbow.cpp, docs/rainbow-theories.md.
 #include <complex>
 #include <span>
 #include <vector>
