@@ -203,8 +203,8 @@ Entry rough_water_albedo_figure() {
                   "fractions reflected (rising at grazing) and transmitted, from the Walter "
                   "et al. (2007) BSDF with a GGX distribution, by importance sampling (20000 "
                   "samples per point). Smooth Fresnel in black. At roughness 0.6 the sum "
-                  "falls below 1 at grazing incidence: single-scattering microfacet models lose the "
-                  "light that masking blocks.",
+                  "falls below 1, to about 0.8 near grazing incidence: single-scattering microfacet "
+                  "models lose the light that masking blocks.",
                   water_n()),
       [] {
         const double n_w = water_n();

@@ -319,8 +319,8 @@ TEST(MieReference, EfficienciesOnlyPathEqualsCoefficientPath) {
 
 // S1, S2 at theta = 0, 5, 30, 60, 90, 120, 137.5, 150, 180 degrees for the same cases, with the
 // exact mu the generator used, through the library's fast path (mie_amplitudes; the scalar
-// reference sum, B&H's form of the Legendre recurrence, itself loses about x eps near mu = +-1:
-// 2e-8 at x = 1e6). Error relative to |S| at that angle, which can be 1e-5 of the forward |S| for
+// reference sum, B&H's form of the Legendre recurrence, itself loses accuracy next to mu = +-1,
+// growing like x^2 eps: 1.2e-5 of |S| one ulp from mu = 1 at x = 1e6, docs/mie.md). Error relative to |S| at that angle, which can be 1e-5 of the forward |S| for
 // large x: the sum's terms are up to (2n+1)/2 |a_n| in size, so the condition number is sum
 // |terms| / |S|, up to about x sideways and backwards. Tolerance 1e-9 up to x = 1e5 and 1e-8 at
 // x = 1e6, where that condition number is 10 times larger (measured: see the printed lines).
