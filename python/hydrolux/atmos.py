@@ -23,9 +23,11 @@ class LeeTable(NamedTuple):
     (rows, columns) float64, Q_Y / I_Y, the luminance-weighted degree of linear polarisation (0 where
     I_Y = 0). Both None otherwise. info: the theory, colour space, display exposure and white, the
     evaluations, the drops' shape, ``notes`` (what the table cannot resolve at its settings, e.g.
-    supernumeraries narrower than its rows, naming the keywords that fix it; empty when nothing), and
-    for :meth:`to_xarray` the labelled description
-    (``dataset``, whose arrays are these) and the call's ``history`` line.
+    supernumeraries narrower than its rows, naming the keywords that fix it; empty when nothing),
+    ``error`` (the table's estimated error: ``luminance_rms``, and ``q_rms`` with ``stokes``, relative
+    root mean squares over the table, None with one wavelength; docs/lee.md), and for
+    :meth:`to_xarray` the labelled description (``dataset``, whose arrays are these) and the call's
+    ``history`` line.
 
     Example:
 
@@ -157,7 +159,7 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
     d = _core.lee(theory, radius_um, wavelengths_nm, wavelengths, shape, medium, sun, color_space,
                   options)
     info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape", "dataset",
-                              "notes")}
+                              "notes", "error")}
     info["history"] = _history(lee, arguments)
     return LeeTable(d["rgb"], d["xyz"], d["display"], d["radius_um"], d["angle_deg"], d["cos_angle"],
                     d["wavelengths_nm"], info, d.get("q_xyz"), d.get("dolp"))

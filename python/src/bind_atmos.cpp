@@ -102,6 +102,11 @@ py::dict lee(const std::string& theory, std::optional<std::pair<double, double>>
   py::list notes;
   for (const auto& n : t.notes) notes.append(spell_quantities(n, {}));
   d["notes"] = notes;
+  // The table's estimated error (atmos::LeeError): relative RMS over the table; None with one wavelength.
+  py::dict error;
+  error["luminance_rms"] = t.error.luminance_rms ? py::object(py::float_(*t.error.luminance_rms)) : py::object(py::none());
+  if (s.stokes) error["q_rms"] = t.error.q_rms ? py::object(py::float_(*t.error.q_rms)) : py::object(py::none());
+  d["error"] = error;
   d["exposure"] = im.exposure, d["white"] = im.white;
   d["evaluations"] = t.work.evaluations;
   // The drops' shape as the JSON sidecar states it (io/lee_files.cpp): its name, and for

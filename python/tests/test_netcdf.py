@@ -174,20 +174,29 @@ def test_what_a_table_cannot_resolve_is_said_by_every_door(tmp_path):
     fringes 0.27 deg apart; 128 rows over 130-150 deg are 0.16 apart) says so: the CLI warns once per
     note naming its flags, the sidecar, the profile and the NetCDF file keep it in the library's
     names, and Python's info["notes"] in its keywords (atmos::lee_resolution_notes; its numbers are
-    checked in tests/atmos/test_lee_notes.cpp). The default rows (1024 over 90-180 deg) say nothing."""
+    checked in tests/atmos/test_lee_notes.cpp). The default rows (1024 over 90-180 deg) say nothing.
+    Four wavelengths leave the table's estimated error (its even against its odd wavelengths) far above
+    1%: a second note, after the work, names the wavelengths; every door states the error itself."""
     args = ["lee", "-q", "--sun-disk-deg", "0", "--angle-deg", "130:150", "--size", "16x128",
             "--wavelengths-nm", "400:700:4"]
     p = run(*args, "-o", str(tmp_path / "t.exr"))
     assert p.returncode == 0, p.stderr
     warnings = [line for line in p.stderr.splitlines() if "warning" in line]
-    assert len(warnings) == 1 and "give --size with at least" in warnings[0] and "--angle-deg" in warnings[0]
+    assert len(warnings) == 2 and "give --size with at least" in warnings[0] and "--angle-deg" in warnings[0]
+    assert "estimated error" in warnings[1] and "--wavelengths-nm than 4" in warnings[1]
     sidecar = json.loads((tmp_path / "t.json").read_text())
-    assert len(sidecar["notes"]) == 1 and "give size with at least" in sidecar["notes"][0]
+    assert len(sidecar["notes"]) == 2 and "give size with at least" in sidecar["notes"][0]
+    assert "give more wavelengths than 4" in sidecar["notes"][1]
+    error = sidecar["error"]["luminance_rms"]
+    assert 0.01 < error < 1
     assert run(*args, "-o", str(tmp_path / "t.nc")).returncode == 0
     with xr.open_dataset(tmp_path / "t.nc") as ds:
-        assert ds.attrs["resolution_notes"] == sidecar["notes"][0]
+        assert ds.attrs["resolution_notes"] == "; ".join(sidecar["notes"])
+        assert ds.attrs["error_luminance_rms"] == pytest.approx(error, rel=1e-12)
     t = hydrolux.lee(sun_disk_deg=0, angle_deg=(130, 150), size=(16, 128), wavelengths_nm=(400, 700), wavelengths=4)
     assert t.info["notes"] == sidecar["notes"]
+    assert t.info["error"]["luminance_rms"] == pytest.approx(error, rel=1e-12)
     quiet = run("lee", "-q", "--size", "16x1024", "--wavelengths-nm", "400:700:4", "-o", str(tmp_path / "d.exr"))
-    assert quiet.returncode == 0 and "warning" not in quiet.stderr
-    assert json.loads((tmp_path / "d.json").read_text())["notes"] == []
+    assert quiet.returncode == 0
+    assert [line for line in quiet.stderr.splitlines() if "warning" in line and "estimated error" not in line] == []
+    assert [n for n in json.loads((tmp_path / "d.json").read_text())["notes"] if "estimated error" not in n] == []

@@ -425,15 +425,16 @@ WorkShape work_shape(const LeeSpec& s) {
 double estimated_bytes(const LeeSpec& s) {
   const WorkShape w = work_shape(s);
   const double pixels = double(s.rows) * s.columns;
-  // compute_lee_table: per column and cell 3 doubles (cell_xyz), per node and cell 1 (node_values),
+  // compute_lee_table: per column and cell 3 doubles (cell_xyz) and 1 (cell_y_half), per node and cell 1 (node_values),
   // per column and node 1 (column_weight); the table's XYZ (3 doubles a pixel). lee_images: 6 + 3
   // floats and 2 doubles a pixel. Then the encoders' buffers (EXR, PNG): kLeeEncoderBytesPerPixel.
-  const double base = kLeeFixedBytes + 24 * double(s.columns) * w.cells + 8 * w.nodes * w.cells +
+  // The error estimate: 1 double per column and cell (the even wavelengths' Y), Q's too with stokes.
+  const double base = kLeeFixedBytes + 32 * double(s.columns) * w.cells + 8 * w.nodes * w.cells +
                       8 * double(s.columns) * w.nodes + (24 + 36 + 16 + kLeeEncoderBytesPerPixel) * pixels;
   // Stokes: Q's cell_xyz, node values (none where Q is a fraction of I) and table (as I's), and 3
   // more EXR channels (floats).
   const double q_nodes = q_is_fraction_of_i(s) ? 0.0 : 8 * w.nodes * w.cells;
-  return s.stokes ? base + 24 * double(s.columns) * w.cells + q_nodes + (24 + 12) * pixels : base;
+  return s.stokes ? base + 32 * double(s.columns) * w.cells + q_nodes + (24 + 12) * pixels : base;
 }
 
 void check_table_memory(const std::vector<const LeeSpec*>& specs, const std::string& size_text, SizeSyntax syntax,
@@ -814,7 +815,7 @@ struct WorkArrays {
   WorkArrays(std::size_t J, std::size_t R, std::size_t cols, bool stokes, bool node_q_values)
       : node_ln(J), node_a(J), node_width(J), cell_xyz(cols * R * 3, 0.0), node_values(J * R),
         cell_q_xyz(stokes ? cols * R * 3 : 0, 0.0), node_q(stokes && node_q_values ? J * R : 0), node_used(J, 1),
-        column_first(cols), column_count(cols) {}
+        column_first(cols), column_count(cols), cell_y_half(cols * R, 0.0), cell_qy_half(stokes ? cols * R : 0, 0.0) {}
   std::vector<double> node_ln, node_a, node_width;  // this wavelength's nodes
   std::vector<double> cell_xyz;                     // per column and cell, before the disk kernel
   std::vector<double> node_values;                  // T at each node and cell, this wavelength
@@ -822,6 +823,10 @@ struct WorkArrays {
   std::vector<char> node_used;
   std::vector<double> column_weight;  // (column, node) area weights, this wavelength
   std::vector<std::size_t> column_first, column_count;
+  // The error estimate (LeeTable::error): Y (and Q's Y) per column and cell over the even-numbered
+  // wavelengths alone, and their weights' sum; the odd ones are the rest of cell_xyz.
+  std::vector<double> cell_y_half, cell_qy_half;
+  double half_weight_y = 0;
 };
 
 // This wavelength's nodes: radius and width in ln a (each an inverse of the grid's cumulative
@@ -1013,13 +1018,17 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
 // traffic, not arithmetic, bounds this; summing I and Q node by node, both rows of sums at once,
 // measured no faster than one after the other).
 void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, const color::Xyz& wk,
-                        double q_fraction, tbb::task_arena& arena, WorkArrays& wa) {
+                        double q_fraction, bool even, tbb::task_arena& arena, WorkArrays& wa) {
   const std::size_t J = pop.nodes;
   constexpr std::size_t kBlock = 8;
   const bool q_from_i = !wa.cell_q_xyz.empty() && wa.node_q.empty();
   // The node values summed, and where their colour goes: I, then Q's own (stokes, node_q).
-  std::vector<std::pair<const std::vector<double>*, std::vector<double>*>> parts{{&wa.node_values, &wa.cell_xyz}};
-  if (!wa.node_q.empty()) parts.emplace_back(&wa.node_q, &wa.cell_q_xyz);
+  struct Part {
+    const std::vector<double>* values;
+    std::vector<double>*xyz, *half;
+  };
+  std::vector<Part> parts{{&wa.node_values, &wa.cell_xyz, &wa.cell_y_half}};
+  if (!wa.node_q.empty()) parts.push_back({&wa.node_q, &wa.cell_q_xyz, &wa.cell_qy_half});
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (cols + kBlock - 1) / kBlock, 1),
                       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -1032,7 +1041,7 @@ void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, 
             first = std::min(first, wa.column_first[c]);
             last = std::max(last, wa.column_first[c] + wa.column_count[c] - 1);
           }
-        for (const auto& [node_values, cell_xyz] : parts) {
+        for (const auto& [node_values, cell_xyz, cell_half] : parts) {
           const std::vector<double>& values = *node_values;
           std::fill(acc.begin(), acc.end(), 0.0);
           if (pop.per_column) {
@@ -1055,6 +1064,7 @@ void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, 
               px[1] += wk.Y * col[i];
               px[2] += wk.Z * col[i];
             }
+            if (even) axpy(&(*cell_half)[c * R], col, wk.Y, R);
             if (!q_from_i) continue;  // (parts is then I alone)
             double* qx = &wa.cell_q_xyz[c * R * 3];
             for (std::size_t i = 0; i < R; ++i, qx += 3) {
@@ -1063,6 +1073,7 @@ void accumulate_columns(const Population& pop, std::size_t cols, std::size_t R, 
               qx[1] += wk.Y * q;
               qx[2] += wk.Z * q;
             }
+            if (even) axpy(&wa.cell_qy_half[c * R], col, q_fraction * wk.Y, R);
           }
         }
       }
@@ -1087,6 +1098,38 @@ void apply_disk(const AngleCells& cells, const std::vector<double>& cell_xyz, co
         for (int q = 0; q < 3; ++q) dst[q] += weight_i * col[std::size_t(cell - cells.first) * 3 + std::size_t(q)];
     }
   }
+}
+
+// LeeTable::error: the table of the even-numbered wavelengths alone against the odd-numbered (each
+// scaled to the whole's luminance weight), through the same disk kernel: half their difference at
+// each pixel, its root mean square over the table relative to that of Y. Nothing with one wavelength.
+LeeError half_sum_error(const AngleCells& cells, const WorkArrays& wa, const LeeTable& t, double all_weight_y) {
+  LeeError e;
+  const double wa_y = wa.half_weight_y, wb_y = all_weight_y - wa.half_weight_y;
+  if (t.wavelengths_nm.size() < 2 || !(wa_y > 0) || !(wb_y > 0)) return e;
+  const std::size_t rows = t.angle_deg.size(), cols = t.radius_um.size(), R = std::size_t(cells.count);
+  const auto rms = [&](const std::vector<double>& half, const std::vector<double>& whole) {
+    double num = 0, den = 0;
+    for (std::size_t c = 0; c < cols; ++c) {
+      const double* col = &half[c * R];
+      for (std::size_t i = 0; i < rows; ++i) {
+        double a = 0;
+        if (cells.per_evaluation_disk) {
+          a = col[0];
+        } else {
+          for (const auto& [cell, w] : cells.kernel[i]) a += w * col[std::size_t(cell - cells.first)];
+        }
+        const double all = whole[(i * cols + c) * 3 + 1], y = t.xyz[(i * cols + c) * 3 + 1];
+        const double d = (a * all_weight_y / wa_y - (all - a) * all_weight_y / wb_y) / 2;
+        num += d * d;
+        den += y * y;
+      }
+    }
+    return den > 0 ? std::sqrt(num / den) : 0.0;
+  };
+  e.luminance_rms = rms(wa.cell_y_half, t.xyz);
+  if (!t.q_xyz.empty()) e.q_rms = rms(wa.cell_qy_half, t.q_xyz);
+  return e;
 }
 
 }  // namespace
@@ -1196,13 +1239,30 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
     if (!pop.per_column) weigh_columns(pop, t, spec.size_spread, shift, arena, wa);
     scatter_nodes(spec, t, sin_angle, cells, seq, wl, arena, wa, terms, evaluations);
     const double q_fraction = spec.stokes && q_is_fraction_of_i(spec) ? airy_polarisation(wl.m, spec.theory.p) : 0.0;
-    accumulate_columns(pop, cols, R, weight[std::size_t(k)], q_fraction, arena, wa);
+    accumulate_columns(pop, cols, R, weight[std::size_t(k)], q_fraction, k % 2 == 0, arena, wa);
+    if (k % 2 == 0) wa.half_weight_y += weight[std::size_t(k)].Y;
     done_work += k_work[std::size_t(k)];
     if (progress) progress(done_work / total_work, fmt::format("{:.0f} nm", nm));
   }
 
   apply_disk(cells, wa.cell_xyz, t, t.xyz);
   if (spec.stokes) apply_disk(cells, wa.cell_q_xyz, t, t.q_xyz);
+  double all_weight_y = 0;
+  for (const auto& w : weight) all_weight_y += w.Y;
+  t.error = half_sum_error(cells, wa, t, all_weight_y);
+  if (t.error.luminance_rms && *t.error.luminance_rms > kLeeErrorTolerance) {
+    double need = spec.sampling;
+    while (need < 16 && *t.error.luminance_rms * spec.sampling / need > kLeeErrorTolerance) need *= 2;
+    // With the wavelengths given, sampling sets the radius grid alone.
+    t.notes.push_back(
+        spec.wavelengths > 0
+            ? fmt::format("the table's estimated error is {:.2g}% RMS in luminance, more than {:g}%: give more "
+                          "{{wavelengths}} than {} or a larger {{sampling}}",
+                          100 * *t.error.luminance_rms, 100 * kLeeErrorTolerance, spec.wavelengths)
+            : fmt::format("the table's estimated error is {:.2g}% RMS in luminance, more than {:g}%: give "
+                          "{{sampling}} {:g} (the error falls about as 1 / {{sampling}})",
+                          100 * *t.error.luminance_rms, 100 * kLeeErrorTolerance, need));
+  }
   t.work.evaluations = evaluations.load();
   t.work.terms = terms.load();
   t.work.term_angles = t.work.terms * std::int64_t(R);

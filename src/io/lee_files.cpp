@@ -61,12 +61,24 @@ std::string notes_text(const atmos::LeeTable& t) {
   return s;
 }
 
+// The table's estimated error (atmos::LeeError), relative RMS over the table; null with one wavelength.
+nlohmann::json error_json(const atmos::LeeTable& t) {
+  const auto value = [](const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); };
+  nlohmann::json e = {{"luminance_rms", value(t.error.luminance_rms)}};
+  if (t.spec.stokes) e["q_rms"] = value(t.error.q_rms);
+  e["method"] = "the table of the even-numbered wavelengths against the odd-numbered, each scaled to the whole: "
+                "half their difference per pixel, its root mean square over the table relative to that of the "
+                "luminance Y (Q's too, relative to I's luminance); an estimate of the sampling's error (docs/lee.md)";
+  return e;
+}
+
 }  // namespace
 
 nlohmann::json lee_profile_json(const atmos::LeeTable& t) {
   nlohmann::json j;
   j["radius_um"] = t.radius_um.front();
   j["notes"] = notes_json(t);
+  j["error"] = error_json(t);
   j["theory"] = scatter::theory_name(t.spec.theory);
   j["drop_shape"] = drop_shape_json(t);
   j["units"] = "sr^-1";
@@ -107,6 +119,7 @@ nlohmann::json lee_sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im,
   j["table"] = atmos::table_kind_name(s.table);
   j["theory"] = scatter::theory_name(s.theory);
   j["notes"] = notes_json(t);
+  j["error"] = error_json(t);
   j["quantity"] =
       "T = <dsigma_sca/dOmega> / <pi a^2>: radiance scattered once per unit incident irradiance per unit "
       "projected-area optical depth of the drops (L = E_sun * tau_geo * T; tau_geo = path * sum pi a^2 n(a), "
@@ -293,6 +306,8 @@ Dataset lee_dataset(const atmos::LeeTable& t, const atmos::LeeImages& im, std::s
   if (s.temperature_c) a.number("temperature_c", *s.temperature_c);
   a.text("drop_shape", atmos::drop_shape_name(s.shape));
   if (!t.notes.empty()) a.text("resolution_notes", notes_text(t));
+  if (t.error.luminance_rms) a.number("error_luminance_rms", *t.error.luminance_rms);
+  if (t.error.q_rms) a.number("error_q_rms", *t.error.q_rms);
   if (!s.shape.spherical())
     a.number("sun_elevation_deg", s.sun_elevation_deg)
         .number("position_deg", s.position_deg)

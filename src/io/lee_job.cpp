@@ -197,12 +197,16 @@ LeeJobResult run_lee_job(const LeeJob& job, atmos::LeeSpec s, const LeeJobHooks&
   FileSet files;
   std::optional<LeeOutputs> out;
   if (!job.output.empty()) out = declare_lee_outputs(files, job.output, h);
+  const std::vector<std::string> before = atmos::lee_resolution_notes(s);
   if (h.warn)
-    for (const auto& note : atmos::lee_resolution_notes(s)) h.warn(note);
+    for (const auto& note : before) h.warn(note);
 
   const auto start = std::chrono::steady_clock::now();
   const atmos::LeeTable t = atmos::compute_lee_table(s, h.progress);
   if (h.finish_progress) h.finish_progress();
+  // What only the table itself shows (its estimated error above the tolerance), once it is computed.
+  if (h.warn)
+    for (std::size_t i = before.size(); i < t.notes.size(); ++i) h.warn(t.notes[i]);
   LeeJobResult r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const atmos::LeeImages im = atmos::lee_images(t);
@@ -216,12 +220,16 @@ LeeJobResult run_lee_job(const LeeJob& job, atmos::LeeSpec s, const LeeJobHooks&
   r.rows = t.rows();
   r.theory = scatter::theory_name(s.theory);
   r.work = t.work;
+  r.error = t.error;
   return r;
 }
 
 std::string lee_summary(const LeeJobResult& r) {
-  return fmt::format("lee: wrote {} ({}x{}, {}) in {:.1f} s ({} evaluations, {:.3g} terms x angles)", r.written,
-                     r.columns, r.rows, r.theory, r.seconds, r.work.evaluations, double(r.work.term_angles));
+  return fmt::format("lee: wrote {} ({}x{}, {}) in {:.1f} s ({} evaluations, {:.3g} terms x angles{})", r.written,
+                     r.columns, r.rows, r.theory, r.seconds, r.work.evaluations, double(r.work.term_angles),
+                     r.error.luminance_rms
+                         ? fmt::format("; estimated error {:.2g}% RMS in luminance", 100 * *r.error.luminance_rms)
+                         : std::string());
 }
 
 }  // namespace hydrolux::io

@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
+#include "support/asan.hpp"
 #include "hydrolux/atmos/lee.hpp"
 #include "hydrolux/core/math.hpp"
 #include "hydrolux/scatter/geometric.hpp"
@@ -93,6 +95,36 @@ TEST(LeeNotes, AiryBelowItsDomainAndCoarseMonodisperseColumnsAreNamed) {
   EXPECT_TRUE(mentions(lee_resolution_notes(mono), "{size_spread}"));
   mono.columns = 512;  // 1% apart
   EXPECT_FALSE(mentions(lee_resolution_notes(mono), "{size_spread}"));
+}
+
+// A table whose estimated error (LeeTable::error) is above kLeeErrorTolerance says so after the work,
+// naming the sampling that would meet it from the rule that the error falls as 1 / sampling; at that
+// sampling the table's own estimate is within the tolerance (an independent run: other wavelengths,
+// radius grids and cell points), and no note is left. A small rainbow table at a quarter of the
+// sampling (10 wavelengths) starts above it.
+TEST(LeeNotes, ATableAboveItsErrorToleranceNamesTheSampling) {
+  if (HYDROLUX_TEST_ASAN) GTEST_SKIP() << "three tables up to sampling 2: Release builds only";
+  LeeSpec s = default_lee_spec(LeeTableKind::rainbow);
+  s.columns = 2, s.rows = 16, s.angle_min_deg = 135, s.angle_max_deg = 143, s.radius_min_um = 50;
+  s.radius_max_um = 200, s.sampling = 0.25;
+  const LeeTable coarse = compute_lee_table(s);
+  ASSERT_TRUE(coarse.error.luminance_rms);
+  ASSERT_GT(*coarse.error.luminance_rms, kLeeErrorTolerance);
+  const auto& notes = coarse.notes;
+  ASSERT_TRUE(mentions(notes, "estimated error")) << (notes.empty() ? "" : notes.back());
+  const auto at = notes.back().find("{sampling} ");
+  ASSERT_NE(at, std::string::npos) << notes.back();
+  s.sampling = std::stod(notes.back().substr(at + 11));
+  EXPECT_GT(s.sampling, 0.25);
+  const LeeTable fine = compute_lee_table(s);
+  ASSERT_TRUE(fine.error.luminance_rms);
+  std::printf("sampling 0.25: %.3g%%; sampling %g: %.3g%%\n", 100 * *coarse.error.luminance_rms, s.sampling,
+              100 * *fine.error.luminance_rms);
+  EXPECT_LT(*fine.error.luminance_rms, 1.5 * kLeeErrorTolerance);
+  EXPECT_EQ(mentions(fine.notes, "estimated error"), *fine.error.luminance_rms > kLeeErrorTolerance);
+  // One wavelength has no halves to compare: no estimate, no note.
+  s.wavelength_min_nm = s.wavelength_max_nm = 550;
+  EXPECT_FALSE(compute_lee_table(s).error.luminance_rms);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@ struct LeeArgs {
   std::shared_ptr<io::LeeJob> job = std::make_shared<io::LeeJob>();
   bool quiet = false;
   const CLI::App* sub = nullptr;  // which flags were given: refused where they have no effect
+  std::map<std::string, std::string> flags;  // the command's flags_for_quantity: notes in the flags' words
 };
 
 int run_lee(const LeeArgs& a) {
@@ -55,11 +56,10 @@ int run_lee(const LeeArgs& a) {
   hooks.finish_progress = [&bar] { bar.finish(); };
   // What the table will not resolve, said before the work in the flags' words (the sidecar and the
   // profile keep it too).
-  hooks.warn = [](std::string_view note) {
-    warn(spell_quantities(note, [](std::string_view q) {
-      std::string flag = "--" + std::string(q);
-      std::replace(flag.begin(), flag.end(), '_', '-');
-      return flag;
+  hooks.warn = [&a](std::string_view note) {
+    warn(spell_quantities(note, [&a](std::string_view q) {
+      const auto it = a.flags.find(std::string(q));
+      return it == a.flags.end() ? Param::flag_of(q) : it->second;
     }));
   };
   const io::LeeJobResult r = io::run_lee_job(job, std::move(spec), hooks);
@@ -122,6 +122,7 @@ Command add_lee(CLI::App& app) {
                                  {"temperature_k", "--sun"},
                                  {"m_imag", "--medium (its index relative to air)"},
                                  {"m_real", "--medium (its index relative to air)"}});
+  args->flags = cmd.flags_for_quantity;
   return cmd;
 }
 

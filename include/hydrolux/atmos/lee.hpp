@@ -243,6 +243,19 @@ struct LeeWork {
   int cells = 0;                 // angles per evaluation: the rows' cells and a margin for the disk
 };
 
+// A table's estimated error, from the table itself: its wavelengths split into the even- and the
+// odd-numbered, each half a table of its own (its sum scaled to the whole's luminance weight) with its
+// own wavelengths, radius grids and cell points; half their difference estimates the whole table's
+// error at each pixel where that error is noise-like (the sampling's), and overstates it where the
+// halves differ by a smooth bias. Root mean square over the table, relative to that of the luminance
+// Y; Q (stokes) in the same units, relative to I's luminance. Unset with one wavelength.
+struct LeeError {
+  std::optional<double> luminance_rms, q_rms;
+};
+// Above this estimated luminance error (relative RMS) a table says so in its notes, naming the
+// sampling that would meet it (the error falls about as 1 / sampling: docs/lee.md, "The table's error").
+inline constexpr double kLeeErrorTolerance = 0.01;
+
 struct LeeTable {
   LeeSpec spec;
   std::vector<double> radius_um;  // per column
@@ -264,6 +277,7 @@ struct LeeTable {
   std::vector<double> wavelengths_nm;  // the K sampled wavelengths
   LeeWork work;
   std::vector<std::string> notes;  // lee_resolution_notes(spec)
+  LeeError error;
 
   int columns() const { return int(radius_um.size()); }
   int rows() const { return int(angle_deg.size()); }

@@ -52,6 +52,7 @@ struct LeeJobResult {
   std::string theory;   // scatter::theory_name
   double seconds = 0;   // the table's computation
   atmos::LeeWork work;  // evaluations, terms x angles
+  atmos::LeeError error;  // the table's estimated error (LeeTable::error)
 };
 
 // The table's spec from the job's texts and the declared values: the table, theory and shape, the
