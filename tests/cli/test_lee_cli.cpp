@@ -24,7 +24,7 @@ using hydrolux::testing::run;
 
 using hydrolux::testing::slurp;
 
-constexpr const char* kSmall = "--size 6x9 --radius-um 20:400 --angle-deg 130:145 --wavelengths-nm 400:700:6 -q";
+constexpr const char* kSmall = "--size 6x9 --radius-um 20:400 --angle-deg 130:145 --wavelengths-nm 400:700:24 -q";
 
 TEST(LeeCli, WritesExrPngAndSidecar) {
   const fs::path dir = hydrolux::testing::temp_dir("hydrolux_lee_cli");
@@ -67,7 +67,7 @@ TEST(LeeCli, WritesExrPngAndSidecar) {
   EXPECT_DOUBLE_EQ(radius.back(), 400);
   EXPECT_DOUBLE_EQ(angle.front(), 130);
   EXPECT_DOUBLE_EQ(angle.back(), 145);
-  EXPECT_EQ(j.at("spectrum").at("wavelengths_nm").size(), 6u);
+  EXPECT_EQ(j.at("spectrum").at("wavelengths_nm").size(), 24u);
   EXPECT_EQ(j.at("sun_disk").at("diameter_deg"), 0.53);
   EXPECT_EQ(j.at("size_distribution").at("relative_width"), 0.1);
 
@@ -81,7 +81,7 @@ TEST(LeeCli, WritesExrPngAndSidecar) {
   s.angle_max_deg = 145;
   s.wavelength_min_nm = 400;
   s.wavelength_max_nm = 700;
-  s.wavelengths = 6;
+  s.wavelengths = 24;
   const auto t = hydrolux::atmos::compute_lee_table(s);
   for (int y = 0; y < 9; ++y)
     for (int x = 0; x < 6; ++x) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "hydrolux/rain/fog.hpp"
+#include "support/hg_apparent.hpp"
 
 namespace hydrolux::rain {
 namespace {
@@ -103,28 +104,9 @@ TEST(FogClaims, FogIsGreyWithExtinctionEfficiencyNearTwo) {
 
 // Henyey-Greenstein's apparent cumulative in closed form (g in (0, 1)): the fraction of the
 // once-scattered light within the apparent cap u = sin(theta / 2) when the scatterers are spread
-// evenly along the path, F_app(u) = integral_0^u 2 P(w) dw with P(w) = integral_w^1 p(v) dv and
-// p(u) = (1 - g^2) / ((1 - g)^2 + 4 g u^2)^(3/2) (integral_0^1 p 2 u du = 1):
-//   P(u) = (1 + g) / (1 - g) [1 / (1 + g) - u / sqrt((1 - g)^2 + 4 g u^2)],
-//   F_app(u) = 2 (1 + g) / (1 - g) [u / (1 + g) - (sqrt((1 - g)^2 + 4 g u^2) - (1 - g)) / (4 g)].
-double hg_P(double u, double g) {
-  return (1 + g) / (1 - g) * (1 / (1 + g) - u / std::sqrt((1 - g) * (1 - g) + 4 * g * u * u));
-}
-double hg_F(double u, double g) {
-  return 2 * (1 + g) / (1 - g) * (u / (1 + g) - (std::sqrt((1 - g) * (1 - g) + 4 * g * u * u) - (1 - g)) / (4 * g));
-}
-PhaseTable hg_apparent(double g, int n) {
-  PhaseTable t;
-  t.divided_by_u = true;
-  t.p.resize(std::size_t(n));
-  t.cum.resize(std::size_t(n));
-  for (int i = 0; i < n; ++i) {
-    const double u = double(i) / (n - 1);
-    t.p[std::size_t(i)] = hg_P(u, g);
-    t.cum[std::size_t(i)] = hg_F(u, g);
-  }
-  return t;
-}
+// evenly along the path (support/hg_apparent.hpp, where it is derived).
+double hg_F(double u, double g) { return testing::hg_app_F(u, g); }
+rain::PhaseTable hg_apparent(double g, int n) { return testing::hg_apparent_table(g, n); }
 
 // docs/fog.md l. 89-95, 210-211: the glow's sums on cells of pixels (blocks averaged) keep the
 // energy. Reference: a source of light S in one pixel of solid angle Omega_s sends S Omega_s F_app(u)

@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include "hydrolux/rain/fog.hpp"
+#include "support/hg_apparent.hpp"
 #include "hydrolux/scatter/mie.hpp"
 
 namespace hydrolux::rain {
@@ -355,36 +356,11 @@ TEST(Fog, Validation) {
 // d/dtau (tau e^-tau) = (1 - tau) e^-tau = 0 at tau = 1, where it is e^-1 = 0.368.
 //
 // The phase function is one we control, Henyey-Greenstein of g = 0.8 (forward, like fog's g ~ 0.85),
-// p(u) = (1 - g^2) / ((1 - g)^2 + 4 g u^2)^(3/2) with u = sin(theta / 2) (cos theta = 1 - 2 u^2),
-// normalised as the docs' (integral_0^1 p 2 u du = 1). Its apparent function in closed form, with
-// integral dv / (a^2 + b^2 v^2)^(3/2) = v / (a^2 sqrt(a^2 + b^2 v^2)), a = 1 - g, b^2 = 4 g,
-// a^2 + b^2 = (1 + g)^2:
-//   P(u) = integral_u^1 p dv = (1 + g) / (1 - g) [1 / (1 + g) - u / sqrt((1 - g)^2 + 4 g u^2)],
-//   p_app(u) = P(u) / u,
-//   F_app(u) = integral_0^u 2 P dw = 2 (1 + g) / (1 - g) [u / (1 + g) - (sqrt((1 - g)^2 + 4 g u^2) - (1 - g)) / (4 g)],
-// the fraction of the once-scattered light within the apparent cap of half-angle 2 asin(u);
-// F_app(1) = 2 (1 + g) / (1 - g) [1 / (1 + g) - 1 / 2] = 1.
-double hg_app_P(double u, double g) {
-  return (1 + g) / (1 - g) * (1 / (1 + g) - u / std::sqrt((1 - g) * (1 - g) + 4 * g * u * u));
-}
-double hg_app_F(double u, double g) {
-  return 2 * (1 + g) / (1 - g) * (u / (1 + g) - (std::sqrt((1 - g) * (1 - g) + 4 * g * u * u) - (1 - g)) / (4 * g));
-}
-
-// The apparent table filled from the closed forms above (not from PhaseTable::apparent()): the
-// renderer reads p_app(u) = P(u) / u and F_app by linear interpolation on these nodes.
-PhaseTable hg_apparent_table(double g, int n) {
-  PhaseTable t;
-  t.divided_by_u = true;
-  t.p.resize(std::size_t(n));
-  t.cum.resize(std::size_t(n));
-  for (int i = 0; i < n; ++i) {
-    const double u = double(i) / (n - 1);
-    t.p[std::size_t(i)] = hg_app_P(u, g);
-    t.cum[std::size_t(i)] = hg_app_F(u, g);
-  }
-  return t;
-}
+// whose apparent function has a closed form (support/hg_apparent.hpp: hg_app_P, hg_app_F and the table
+// filled from them, not from PhaseTable::apparent()).
+using testing::hg_app_F;
+using testing::hg_app_P;
+using testing::hg_apparent_table;
 
 // One source pixel at the centre of a black, odd-sized frame (its ray is the optical axis exactly,
 // so its range is its depth D), its excess E = I - A over a given sky colour A, every pixel at depth
