@@ -513,14 +513,21 @@ struct PhaseRadii {
   bool chosen = false;
 };
 
+// Whether the phase's radii are checked against twice as many (gamma and lognormal, room to double), and
+// whether they are then chosen (no count given).
+bool checks_phase_radii(const MediumPlan& plan) {
+  const int given = int(plan.phase.quadrature.size());
+  return given >= 2 && 2 * given <= kMaxQuadratureNodes &&
+         parse_size_distribution(plan.phase.job.size_distribution).kind != SizeDistributionKind::marshall_palmer;
+}
+bool chooses_phase_radii(const MediumPlan& plan) { return checks_phase_radii(plan) && !plan.job.numbers.nodes; }
+
 PhaseRadii choose_phase_radii(const MediumPlan& plan, const Report& report) {
   const MediumJob& m = plan.job;
   PhaseRadii out{plan.phase, std::nullopt, false};
   const int given = int(plan.phase.quadrature.size());
-  if (given < 2 || 2 * given > kMaxQuadratureNodes ||
-      parse_size_distribution(plan.phase.job.size_distribution).kind == SizeDistributionKind::marshall_palmer)
-    return out;
-  out.chosen = !m.numbers.nodes;
+  if (!checks_phase_radii(plan)) return out;
+  out.chosen = chooses_phase_radii(plan);
   std::vector<double> theta(kSizeCheckPoints);
   const double dmu = 2.0 / (kSizeCheckPoints - 1);
   for (int i = 0; i < kSizeCheckPoints; ++i) theta[std::size_t(i)] = std::acos(std::clamp(-1 + i * dmu, -1.0, 1.0));
@@ -557,6 +564,11 @@ PhaseRadii choose_phase_radii(const MediumPlan& plan, const Report& report) {
 
 }  // namespace
 
+std::optional<std::string> medium_ripple_note(const MediumPlan& plan, std::string_view nodes_option) {
+  if (chooses_phase_radii(plan)) return std::nullopt;
+  return undersampled_ripple_note(plan.phase, nodes_option);
+}
+
 MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) {
   const MediumJob& job = plan.job;
   const MediumRequest& req = job.numbers;
@@ -575,10 +587,7 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
   out.phase_radii = q.size();
   out.phase_radii_chosen = radii.chosen;
   out.phase_size_l1 = radii.l1;
-  // Where the count is given (or rain's), the ripple it leaves (phase_job.hpp); a count chosen states its
-  // error instead.
-  if (!radii.chosen)
-    if (auto note = undersampled_ripple_note(plan.phase, "nodes")) out.notes.push_back(std::move(*note));
+  if (auto note = medium_ripple_note(plan, "nodes")) out.notes.push_back(std::move(*note));
   const double size_share = kMediumSizeShare * req.max_error;
   if (radii.l1 && *radii.l1 > size_share)
     out.notes.push_back(fmt::format("the size average over {} radii is itself {:.3g} (L1 over the sphere) from the same "

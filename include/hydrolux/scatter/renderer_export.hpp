@@ -182,6 +182,12 @@ struct MediumOptics {
   bool phase_radii_chosen = false;   // chosen by the doubling (MediumRequest::nodes unset), not given
 };
 
+// Where the phase's count of radii is not chosen (given with --nodes, or rain's 64): the note of
+// undersampled_ripple_note (phase_job.hpp) when they are too few for the Mie ripple, `nodes_option`
+// naming the count. A count chosen states its error instead (MediumOptics::phase_size_l1). Cheap: a
+// door says it before the work; compute_medium keeps it in the notes.
+std::optional<std::string> medium_ripple_note(const MediumPlan& plan, std::string_view nodes_option = "--nodes");
+
 // The spectra, then the table (growing it and choosing the cut as the request says). `progress`
 // from 0 to 1; it may throw to stop the work.
 MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress = {});
