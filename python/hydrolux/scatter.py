@@ -448,7 +448,8 @@ def renderer_medium(radius_um: Optional[float], size_distribution: str = "mono",
                     values: Optional[int] = None, max_error: float = _RENDERER_MEDIUM["max_error"],
                     forward_cut_deg: Optional[float] = None,
                     scene_unit_m: float = _RENDERER_MEDIUM["scene_unit_m"],
-                    threads: int = _RENDERER_MEDIUM["threads"]) -> RendererMedium:
+                    threads: int = _RENDERER_MEDIUM["threads"],
+                    spectra_tolerance: float = _RENDERER_MEDIUM["spectra_tolerance"]) -> RendererMedium:
     """A population of drops as a renderer's participating medium (``hydrolux medium``): the same job,
     checks and file text as the CLI, as a :class:`RendererMedium`.
 
@@ -458,7 +459,7 @@ def renderer_medium(radius_um: Optional[float], size_distribution: str = "mono",
     whose count follows from its rate). ``format``: "mitsuba3" (homogeneous medium with a tabphase)
     or "pbrt-v4" (homogeneous medium with Henyey-Greenstein, its error stated). ``name``: the medium's
     id. The declared parameters (``nodes``, ``temperature_c``, ``phase_wavelength_nm``, ``values``,
-    ``max_error``, ``forward_cut_deg``, ``scene_unit_m``, ``threads``) take the ranges of the CLI's
+    ``max_error``, ``forward_cut_deg``, ``scene_unit_m``, ``spectra_tolerance``, ``threads``) take the ranges of the CLI's
     flags of the same names. A bad argument is a ValueError (a TypeError for a wrong type) naming it.
 
     Example:
@@ -482,6 +483,7 @@ def renderer_medium(radius_um: Optional[float], size_distribution: str = "mono",
                "temperature_c": _opt_real(temperature_c, "temperature_c"),
                "phase_wavelength_nm": phase_wavelength_nm, "values": values, "max_error": max_error,
                "forward_cut_deg": _opt_real(forward_cut_deg, "forward_cut_deg"), "scene_unit_m": scene_unit_m,
+               "spectra_tolerance": spectra_tolerance,
                "threads": threads}
     d = _core.renderer_medium(radius, size_distribution, medium, surrounding, format, name, options)
     return RendererMedium(d["text"], d["wavelength_nm"], d["sigma_t_per_m"], d["sigma_s_per_m"],

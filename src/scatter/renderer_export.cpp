@@ -38,6 +38,10 @@ const Field<MediumRequest> kMedium[] = {
       "marshall-palmer",
       {}, kNodesOnlyWith, {}, kNodesWhy},
      HYDROLUX_PARAM_OPTIONAL(nodes)},
+    {{"spectra_tolerance", "--spectra-tolerance", "drops", K::real, "", 1e-4, 0.2,
+      "Relative error allowed in the spectra's size average at every wavelength (extinction, scattering, "
+      "absorption, g): their evenly spaced radii are halved until two grids agree to half of it"},
+     HYDROLUX_PARAM_MEMBER(spectra_tolerance)},
     {{"temperature_c", "--temperature-c", "media", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
       "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither medium does"},
      HYDROLUX_PARAM_OPTIONAL(temperature_c)},
@@ -339,11 +343,12 @@ void compute_spectra(const MediumPlan& plan, MediumOptics& out, const Report& re
   if (plan.spectra_drops) {
     // One grid of radii for every wavelength, chosen to the tolerance (refine_bulk_optics).
     const RefinedBulkOptics r = refine_bulk_optics(m, k, *plan.spectra_drops, plan.spectra_r_min, plan.spectra_r_max,
-                                                   plan.spectra_scale, kSpectraTolerance, req.threads);
+                                                   plan.spectra_scale, req.spectra_tolerance, req.threads);
     bulk = r.optics;
     out.spectra_error_extinction = r.error_extinction;
     out.spectra_error_g = r.error_g;
     out.spectra_radii = r.radii;
+    out.spectra_tolerance = req.spectra_tolerance;
     report(0.1, "spectra");
   } else {
     for (std::size_t i = 0; i < m.size(); ++i) {
@@ -679,7 +684,7 @@ std::vector<std::string> header_lines(const MediumOptics& o, RendererFormat form
   if (o.spectra_error_extinction)
     l.push_back(fmt::format("spectra's size average: over {} radii, chosen for {:g}% at every wavelength; estimated "
                             "error at the worst wavelength: extinction {:.2g}%, g {:.2g}%",
-                            o.spectra_radii, 100 * kSpectraTolerance, 100 * *o.spectra_error_extinction,
+                            o.spectra_radii, 100 * o.spectra_tolerance, 100 * *o.spectra_error_extinction,
                             100 * *o.spectra_error_g));
   for (const auto& note : o.notes) l.push_back("note (the phase): " + note);
   if (t.cut_intervals > 0)

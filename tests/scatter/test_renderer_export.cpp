@@ -323,14 +323,21 @@ TEST(RendererExport, SpectraAverageOverRadiiChosenToTheirTolerance) {
     EXPECT_GT(got.error_g, std::max(worst_g, kReferenceUncertainty) / 3);
   }
   // The medium states it.
-  const MediumOptics o = run_medium_job([] {
-    MediumJob job = fog(10, "gamma:0.2", 100);
-    job.numbers.values = 257;
-    return job;
-  }());
+  MediumJob job = fog(10, "gamma:0.2", 100);
+  job.numbers.values = 257;
+  job.numbers.nodes = 16;  // the phase's radii are not what this checks
+  const MediumOptics o = run_medium_job(job);
   ASSERT_TRUE(o.spectra_error_extinction && o.spectra_error_g);
   EXPECT_GE(o.spectra_radii, kMinRefinedRadii);
   EXPECT_NE(mitsuba3_medium_xml(o, "fog").find("spectra's size average: over"), std::string::npos);
+  // --spectra-tolerance: a tighter one takes more radii and states a smaller error, and says what it was.
+  MediumJob tight = job;
+  tight.numbers.spectra_tolerance = kSpectraTolerance / 4;
+  const MediumOptics t = run_medium_job(tight);
+  ASSERT_TRUE(t.spectra_error_extinction);
+  EXPECT_GT(t.spectra_radii, o.spectra_radii);
+  EXPECT_LT(*t.spectra_error_extinction, *o.spectra_error_extinction);
+  EXPECT_NE(mitsuba3_medium_xml(t, "fog").find("chosen for 0.125% at every wavelength"), std::string::npos);
 }
 
 // The phase's size average states its own error: the L1 distance (over the sphere) to the same rule over

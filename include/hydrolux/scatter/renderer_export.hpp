@@ -81,6 +81,7 @@ struct MediumRequest {
   // meets max_error (or the one of least error).
   std::optional<double> forward_cut_deg;
   double scene_unit_m = 1;                // one scene unit, metres: the renderers' `scale`
+  double spectra_tolerance = 0.005;        // the spectra's size average, relative, at every wavelength
   // Radii in the phase's size average (Gauss-Legendre in ln r). Unset: gamma and lognormal drops take
   // kMediumStartNodes, doubled until the average moves by at most half of max_error (L1 over the
   // sphere) when they are doubled again (compute_medium; at most kMediumMaxChosenNodes); Marshall-Palmer
@@ -110,12 +111,12 @@ struct MediumPlan {
   // kSpectralNodes of them, or the phase's if more.
   RadiusQuadrature spectral;
   // A distribution's spectra average over radii they choose (refine_bulk_optics) to
-  // kSpectraTolerance: n(r) spectra_scale drops per m^3 per m over [spectra_r_min, spectra_r_max].
+  // MediumRequest::spectra_tolerance: n(r) spectra_scale drops per m^3 per m over [spectra_r_min, spectra_r_max].
   // A fixed count left +-1.5% noise across the spectrum of 10 um fog at 64 radii, 0.1% at 1024.
   std::optional<SizeDistribution> spectra_drops;
   double spectra_r_min = 0, spectra_r_max = 0, spectra_scale = 1;
 };
-inline constexpr double kSpectraTolerance = 0.005;
+inline constexpr double kSpectraTolerance = MediumRequest{}.spectra_tolerance;  // the default
 inline constexpr int kSizeCheckPoints = 4097;
 // The phase's radii when MediumRequest::nodes is unset: from kMediumStartNodes, doubled while the
 // average over them is more than max_error * kMediumSizeShare (L1 over the sphere) from the average over
@@ -171,6 +172,7 @@ struct MediumOptics {
   // extinction and of g; refine_bulk_optics) and the radii they took; unset for one radius.
   std::optional<double> spectra_error_extinction, spectra_error_g;
   std::size_t spectra_radii = 0;
+  double spectra_tolerance = 0;  // what they were chosen for (MediumRequest::spectra_tolerance)
   // The phase's size average's own error, estimated (gamma and lognormal drops): the L1 distance over
   // the sphere, on kSizeCheckPoints values uniform in cos theta, between the phase over the job's radii
   // and over twice as many (the same rule; at most kMaxQuadratureNodes), each normalised. Measured
