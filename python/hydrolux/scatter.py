@@ -449,7 +449,7 @@ def renderer_medium(radius_um: Optional[float], size_distribution: str = "mono",
                     forward_cut_deg: Optional[float] = None,
                     scene_unit_m: float = _RENDERER_MEDIUM["scene_unit_m"],
                     threads: int = _RENDERER_MEDIUM["threads"],
-                    spectra_tolerance: float = _RENDERER_MEDIUM["spectra_tolerance"]) -> RendererMedium:
+                    spectra_tolerance: Optional[float] = _RENDERER_MEDIUM["spectra_tolerance"]) -> RendererMedium:
     """A population of drops as a renderer's participating medium (``hydrolux medium``): the same job,
     checks and file text as the CLI, as a :class:`RendererMedium`.
 
@@ -483,7 +483,7 @@ def renderer_medium(radius_um: Optional[float], size_distribution: str = "mono",
                "temperature_c": _opt_real(temperature_c, "temperature_c"),
                "phase_wavelength_nm": phase_wavelength_nm, "values": values, "max_error": max_error,
                "forward_cut_deg": _opt_real(forward_cut_deg, "forward_cut_deg"), "scene_unit_m": scene_unit_m,
-               "spectra_tolerance": spectra_tolerance,
+               "spectra_tolerance": _opt_real(spectra_tolerance, "spectra_tolerance"),
                "threads": threads}
     d = _core.renderer_medium(radius, size_distribution, medium, surrounding, format, name, options)
     return RendererMedium(d["text"], d["wavelength_nm"], d["sigma_t_per_m"], d["sigma_s_per_m"],

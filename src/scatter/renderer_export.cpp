@@ -40,8 +40,9 @@ const Field<MediumRequest> kMedium[] = {
      HYDROLUX_PARAM_OPTIONAL(nodes)},
     {{"spectra_tolerance", "--spectra-tolerance", "drops", K::real, "", 1e-4, 0.2,
       "Relative error allowed in the spectra's size average at every wavelength (extinction, scattering, "
-      "absorption, g): their evenly spaced radii are halved until two grids agree to half of it"},
-     HYDROLUX_PARAM_MEMBER(spectra_tolerance)},
+      "absorption, g), default 0.005: their evenly spaced radii are halved until two grids agree to half of it",
+      {}, kNodesOnlyWith, {}, "{size_distribution=} is one radius, with nothing to average (omit {spectra_tolerance})"},
+     HYDROLUX_PARAM_OPTIONAL(spectra_tolerance)},
     {{"temperature_c", "--temperature-c", "media", K::real, "C", kMinTemperatureC, kMaxTemperatureC,
       "Temperature in Celsius of the media that model it (water: 0 to 100); refused when neither medium does"},
      HYDROLUX_PARAM_OPTIONAL(temperature_c)},
@@ -252,6 +253,10 @@ MediumPlan plan_medium(MediumJob job) {
     }
   }();
   if (!one_radius || job.numbers.nodes) phase.numbers.nodes = job.numbers.nodes.value_or(kMediumStartNodes);
+  if (one_radius && job.numbers.spectra_tolerance)
+    throw ParamError(fmt::format("{{spectra_tolerance}} {:g}: {{size_distribution}} {} is one radius, with nothing to "
+                                 "average (omit {{spectra_tolerance}})",
+                                 *job.numbers.spectra_tolerance, escape_braces(job.size_distribution)));
   phase.numbers.temperature_c = job.numbers.temperature_c;
   phase.numbers.threads = job.numbers.threads;
   MediumPlan plan;
@@ -343,12 +348,13 @@ void compute_spectra(const MediumPlan& plan, MediumOptics& out, const Report& re
   if (plan.spectra_drops) {
     // One grid of radii for every wavelength, chosen to the tolerance (refine_bulk_optics).
     const RefinedBulkOptics r = refine_bulk_optics(m, k, *plan.spectra_drops, plan.spectra_r_min, plan.spectra_r_max,
-                                                   plan.spectra_scale, req.spectra_tolerance, req.threads);
+                                                   plan.spectra_scale, req.spectra_tolerance.value_or(kSpectraTolerance),
+                                                   req.threads);
     bulk = r.optics;
     out.spectra_error_extinction = r.error_extinction;
     out.spectra_error_g = r.error_g;
     out.spectra_radii = r.radii;
-    out.spectra_tolerance = req.spectra_tolerance;
+    out.spectra_tolerance = req.spectra_tolerance.value_or(kSpectraTolerance);
     report(0.1, "spectra");
   } else {
     for (std::size_t i = 0; i < m.size(); ++i) {

@@ -338,6 +338,15 @@ TEST(RendererExport, SpectraAverageOverRadiiChosenToTheirTolerance) {
   EXPECT_GT(t.spectra_radii, o.spectra_radii);
   EXPECT_LT(*t.spectra_error_extinction, *o.spectra_error_extinction);
   EXPECT_NE(mitsuba3_medium_xml(t, "fog").find("chosen for 0.125% at every wavelength"), std::string::npos);
+  // One radius has nothing to average: a tolerance given is refused, naming it.
+  MediumJob one = fog(10, "mono", 100);
+  one.numbers.spectra_tolerance = 0.01;
+  try {
+    (void)plan_medium(one);
+    ADD_FAILURE() << "a spectra tolerance for one radius was taken";
+  } catch (const ParamError& e) {
+    EXPECT_NE(std::string(e.what()).find("spectra_tolerance"), std::string::npos) << e.what();
+  }
 }
 
 // The phase's size average states its own error: the L1 distance (over the sphere) to the same rule over

@@ -81,7 +81,9 @@ struct MediumRequest {
   // meets max_error (or the one of least error).
   std::optional<double> forward_cut_deg;
   double scene_unit_m = 1;                // one scene unit, metres: the renderers' `scale`
-  double spectra_tolerance = 0.005;        // the spectra's size average, relative, at every wavelength
+  // The spectra's size average, relative, at every wavelength; unset: kSpectraTolerance. Refused for one
+  // radius, which has nothing to average.
+  std::optional<double> spectra_tolerance;
   // Radii in the phase's size average (Gauss-Legendre in ln r). Unset: gamma and lognormal drops take
   // kMediumStartNodes, doubled until the average moves by at most half of max_error (L1 over the
   // sphere) when they are doubled again (compute_medium; at most kMediumMaxChosenNodes); Marshall-Palmer
@@ -116,7 +118,7 @@ struct MediumPlan {
   std::optional<SizeDistribution> spectra_drops;
   double spectra_r_min = 0, spectra_r_max = 0, spectra_scale = 1;
 };
-inline constexpr double kSpectraTolerance = MediumRequest{}.spectra_tolerance;  // the default
+inline constexpr double kSpectraTolerance = 0.005;  // MediumRequest::spectra_tolerance's default
 inline constexpr int kSizeCheckPoints = 4097;
 // The phase's radii when MediumRequest::nodes is unset: from kMediumStartNodes, doubled while the
 // average over them is more than max_error * kMediumSizeShare (L1 over the sphere) from the average over
