@@ -429,7 +429,9 @@ py::dict renderer_medium(py::handle radius_arg, const std::string& size_distribu
   info["target_met"] = o.phase.target_met, info["cut_deg"] = o.phase.cut_deg;
   info["cut_fraction"] = o.phase.cut_fraction, info["g"] = o.phase.g, info["hg_g"] = o.phase.hg_g;
   info["hg_l1_error"] = o.phase.hg_l1, info["normalisation"] = o.phase.normalisation;
-  info["notes"] = o.notes;
+  py::list notes;  // in the keywords' names
+  for (const auto& n : o.notes) notes.append(spell_quantities(n, {}));
+  info["notes"] = notes;
   // A distribution's spectra: the radii chosen and the estimated error at the worst wavelength.
   if (o.spectra_error_extinction) {
     py::dict error;

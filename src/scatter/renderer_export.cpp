@@ -575,11 +575,6 @@ PhaseRadii choose_phase_radii(const MediumPlan& plan, const Report& report) {
 
 }  // namespace
 
-std::optional<std::string> medium_ripple_note(const MediumPlan& plan, std::string_view nodes_option) {
-  if (chooses_phase_radii(plan)) return std::nullopt;
-  return undersampled_ripple_note(plan.phase, nodes_option);
-}
-
 MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) {
   const MediumJob& job = plan.job;
   const MediumRequest& req = job.numbers;
@@ -598,14 +593,16 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
   out.phase_radii = q.size();
   out.phase_radii_chosen = radii.chosen;
   out.phase_size_l1 = radii.l1;
-  if (auto note = medium_ripple_note(plan, "nodes")) out.notes.push_back(std::move(*note));
+  // A count given (or rain's) too few for the ripple at single angles; a count chosen states its error instead.
+  if (!radii.chosen)
+    if (auto note = undersampled_ripple_note(plan.phase, "{nodes}")) out.notes.push_back(std::move(*note));
   const double size_share = kMediumSizeShare * req.max_error;
   if (radii.l1 && *radii.l1 > size_share)
     out.notes.push_back(fmt::format("the size average over {} radii is itself {:.3g} (L1 over the sphere) from the same "
-                                    "average over {} radii, more than half of max_error {:g}: {}",
+                                    "average over {} radii, more than half of {{max_error}} {:g}: {}",
                                     q.size(), *radii.l1, 2 * q.size(), req.max_error,
                                     radii.chosen ? fmt::format("{} radii are the most chosen", q.size())
-                                                 : std::string("give more nodes, or none to have them chosen")));
+                                                 : std::string("give more {nodes}, or none to have them chosen")));
 
   const SphereProblem p0 = sphere_problem(1, req.phase_wavelength_nm, *job.medium, *job.surrounding, req.temperature_c);
   const double k0 = 2 * kPi<> * p0.n_surrounding / (req.phase_wavelength_nm * 1e-9);
@@ -692,7 +689,7 @@ std::vector<std::string> header_lines(const MediumOptics& o, RendererFormat form
                             "error at the worst wavelength: extinction {:.2g}%, g {:.2g}%",
                             o.spectra_radii, 100 * o.spectra_tolerance, 100 * *o.spectra_error_extinction,
                             100 * *o.spectra_error_g));
-  for (const auto& note : o.notes) l.push_back("note (the phase): " + note);
+  for (const auto& note : o.notes) l.push_back("note (the phase): " + spell_quantities(note, {}));
   if (t.cut_intervals > 0)
     l.push_back(fmt::format("forward cut: the fraction {:.6g} of the scattered light, scattered within {:.4g} deg of "
                             "forward, is treated as unscattered (delta-M-like truncation, Wiscombe 1977): sigma_s "

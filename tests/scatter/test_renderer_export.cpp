@@ -370,7 +370,7 @@ TEST(RendererExport, ThePhasesSizeAverageStatesItsOwnError) {
   EXPECT_LT(*o.phase_size_l1, 3 * l1) << l1;
   EXPECT_GT(l1, job.numbers.max_error);  // 64 radii: above the table's own target, hence the note
   bool noted = false;
-  for (const auto& n : o.notes) noted = noted || n.find("give more nodes") != std::string::npos;
+  for (const auto& n : o.notes) noted = noted || n.find("give more {nodes}") != std::string::npos;
   EXPECT_TRUE(noted);
   EXPECT_NE(mitsuba3_medium_xml(o, "fog").find("phase's size average: over 64 radii (as given); L1 distance"),
             std::string::npos);

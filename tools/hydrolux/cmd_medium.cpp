@@ -61,12 +61,8 @@ int run_medium(const MediumArgs& a) {
   bar.finish();
   out.write(scatter::renderer_medium_text(optics, format, a.name));
   files.commit();
-  // The file's notes, said once more: the ripple's in the CLI's words, and the others (a count given whose
-  // size average is more than half of --max-error from twice as many).
-  const auto ripple = scatter::medium_ripple_note(plan), ripple_in_file = scatter::medium_ripple_note(plan, "nodes");
-  if (ripple) warn(*ripple);
-  for (const auto& note : optics.notes)
-    if (!ripple_in_file || note != *ripple_in_file) warn(note);
+  // The file's notes, said once more in the flags' words.
+  for (const auto& note : optics.notes) warn(spell_quantities(note, [](std::string_view q) { return Param::flag_of(q); }));
   if (!a.quiet) {
     const auto& t = optics.phase;
     std::size_t i550 = 0;

@@ -276,7 +276,8 @@ struct LeeTable {
   color::Mat3 xyz_to_rgb{};            // Bradford (sun -> D65) then XYZ -> linear RGB
   std::vector<double> wavelengths_nm;  // the K sampled wavelengths
   LeeWork work;
-  std::vector<std::string> notes;  // lee_resolution_notes(spec)
+  // lee_resolution_notes(spec), and the table's estimated error where it is above kLeeErrorTolerance
+  std::vector<std::string> notes;
   LeeError error;
 
   int columns() const { return int(radius_um.size()); }

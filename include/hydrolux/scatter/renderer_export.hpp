@@ -167,8 +167,10 @@ struct MediumOptics {
   double number_per_m3 = 0, lwc_g_m3 = 0;
   double scene_unit_m = 1;
   std::string media;  // "water in air" (and the temperature)
-  // Where the phase is less accurate than the table: too few radii for the Mie ripple
-  // (phase_job.hpp's undersampled_ripple_note). The files state them; the CLI warns.
+  // Where the phase is less accurate than asked: a count of radii given (or rain's) too few for the Mie
+  // ripple (phase_job.hpp's undersampled_ripple_note), or whose size average is more than half of
+  // max_error from twice as many. Parameters named between braces ({nodes}): each door spells them
+  // (core/error.hpp's spell_quantities); the files state them in the library's names, the CLI warns.
   std::vector<std::string> notes;
   // A distribution's spectra: the largest estimated error over the wavelengths (relative, of the
   // extinction and of g; refine_bulk_optics) and the radii they took; unset for one radius.
@@ -185,12 +187,6 @@ struct MediumOptics {
   std::size_t phase_radii = 0;       // the radii the phase averages over
   bool phase_radii_chosen = false;   // chosen by the doubling (MediumRequest::nodes unset), not given
 };
-
-// Where the phase's count of radii is not chosen (given with --nodes, or rain's 64): the note of
-// undersampled_ripple_note (phase_job.hpp) when they are too few for the Mie ripple, `nodes_option`
-// naming the count. A count chosen states its error instead (MediumOptics::phase_size_l1). Cheap: a
-// door says it before the work; compute_medium keeps it in the notes.
-std::optional<std::string> medium_ripple_note(const MediumPlan& plan, std::string_view nodes_option = "--nodes");
 
 // The spectra, then the table (growing it and choosing the cut as the request says). `progress`
 // from 0 to 1; it may throw to stop the work.
