@@ -127,7 +127,7 @@ def mie(m: complex, x: ArrayLike, angles_deg: Union[ArrayLike, str, None] = _DEF
 
 
 def mie_terms(x: float) -> int:
-    """The number of partial waves hydrolux sums for size parameter x: max(3, x + 7 x^(1/3) + 2).
+    """The number of partial waves hydrolux sums for size parameter x: max(4, x + 7 x^(1/3) + 2).
 
     Example:
 

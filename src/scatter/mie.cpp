@@ -398,9 +398,9 @@ int wiscombe_terms(double x) {
 int mie_terms(double x) {
   require_size_parameter(x);
   // See mie.hpp: Wiscombe's count plus what Qback and the amplitudes near backscatter need,
-  // and at least three terms (g of a small sphere needs a_2).
+  // and at least kMieMinTerms.
   const double cbrt = std::cbrt(x);
-  return std::max(3, static_cast<int>(x + kMieTermsCbrt * cbrt + kMieTermsConstant));
+  return std::max(kMieMinTerms, static_cast<int>(x + kMieTermsCbrt * cbrt + kMieTermsConstant));
 }
 
 void mie_coefficients(Complex m, double x, MieCoefficients& out, int n_terms) {

@@ -222,18 +222,22 @@ TEST(ClaimsMieTerms, DefaultCountIsWithin1e12OfTheConvergedSeries) {
       const int n_conv = converged_terms(x);
       const auto r = ref_mie(m, x, n_conv);
       EXPECT_LT(truncation_error(r, mie_terms(x), n_conv, true), 1e-12) << "m " << m << " x " << x;
-      // Relative to each angle's own |S| as well, except in the band of small x (about 4e-3 to
-      // 0.023) where mie_terms gives 3 terms and S2 at 90 degrees needs 4 (next test).
-      if (x < 4e-3 || x > 0.025) {
-        EXPECT_LT(truncation_error(r, mie_terms(x), n_conv, false), 1e-12) << "m " << m << " x " << x;
-      }
+      // Relative to each angle's own |S| as well (S2 at 90 degrees for small spheres: next test).
+      EXPECT_LT(truncation_error(r, mie_terms(x), n_conv, false), 1e-12) << "m " << m << " x " << x;
+    }
+  // The band where S2 at 90 degrees needs the minimum's 4th term, on a finer grid of x.
+  for (const auto m : kIndices)
+    for (const double x : {0.003, 0.005, 0.008, 0.012, 0.016, 0.02, 0.023, 0.03}) {
+      const int n_conv = converged_terms(x);
+      EXPECT_LT(truncation_error(ref_mie(m, x, n_conv), mie_terms(x), n_conv, false), 1e-12) << "m " << m << " x " << x;
     }
 }
 
 // docs/mie.md l. 65-66: the smallest counts that meet 1e-12 for every index of the study below x = 1:
 // 2, 3 and 6 terms at x = 1e-6, 0.01 and 0.5 with the amplitudes relative to the largest; 2, 4 and 6
-// relative to each angle's |S|. At x = 0.01 the default (3 terms) leaves S2 at 90 degrees 3.3e-11
-// short (m = 0.75; 1.8e-11 for water): between 1e-12 and 1e-10 asserted; at x = 0.02, 5e-10.
+// relative to each angle's |S|. At x = 0.01, 3 terms (the default's minimum before it became 4) leave
+// S2 at 90 degrees 3.3e-11 short (m = 0.75; 1.8e-11 for water): between 1e-12 and 1e-10 asserted; at
+// x = 0.02, 5e-10. Hence the minimum of 4.
 TEST(ClaimsMieTerms, SmallSpheresNeedAFewTerms) {
   const struct {
     double x;
@@ -256,15 +260,15 @@ TEST(ClaimsMieTerms, SmallSpheresNeedAFewTerms) {
     EXPECT_GE(mie_terms(c.x), c.by_max);
   }
   const auto r = ref_mie({0.75, 0}, 0.01, converged_terms(0.01));
-  ASSERT_EQ(mie_terms(0.01), 3);
+  ASSERT_EQ(mie_terms(0.01), 4);
   const double e = truncation_error(r, 3, converged_terms(0.01), false);
   EXPECT_GT(e, 1e-12);
   EXPECT_LT(e, 1e-10);
-  // The shortfall grows like x^4: at x = 0.02 (still 3 terms) 16 times as much.
+  // The shortfall grows like x^4: at x = 0.02, 3 terms leave 16 times as much.
   const auto r2 = ref_mie({0.75, 0}, 0.02, converged_terms(0.02));
-  ASSERT_EQ(mie_terms(0.02), 3);
+  ASSERT_EQ(mie_terms(0.02), 4);
   const double e2 = truncation_error(r2, 3, converged_terms(0.02), false);
-  std::printf("default count, S2 at 90 degrees, m = 0.75: %.2g short at x = 0.01, %.2g at 0.02\n", e, e2);
+  std::printf("3 terms, S2 at 90 degrees, m = 0.75: %.2g short at x = 0.01, %.2g at 0.02\n", e, e2);
   EXPECT_GT(e2, 1e-10);
   EXPECT_LT(e2, 1e-9);
 }

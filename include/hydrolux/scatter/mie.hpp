@@ -48,15 +48,17 @@ inline constexpr double kMaxIndexImag = 1.0;
 int wiscombe_terms(double x);
 
 // The number of terms the solver uses by default: x + c x^(1/3) + d with the constants below and
-// at least 3, chosen so that every output it returns, Qext, Qsca, Qabs, g, Qback and S1, S2 at
-// every angle (relative to the sphere's largest |S|), is within 1e-12 relative of the infinite series
-// (tests/scatter/test_mie.cpp, MieStability.DefaultTruncationLeavesOutLessThan1e12: x = 1e-6 to 1e5,
-// seven indices, measured worst 2.4e-13; MieReference.DefaultTruncationIsConverged against mpmath).
-// Relative to |S| at each angle it is too, except S2 near 90 degrees for x of about 0.004 to 0.023,
-// where the dipole term vanishes and 3 terms leave 3.3e-11 (x = 0.01) to 5e-10 (0.02): docs/mie.md,
-// tests/scatter/test_claims_mie.cpp. About 0.6% more terms than Wiscombe's at x = 1e4.
+// at least kMieMinTerms, chosen so that every output it returns, Qext, Qsca, Qabs, g, Qback and S1,
+// S2 at every angle, relative to the sphere's largest |S| and to |S| at that angle, is within 1e-12
+// relative of the infinite series (tests/scatter/test_mie.cpp,
+// MieStability.DefaultTruncationLeavesOutLessThan1e12: x = 1e-6 to 1e5, seven indices, measured worst
+// 2.4e-13; MieReference.DefaultTruncationIsConverged against mpmath; tests/scatter/test_claims_mie.cpp
+// against an independent long-double solver). The minimum is 4, not 3: S2 near 90 degrees, where the
+// dipole term vanishes, needs a 4th term for x of about 0.004 to 0.023 (3 leave it 3.3e-11 short at
+// x = 0.01, 5e-10 at 0.02). About 0.6% more terms than Wiscombe's at x = 1e4.
 inline constexpr double kMieTermsCbrt = 7.0;
 inline constexpr double kMieTermsConstant = 2.0;
+inline constexpr int kMieMinTerms = 4;
 int mie_terms(double x);
 
 // Mie coefficients a_n, b_n for n = 1..N (stored at index n - 1).
