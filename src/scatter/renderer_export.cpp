@@ -513,6 +513,33 @@ void fill_table(const TableSearch& found, bool target_met, TabulatedPhase& t) {
 
 namespace {
 
+bool is_rain(const MediumPlan& plan) {
+  return parse_size_distribution(plan.phase.job.size_distribution).kind == SizeDistributionKind::marshall_palmer;
+}
+
+// The phase over `radii` at kSizeCheckPoints values uniform in mu on [-1, mu_max], normalised to an
+// integral of 1 over mu there (trapezoid rule): the L1 between two of them is over the sphere outside
+// the cone mu > mu_max.
+std::vector<double> normalised_phase(const MediumJob& m, const RadiusQuadrature& radii, double mu_max) {
+  std::vector<double> theta(kSizeCheckPoints);
+  const double dmu = (mu_max + 1) / (kSizeCheckPoints - 1);
+  for (int i = 0; i < kSizeCheckPoints; ++i) theta[std::size_t(i)] = std::acos(std::clamp(-1 + i * dmu, -1.0, 1.0));
+  const Intensities a = average_intensities(Theory{}, radii, m.numbers.phase_wavelength_nm, *m.medium, *m.surrounding,
+                                            m.numbers.temperature_c, theta, m.numbers.threads);
+  std::vector<double> p(theta.size());
+  double total = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) p[i] = (a.i1[i] + a.i2[i]) / 2;
+  for (std::size_t i = 0; i + 1 < p.size(); ++i) total += (p[i] + p[i + 1]) / 2 * dmu;
+  for (double& v : p) v /= total;
+  return p;
+}
+double l1_between(const std::vector<double>& a, const std::vector<double>& b, double mu_max) {
+  const double dmu = (mu_max + 1) / double(a.size() - 1);
+  double l1 = 0;
+  for (std::size_t i = 0; i + 1 < a.size(); ++i) l1 += (std::abs(a[i] - b[i]) + std::abs(a[i + 1] - b[i + 1])) / 2 * dmu;
+  return l1;
+}
+
 // The radii the phase averages over: the count given, or (MediumRequest::nodes unset, gamma and
 // lognormal) kMediumStartNodes doubled while the phase over them is more than kMediumSizeShare of
 // max_error from the phase over twice as many; with that distance as the average's own error
@@ -528,8 +555,7 @@ struct PhaseRadii {
 // whether they are then chosen (no count given).
 bool checks_phase_radii(const MediumPlan& plan) {
   const int given = int(plan.phase.quadrature.size());
-  return given >= 2 && 2 * given <= kMaxQuadratureNodes &&
-         parse_size_distribution(plan.phase.job.size_distribution).kind != SizeDistributionKind::marshall_palmer;
+  return given >= 2 && 2 * given <= kMaxQuadratureNodes && !is_rain(plan);
 }
 bool chooses_phase_radii(const MediumPlan& plan) { return checks_phase_radii(plan) && !plan.job.numbers.nodes; }
 
@@ -539,19 +565,7 @@ PhaseRadii choose_phase_radii(const MediumPlan& plan, const Report& report) {
   const int given = int(plan.phase.quadrature.size());
   if (!checks_phase_radii(plan)) return out;
   out.chosen = chooses_phase_radii(plan);
-  std::vector<double> theta(kSizeCheckPoints);
-  const double dmu = 2.0 / (kSizeCheckPoints - 1);
-  for (int i = 0; i < kSizeCheckPoints; ++i) theta[std::size_t(i)] = std::acos(std::clamp(-1 + i * dmu, -1.0, 1.0));
-  const auto normalised = [&](const RadiusQuadrature& radii) {
-    const Intensities a = average_intensities(Theory{}, radii, m.numbers.phase_wavelength_nm, *m.medium,
-                                              *m.surrounding, m.numbers.temperature_c, theta, m.numbers.threads);
-    std::vector<double> p(theta.size());
-    double total = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) p[i] = (a.i1[i] + a.i2[i]) / 2;
-    for (std::size_t i = 0; i + 1 < p.size(); ++i) total += (p[i] + p[i + 1]) / 2 * dmu;
-    for (double& v : p) v /= total;  // integral over mu = 1: the L1 below is the sphere's
-    return p;
-  };
+  const auto normalised = [&](const RadiusQuadrature& radii) { return normalised_phase(m, radii, 1.0); };
   const auto with_nodes = [&](int n) {
     PhaseJob job = plan.phase.job;
     job.numbers.nodes = n;
@@ -562,8 +576,7 @@ PhaseRadii choose_phase_radii(const MediumPlan& plan, const Report& report) {
     report(0.1 + 0.2 * std::min(1.0, std::log2(double(n) / given) / 6), fmt::format("phase's radii, {}", n));
     PhasePlan finer = with_nodes(2 * n);
     std::vector<double> b = normalised(finer.quadrature);
-    double l1 = 0;
-    for (std::size_t i = 0; i + 1 < a.size(); ++i) l1 += (std::abs(a[i] - b[i]) + std::abs(a[i + 1] - b[i + 1])) / 2 * dmu;
+    const double l1 = l1_between(a, b, 1.0);
     out.l1 = l1;
     if (!out.chosen || l1 <= kMediumSizeShare * m.numbers.max_error || 2 * n > kMediumMaxChosenNodes) break;
     out.plan = std::move(finer);
@@ -620,6 +633,23 @@ MediumOptics compute_medium(const MediumPlan& plan, const ProgressFn& progress) 
   const TableSearch found = search_table(plan, eval, k0, of_phase.g, req.max_error - size_error, report);
   fill_table(found, req.values.has_value() || found.best.error + radii.l1.value_or(0) <= req.max_error, out.phase);
   compare_henyey_greenstein(found, out.phase);
+  if (is_rain(plan) && 2 * q.size() <= std::size_t(kMaxQuadratureNodes)) {
+    // Rain: the phase over its radii against twice as many, outside the table's cut (progress 0.9 to 1).
+    report(0.9, fmt::format("phase's radii against {}", 2 * q.size()));
+    PhaseJob twice = radii.plan.job;
+    twice.numbers.nodes = int(2 * q.size());
+    const double mu_max = std::cos(deg_to_rad(out.phase.cut_deg));
+    const double l1 = l1_between(normalised_phase(job, q, mu_max),
+                                 normalised_phase(job, plan_phase(std::move(twice)).quadrature, mu_max), mu_max);
+    out.phase_size_l1 = l1;
+    out.phase_radii_rain = !req.nodes;
+    if (!req.values) out.phase.target_met = out.phase.l1_error + l1 <= req.max_error;
+    if (l1 > size_share)
+      out.notes.push_back(fmt::format("the size average over {} radii is itself {:.3g} (L1 over the sphere outside the "
+                                      "forward cut) from the same average over {} radii, more than half of "
+                                      "{{max_error}} {:g}: give more {{nodes}} (the phase's time grows with them)",
+                                      q.size(), l1, 2 * q.size(), req.max_error));
+  }
 
   // The coefficients as exported: the cut light leaves the scattering (and the extinction).
   const double kept = 1 - found.best.cut_fraction;
@@ -682,6 +712,7 @@ std::vector<std::string> header_lines(const MediumOptics& o, RendererFormat form
                             o.phase_radii_chosen ? fmt::format(", doubled from {} until twice as many move it by at "
                                                                "most half of the error asked for",
                                                                kMediumStartNodes)
+                            : o.phase_radii_rain ? std::string(" (rain's fixed count; outside the forward cut)")
                                                  : std::string(" (as given)"),
                             *o.phase_size_l1));
   if (o.spectra_error_extinction)

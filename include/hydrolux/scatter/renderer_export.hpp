@@ -181,11 +181,14 @@ struct MediumOptics {
   // the sphere, on kSizeCheckPoints values uniform in cos theta, between the phase over the job's radii
   // and over twice as many (the same rule; at most kMaxQuadratureNodes), each normalised. Measured
   // against 8192-16384 radii: 1.0-1.7 times the true distance for the counts chosen, 1.2-1.6 for 64 radii
-  // (cloud droplets 2-20 um). A note says when it is more than its share of --max-error. Unset for one
-  // radius, rain and the largest counts.
+  // (cloud droplets 2-20 um). A note says when it is more than its share of --max-error. Marshall-Palmer
+  // rain keeps its radii (doubling them at x up to 34,000 would take minutes each time) but states the
+  // same distance, outside the table's forward cut (the light within it is not scattered), each phase
+  // normalised there. Unset for one radius and the largest counts.
   std::optional<double> phase_size_l1;
   std::size_t phase_radii = 0;       // the radii the phase averages over
   bool phase_radii_chosen = false;   // chosen by the doubling (MediumRequest::nodes unset), not given
+  bool phase_radii_rain = false;     // rain's kMediumStartNodes (MediumRequest::nodes unset), not given
 };
 
 // The spectra, then the table (growing it and choosing the cut as the request says). `progress`
