@@ -25,8 +25,11 @@ class SkyResult(NamedTuple):
     each R, G, B, in each pixel's image basis); ``display`` the tone-mapped linear display values
     (what ``-o frame.png`` encodes through the sRGB curve; None with ``stokes``); ``stats`` the
     exposure's reference luminance ``l_ref`` (cd/m^2; halved with a polariser), the sun's
-    illuminance ``sun_illuminance_lux``, the curtain's ``optical_depth``, the drops' ``shape`` and the
-    bow's ``positions`` (position angles computed; 1 for spheres)."""
+    illuminance ``sun_illuminance_lux``, the curtain's ``optical_depth``, the drops' ``shape``, the
+    bow's ``positions`` (position angles computed; 1 for spheres) and ``profile_error``, the bow
+    profiles' largest estimated error (relative RMS in luminance, from their even against their odd
+    wavelengths; docs/lee.md, "The table's error"), with ``notes`` saying when it is above 1% and the
+    ``sampling`` that would meet it."""
     image: np.ndarray
     display: Optional[np.ndarray]
     stats: dict

@@ -10,6 +10,7 @@
 #include "hydrolux/atmos/lee.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/scene/compositor.hpp"
+#include "hydrolux/scene/bow_tables.hpp"
 #include "hydrolux/scene/environment.hpp"
 #include "hydrolux/scene/sky_params.hpp"
 #include "hydrolux/scene/sky_scene.hpp"
@@ -55,9 +56,11 @@ py::dict sky(const std::string& shape_name, std::optional<py::array> environment
     Image radiance, display;
     double l_ref = 0, sun_lux = 0, optical_depth = 0;
     int positions = 1;
+    std::optional<double> profile_error;
   };
   const Frame f = run_cancellable([&](const ProgressFn& progress) {
     scene::SkyTables t = scene::compute_sky_tables(o, shape, progress);
+    const std::optional<double> profile_error = scene::largest_error(t.rainbow, t.corona);
     const scene::SkyCompositor comp(s, std::move(t.rainbow), std::move(t.corona), env, o.environment_scale);
     Frame r;
     r.radiance = comp.render(mask ? &*mask : nullptr);
@@ -68,6 +71,7 @@ py::dict sky(const std::string& shape_name, std::optional<py::array> environment
     r.sun_lux = comp.sun_sky().sun_illuminance_lux;
     r.optical_depth = comp.beta_geo_per_m() * (s.curtain_far_m - s.curtain_near_m);
     r.positions = comp.rainbow_positions();
+    r.profile_error = profile_error;
     return r;
   });
   py::dict d;
@@ -79,6 +83,10 @@ py::dict sky(const std::string& shape_name, std::optional<py::array> environment
   st["optical_depth"] = f.optical_depth;
   st["shape"] = atmos::drop_shape_name(shape);
   st["positions"] = f.positions;
+  st["profile_error"] = f.profile_error ? py::object(py::float_(*f.profile_error)) : py::object(py::none());
+  py::list notes;
+  if (auto note = scene::sky_profile_note(f.profile_error, o.sampling, Door::python)) notes.append(*note);
+  st["notes"] = notes;
   d["stats"] = st;
   return d;
 }

@@ -62,6 +62,13 @@ def test_drop_shapes():
     frame = sky((24, 16), shape="spheroid:0.9", radius_um=150, sampling=0.25, secondary=False, sun_elevation_deg=20,
                 fov_deg=100, view_azimuth_deg=0, view_elevation_deg=15)
     assert frame.stats["shape"] == "spheroid:0.9" and frame.stats["positions"] == 19
+    # The profiles state their error; above 1% a note names the sampling that would meet it.
+    err = frame.stats["profile_error"]
+    assert err is not None and 0 < err < 1
+    if err > 0.01:
+        assert len(frame.stats["notes"]) == 1 and "give sampling " in frame.stats["notes"][0]
+    else:
+        assert frame.stats["notes"] == []
     assert np.isfinite(frame.image).all() and frame.image.min() > 0
     with pytest.raises(ValueError, match=r"^shape 'egg': expected sphere, spheroid:Q"):
         sky((24, 16), shape="egg", **SCENE)

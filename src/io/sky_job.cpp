@@ -13,6 +13,7 @@
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/lee_files.hpp"
+#include "hydrolux/scene/bow_tables.hpp"
 #include "hydrolux/scene/environment.hpp"
 #include "hydrolux/scene/sky_scene.hpp"
 
@@ -89,10 +90,13 @@ SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
   if (a.moisture) moisture = read_decoded(h.codec, "--moisture", *a.moisture, warner(h)).image;
 
   scene::RainbowSlices rainbow(std::move(tables.rainbow));
+  std::optional<double> profile_error;
   if (!tables_given) {  // this radius's tables, computed now
     scene::SkyTables computed = scene::compute_sky_tables(o, shape, h.progress);
     rainbow = std::move(computed.rainbow);
     tables.corona = std::move(computed.corona);
+    profile_error = scene::largest_error(rainbow, tables.corona);
+    if (auto note = scene::sky_profile_note(profile_error, o.sampling, Door::cli)) warner(h)(*note);
   }
   const scene::SkyCompositor comp(s, std::move(rainbow), std::move(tables.corona), env, o.environment_scale);
   const auto t0 = std::chrono::steady_clock::now();
@@ -115,6 +119,7 @@ SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
   r.optical_depth = comp.beta_geo_per_m() * (s.curtain_far_m - s.curtain_near_m);
   r.sun_illuminance_lux = comp.sun_sky().sun_illuminance_lux;
   r.bake_ms = comp.bake_seconds() * 1e3;
+  r.profile_error = profile_error;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
@@ -123,7 +128,7 @@ std::string sky_summary(const SkyJobResult& r) {
   const scene::SkySettings& s = r.settings;
   return fmt::format(
       "sky: wrote {} ({}x{}, {}, {} blend{}); rain {:g} mm/h: optical depth {:.3g} (projected area) over the curtain; "
-      "sun {:.0f} klux;{} frame {:.1f} ms{}; {:.1f} s in all",
+      "sun {:.0f} klux;{}{} frame {:.1f} ms{}; {:.1f} s in all",
       printable(r.output), s.camera.width, s.camera.height, scene::bow_mode_name(s.mode), scene::blend_name(s.blend),
       s.polarizer_deg ? fmt::format(", polariser at {:g} deg", *s.polarizer_deg)
       : s.stokes      ? std::string(", Stokes I, Q, U")
@@ -131,6 +136,9 @@ std::string sky_summary(const SkyJobResult& r) {
       s.rain_rate_mmh, r.optical_depth, r.sun_illuminance_lux / 1000,
       r.shaped ? fmt::format(" {} drops: the bow at {} position angles (Airy theory);", r.shape, r.positions)
                : std::string(),
+      r.profile_error
+          ? fmt::format(" the bow profiles' estimated error {:.2g}% RMS in luminance;", 100 * *r.profile_error)
+          : std::string(),
       r.render_ms, s.mode == scene::BowMode::per_pixel ? "" : fmt::format(" (bake {:.1f} ms)", r.bake_ms), r.seconds);
 }
 

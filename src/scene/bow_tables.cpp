@@ -36,7 +36,17 @@ atmos::LeeSpec sky_profile_spec(atmos::LeeTableKind kind, double radius_um, doub
 double max_sky_radius_um() { return atmos::max_radius_um(sky_profile_spec(atmos::LeeTableKind::rainbow, 500, 1)); }
 
 BowSlice compute_bow_slice(const atmos::LeeSpec& profile, const ProgressFn& progress) {
-  return slice_at_radius(bow_table(atmos::compute_lee_table(profile, progress)), profile.radius_min_um);
+  const atmos::LeeTable t = atmos::compute_lee_table(profile, progress);
+  BowSlice s = slice_at_radius(bow_table(t), profile.radius_min_um);
+  s.error = t.error.luminance_rms;
+  return s;
+}
+
+std::optional<double> largest_error(const RainbowSlices& rainbow, const BowSlice& corona) {
+  std::optional<double> e = corona.error;
+  for (const BowSlice& s : rainbow.by_position)
+    if (s.error) e = std::max(e.value_or(0.0), *s.error);
+  return e;
 }
 
 double max_shape_sun_elevation_deg() { return atmos::lee_param("sun_elevation_deg").hi; }

@@ -100,6 +100,17 @@ void check_sky_memory(const SkySettings& s, Door door, double available) {
                           fit_pixels / 1e6, size_text(w, h)));
 }
 
+std::optional<std::string> sky_profile_note(std::optional<double> error, double sampling, Door door) {
+  if (!error || *error <= atmos::kLeeErrorTolerance) return std::nullopt;
+  double need = sampling;
+  const double most = sky_param("sampling").hi;
+  while (need < most && *error * sampling / need > atmos::kLeeErrorTolerance) need *= 2;
+  return fmt::format("the bow profiles' estimated error is {:.2g}% RMS in luminance, more than {:g}%: give {} {:g} "
+                     "(the error falls about as 1 / {})",
+                     100 * *error, 100 * atmos::kLeeErrorTolerance, sky_word("sampling", door), std::min(need, most),
+                     sky_word("sampling", door));
+}
+
 SkyTables compute_sky_tables(const SkyOptions& o, const atmos::DropShapeSpec& shape, const ProgressFn& progress) {
   const SkySettings& s = o.settings;
   const bool need_corona = s.corona && s.radius_um <= kCoronaMaxRadiusUm;

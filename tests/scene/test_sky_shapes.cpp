@@ -3,6 +3,7 @@
 // bit; each pixel's position angle agrees with an independent spherical-trigonometry computation;
 // the frame of Beard-Chuang drops shows the Lee profiles' Moebius shift between the top and the
 // side of the bow; the cube map and the half dome follow the position angle too.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include "hydrolux/scene/bow_tables.hpp"
 #include "hydrolux/scene/compositor.hpp"
 #include "hydrolux/scene/sky_model.hpp"
+#include "hydrolux/scene/sky_scene.hpp"
 #include "support/bow_slices.hpp"
 
 namespace {
@@ -273,6 +275,31 @@ TEST(SkyShapes, RadiusLimitOfBeardChuangDrops) {
   // A spheroid's limit is Airy theory's size parameter only.
   const auto sph = atmos::parse_drop_shape("spheroid:0.9");
   EXPECT_EQ(scene::max_sky_radius_um(sph), atmos::max_radius_um(scene::sky_shape_profile_spec(sph, 500, 1, 0, 0)));
+}
+
+// The profiles' error reaches the frame's report: the largest of the slices that state one (a slice
+// read from a file states none), and above the Lee tables' 1% a note naming the sampling that meets it,
+// doubled until error * sampling / need is within 1% (the error falls about as 1 / sampling).
+TEST(SkyShapes, TheProfilesErrorIsReportedWithTheSamplingThatMeetsIt) {
+  BowSlice a, b, c;
+  a.error = 0.004;
+  b.error = 0.012;
+  std::vector<BowSlice> by_position{a, b, c};
+  EXPECT_EQ(scene::largest_error(RainbowSlices(by_position), BowSlice{}), 0.012);
+  EXPECT_FALSE(scene::largest_error(RainbowSlices(c), BowSlice{}));
+  EXPECT_EQ(scene::largest_error(RainbowSlices(a), b), 0.012);
+  EXPECT_FALSE(scene::sky_profile_note(std::nullopt, 1, Door::cli));
+  EXPECT_FALSE(scene::sky_profile_note(0.0099, 1, Door::cli));
+  const auto two = scene::sky_profile_note(0.012, 1, Door::cli);
+  ASSERT_TRUE(two);
+  EXPECT_NE(two->find("1.2% RMS in luminance, more than 1%: give --sampling 2 "), std::string::npos) << *two;
+  const auto eight = scene::sky_profile_note(0.05, 1, Door::python);  // 0.05 / 4 > 1%, 0.05 / 8 < 1%
+  ASSERT_TRUE(eight);
+  EXPECT_NE(eight->find("give sampling 8 "), std::string::npos) << *eight;
+  const auto most = scene::sky_profile_note(0.5, 1, Door::cli);  // never beyond the declared range
+  ASSERT_TRUE(most);
+  EXPECT_NE(most->find(fmt::format("give --sampling {:g} ", scene::sky_param("sampling").hi)), std::string::npos)
+      << *most;
 }
 
 }  // namespace

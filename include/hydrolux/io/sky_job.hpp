@@ -48,6 +48,9 @@ struct SkyJobResult {
   double sun_illuminance_lux = 0;
   double render_ms = 0, bake_ms = 0;
   double seconds = 0;            // in all
+  // The bow profiles' estimated error (scene::largest_error: RMS in luminance, relative), computed
+  // profiles only (none with --lut).
+  std::optional<double> profile_error;
 };
 
 // Runs the job. Error (bad input, before anything is written), IoError, IoFailure (the system failed

@@ -35,8 +35,12 @@ atmos::LeeSpec sky_profile_spec(atmos::LeeTableKind kind, double radius_um, doub
 // limit at 380 nm for the 10% spread), so that the help, the check and the work agree.
 double max_sky_radius_um();
 
-// A profile's table (one column) computed and sliced at its radius, for the compositor.
+// A profile's table (one column) computed and sliced at its radius, for the compositor, with the
+// table's estimated error (BowSlice::error).
 BowSlice compute_bow_slice(const atmos::LeeSpec& profile, const ProgressFn& progress = {});
+// The largest estimated error (BowSlice::error) of the slices that state one: what `hydrolux sky` and
+// hydrolux.sky report of the profiles they computed.
+std::optional<double> largest_error(const RainbowSlices& rainbow, const BowSlice& corona);
 
 // ---- non-spherical drops (hydrolux sky --shape; docs/sky.md, "Drop shapes") ----
 //

@@ -65,6 +65,9 @@ struct BowSlice {
   int rows = 0;
   std::vector<float> rgb;     // rows x 3
   std::vector<float> q;       // rows x 3, the Stokes Q (BowTable::q); empty without
+  // The profile's estimated error (atmos::LeeTable::error's luminance_rms) where it was computed here
+  // (compute_bow_slice); unset for a slice of a table read from a file and for one wavelength.
+  std::optional<double> error;
   bool empty() const { return rows == 0; }
   bool has_q() const { return !q.empty(); }
   // Linear between row centres on the axis; 0 outside [first, last]. `cos_theta` and `theta_deg`

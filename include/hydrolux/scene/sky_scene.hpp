@@ -9,6 +9,7 @@
 // does not declare (the shape, the environment) is spelled the same way: "--shape" or "shape"; the
 // tables given from files, which only the CLI takes, are "--lut" or "hydrolux sky --lut".
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -55,5 +56,9 @@ struct SkyTables {
   BowSlice corona;
 };
 SkyTables compute_sky_tables(const SkyOptions& o, const atmos::DropShapeSpec& shape, const ProgressFn& progress = {});
+// Where the profiles computed (their largest_error) are above the Lee tables' tolerance
+// (atmos::kLeeErrorTolerance), a line saying so and naming the sampling that would meet it (the error
+// falls about as 1 / sampling), the flag spelled for `door`; nothing otherwise.
+std::optional<std::string> sky_profile_note(std::optional<double> error, double sampling, Door door);
 
 }  // namespace hydrolux::scene
