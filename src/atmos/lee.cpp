@@ -28,6 +28,7 @@
 #include "hydrolux/scatter/mie.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "hydrolux/scatter/sphere.hpp"
+#include "hydrolux/scatter/spheroid_bow.hpp"
 
 namespace hydrolux::atmos {
 
@@ -827,6 +828,12 @@ struct WorkArrays {
   // wavelengths alone, and their weights' sum; the odd ones are the rest of cell_xyz.
   std::vector<double> cell_y_half, cell_qy_half;
   double half_weight_y = 0;
+  // Non-spherical drops: each (node, orientation)'s 3-D bow edge at the last wavelength, the seed of
+  // the next one's search (bow_seeded: found), and per node the smallest axis ratio whose search
+  // failed (2 if none did): there the section's angle stands.
+  std::vector<scatter::SpheroidBow> bow_seed;
+  std::vector<char> bow_seeded;
+  std::vector<double> bow_fallback_q;
 };
 
 // This wavelength's nodes: radius and width in ln a (each an inverse of the grid's cumulative
@@ -907,21 +914,39 @@ std::vector<Orientation> drop_orientations(const LeeSpec& spec) {
   return o;
 }
 
+// Below this axis ratio a note warns of the rays beyond the fold near the feet (compute_lee_table).
+constexpr double kUmbilicNoteAxisRatio = 0.78;
+
 // One non-spherical drop (equal-volume radius radius_um, size parameter x): the plane-section Airy
-// bow of each orientation, weighted; T = i / (pi x^2) per the equal-volume sphere's cross-section.
-// A section without a bow of this order adds nothing.
+// bow of each orientation, moved to the bow's angle by exact 3-D ray optics (scatter::spheroid_bow:
+// the section's rays stay in the plane, the real ones do not), weighted; T = i / (pi x^2) per the
+// equal-volume sphere's cross-section. The profile's width, Fresnel weights and normalisation stay
+// the section's. A section without a bow of this order adds nothing. seeds / seeded: this node's
+// edges at the last wavelength (one per orientation), updated; where the 3-D search fails the
+// section's angle is kept and *fallback_q lowered to the drop's axis ratio.
 // With `out_q`, Q as well: each orientation's intensity times its degree of polarisation
 // (w_perpendicular - w_parallel) / (w_perpendicular + w_parallel), the section's two weights.
 void section_bow(const LeeSpec& spec, const std::vector<Orientation>& orientations, scatter::Complex m, double x,
-                 double radius_um, const std::vector<double>& theta, double norm, double* out, double* out_q) {
+                 double radius_um, const std::vector<double>& theta, double norm, double* out, double* out_q,
+                 scatter::SpheroidBow* seeds, char* seeded, double* fallback_q) {
   const double q = drop_axis_ratio(spec.shape, radius_um);
   const double e = deg_to_rad(spec.sun_elevation_deg), psi = deg_to_rad(spec.position_deg);
   std::fill(out, out + theta.size(), 0.0);
   if (out_q) std::fill(out_q, out_q + theta.size(), 0.0);
-  for (const auto& o : orientations) {
+  for (std::size_t k = 0; k < orientations.size(); ++k) {
+    const Orientation& o = orientations[k];
     const auto bow = scatter::section_rainbow(m.real(), spec.theory.p, scatter::spheroid_section(q, o.axis, e, psi));
     if (!bow) continue;
-    const scatter::SectionAiry a = scatter::section_airy(*bow, x, m.imag());
+    scatter::SectionAiry a = scatter::section_airy(*bow, x, m.imag());
+    const auto edge =
+        scatter::spheroid_bow(m.real(), spec.theory.p, q, o.axis, e, psi, *bow, seeded[k] ? &seeds[k] : nullptr);
+    if (edge) {
+      a.theta_r = edge->scattering_angle;
+      seeds[k] = *edge;
+      seeded[k] = 1;
+    } else {
+      *fallback_q = std::min(*fallback_q, q);
+    }
     if (!out_q) {
       for (std::size_t i = 0; i < theta.size(); ++i)
         out[i] += o.weight * norm * scatter::section_airy_intensity(a, theta[i]);
@@ -986,7 +1011,9 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
           }
           case scatter::TheoryKind::Airy: {
             if (!spec.shape.spherical()) {
-              section_bow(spec, orientations, m, x, wa.node_a[j] * 1e6, sc.theta, norm, out, out_q);
+              const std::size_t O = orientations.size();
+              section_bow(spec, orientations, m, x, wa.node_a[j] * 1e6, sc.theta, norm, out, out_q,
+                          &wa.bow_seed[j * O], &wa.bow_seeded[j * O], &wa.bow_fallback_q[j]);
               break;
             }
             // Q = (|eps_1|^2 - |eps_2|^2) / 2 * amplitude^2 Ai^2: I times airy_polarisation, applied
@@ -1224,6 +1251,12 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   double total_work = 0;
   const std::vector<double> k_work = work_per_wavelength(t, pop, seq, is_wave_theory(spec.theory), total_work);
   WorkArrays wa(J, R, cols, spec.stokes, !q_is_fraction_of_i(spec));
+  if (!spec.shape.spherical()) {
+    const std::size_t O = drop_orientations(spec).size();
+    wa.bow_seed.resize(J * O);
+    wa.bow_seeded.assign(J * O, 0);
+    wa.bow_fallback_q.assign(J, 2.0);
+  }
   std::atomic<std::int64_t> terms{0}, evaluations{0};
   check_drop_index(spec, t.wavelengths_nm, *drop, *air);
 
@@ -1262,6 +1295,30 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
             : fmt::format("the table's estimated error is {:.2g}% RMS in luminance, more than {:g}%: give "
                           "{{sampling}} {:g} (the error falls about as 1 / {{sampling}})",
                           100 * *t.error.luminance_rms, 100 * kLeeErrorTolerance, need));
+  }
+  // Near the method's limit the fold is close to the hyperbolic umbilic: measured by brute-force ray
+  // tracing (tests/scatter/test_claims_section_3d.cpp), for axis ratios below 0.78 near the feet with
+  // a low sun rays entering at 70-75 degrees of incidence reach up to ~2 degrees beyond the fold.
+  if (!wa.bow_fallback_q.empty() && spec.theory.p == 2 && std::abs(spec.position_deg - 90) <= 15 &&
+      spec.sun_elevation_deg <= 10) {
+    const double flattest = drop_axis_ratio(spec.shape, largest_radius_m(spec) * 1e6);
+    if (flattest < kUmbilicNoteAxisRatio)
+      t.notes.push_back(fmt::format(
+          "drops flatter than {:g} (here down to {:.3f}) near the feet of the bow ({{position_deg}} {:g}, "
+          "{{sun_elevation_deg}} {:g}): beside the bow's fold, rays entering near the drop's rim reach up to ~2 "
+          "degrees further out (the hyperbolic umbilic is near, docs/non-spherical.md); the table has the fold's bow "
+          "only; a rounder {{shape}} avoids it",
+          kUmbilicNoteAxisRatio, flattest, spec.position_deg, spec.sun_elevation_deg));
+  }
+  if (!wa.bow_fallback_q.empty()) {
+    const auto flattest = std::min_element(wa.bow_fallback_q.begin(), wa.bow_fallback_q.end());
+    if (*flattest <= 1)
+      t.notes.push_back(fmt::format(
+          "the exact 3-D edge of the bow was not found for {} of the {} drop sizes (axis ratio down to {:.3f}, near "
+          "the limit of the plane-section method) at {{position_deg}} {:g}: their bow is the plane section's, "
+          "whose angle is off between the top and the side (docs/non-spherical.md); a rounder {{shape}} avoids it",
+          std::count_if(wa.bow_fallback_q.begin(), wa.bow_fallback_q.end(), [](double v) { return v <= 1; }), J,
+          *flattest, spec.position_deg));
   }
   t.work.evaluations = evaluations.load();
   t.work.terms = terms.load();

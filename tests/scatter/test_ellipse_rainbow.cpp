@@ -358,10 +358,11 @@ TEST(EllipseRainbowIndependent, RainbowAngleOfFlattenedDrops) {
 //     Delta rho = K (1 - Q) cos[2 (h - rho / 2)]
 // (Moebius 1910; Lock and Koennen, Appl. Opt. 56(19) G88, 2017: the shift against the ellipse's
 // orientation). At the top of the bow with the drop's axis vertical, h is the sun's elevation.
-// K is calibrated here from the independent tracer at h = 0 and Q = 0.9999, where the second-order
-// term changes it by C2 (1 - Q) / cos rho ~ 0.03 degrees (C2 below). An independent ray tracing
-// (the research behind this module) found K = -131.8 degrees at n = 1.333; the printed
-// coefficients of Moebius and Lock-Koennen were not available: K must lie within 5% of it.
+// K is measured here on the independent tracer at h = 0 and Q = 0.9999, where the second-order
+// term changes it by C2 (1 - Q) / cos rho ~ 0.03 degrees (C2 below), and held within 5% of -131.8
+// degrees at n = 1.333. First-order perturbation theory of the Descartes ray gives -131.75
+// (tests/scatter/test_claims_section_3d.cpp, MoebiusFirstOrder); the printed coefficients of
+// Moebius and Lock-Koennen were not available.
 //
 // The library's shift at Q = 0.995 is then checked against the law at h = 0..80 degrees. What is
 // left is the second-order term C2(h) (1 - Q)^2: measured, C2 = residual / (1 - Q)^2 lies between
@@ -398,7 +399,8 @@ TEST(EllipseRainbowMoebius, FirstOrderShiftOfThePrimary) {
 }
 
 // The secondary is much less sensitive: the same coefficient for p = 3 (the library's shift of
-// its radius at h = 0, Q = 0.9999, over (1 - Q) cos rho_3) is K_3 = +7.35 degrees, 17.9 times
+// its radius at h = 0, Q = 0.9999, over (1 - Q) cos rho_3) is K_3 = +7.35 degrees (+7.33 in the
+// limit Q -> 1, by perturbation theory: the one-sided slope carries the second-order term), 17.9 times
 // smaller than the primary's and of the opposite sign (the secondary's top grows). The research
 // value is "about 18 times": the window 15-21 allows its rounding.
 TEST(EllipseRainbowMoebius, SecondaryIsAboutEighteenTimesLessSensitive) {

@@ -22,7 +22,8 @@
 //
 // Approximations (docs/non-spherical.md): (1) rays stay in the section (exact when the section is a
 // plane of symmetry of the drop: the top and the feet of the bow with the drop's axis vertical;
-// elsewhere skew rays are neglected, first order in the flattening); (2) the spread of the rays out
+// elsewhere the section's rainbow angle is off at second order in the flattening, several degrees
+// below Q = 0.9: spheroid_bow.hpp finds the 3-D angle, which the Lee tables use); (2) the spread of the rays out
 // of the plane is taken from the section's rainbow ray as in a sphere (the factor b_R / sin
 // theta_R), which sets the brightness and not the angles; (3) Airy theory of a single fold, which
 // fails where the flattening makes the fold meet another caustic (the hyperbolic umbilic: Marston
