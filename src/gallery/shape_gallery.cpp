@@ -126,16 +126,16 @@ double exposure_for(const Arc& a, double level) {
 Entry bow_real_drops_figure() {
   return image_entry(
       "bow_real_drops.png", "The same rain, spherical drops and real (Beard-Chuang) drops",
-      "The upper half of the primary bow around the antisolar point (out to a bow radius of 52 degrees; the top of the bow "
-      "at the top, its sides at left and right), the sun 2 degrees up, Marshall-Palmer rain of 5 mm/h with drops "
-      "of 0.1-1.1 mm radius, Airy theory of each drop's plane section, the sun's disk; both panels at one "
-      "exposure. Left: spherical drops, the same bow all round, its supernumeraries washed out by the spread of "
-      "sizes. Right: the same drops with Beard & Chuang's flattening (axis ratio 0.999 at 0.1 mm to 0.91 at 1.1 "
-      "mm): the sides are unchanged, but towards the top the larger drops' bows move inward and spread (the "
-      "Moebius shift, about a degree per percent of flattening) so the top is dimmer and broader, and the small "
-      "drops whose Moebius shift offsets their Airy offset leave faint supernumeraries inside it: the "
-      "natural rainbow, supernumeraries at the top and none at the sides (compare the photographs in Haussmann, "
-      "Appl. Opt. 54(4), B117, 2015, and Koennen's explanation there).",
+      "The upper half of the primary bow around the antisolar point (out to a bow radius of 52 degrees; the top of the "
+      "bow at the top, its sides at left and right), the sun 2 degrees up, Marshall-Palmer rain of 5 mm/h with drops "
+      "of 0.1-1.1 mm radius, Airy theory of each drop's plane section with the bow's angle from 3-D rays through it, "
+      "the sun's disk; both panels at one exposure. Left: spherical drops, the same bow all round, its supernumeraries "
+      "washed out by the spread of sizes. Right: the same drops with Beard & Chuang's flattening (axis ratio 0.999 at "
+      "0.1 mm to 0.91 at 1.1 mm): the sides are unchanged, but towards the top the larger drops' bows move inward and "
+      "spread (the Moebius shift, about a degree per percent of flattening) so the top is dimmer and broader, and the "
+      "small drops whose Moebius shift offsets their Airy offset leave faint supernumeraries inside it: the natural "
+      "rainbow, supernumeraries at the top and none at the sides (compare the photographs in Haussmann, Appl. Opt. "
+      "54(4), B117, 2015, and Koennen's explanation there).",
       [] {
         atmos::LeeSpec s = drops(100, 1100, 48, 0);
         s.sun_elevation_deg = 2;
