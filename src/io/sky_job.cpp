@@ -96,7 +96,6 @@ SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
     rainbow = std::move(computed.rainbow);
     tables.corona = std::move(computed.corona);
     profile_error = scene::largest_error(rainbow, tables.corona);
-    if (auto note = scene::sky_profile_note(profile_error, o.sampling, Door::cli)) warner(h)(*note);
   }
   const scene::SkyCompositor comp(s, std::move(rainbow), std::move(tables.corona), env, o.environment_scale);
   const auto t0 = std::chrono::steady_clock::now();
@@ -111,6 +110,8 @@ SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
                                : scene::tone_map(radiance, comp.sun_sky().l_ref * (s.polarizer_deg ? 0.5 : 1.0)),
                            format, PngOptions{}));
   files.commit();
+  // The profiles' accuracy once the frame is written (a failure before it is the one line said).
+  if (auto note = scene::sky_profile_note(profile_error, o.sampling, Door::cli)) warner(h)(*note);
   r.settings = s;
   r.output = a.output;
   r.shape = atmos::drop_shape_name(shape);
