@@ -898,8 +898,11 @@ struct Wavelength {
 
 // Non-spherical drops: the directions of their symmetry axes and the weights, a product of
 // 3-point Gauss-Hermite rules in the two tilt components (exact for the mean of any polynomial of
-// degree 5 in the tilts; the bow's shift is smooth, near quadratic, in them); one vertical axis
-// without canting.
+// degree 5 in the tilts); one vertical axis without canting. The bow moves at first order in the
+// tilt (Moebius's shift; 0.35 degrees per degree at the top for Q = 0.9), by more than its width,
+// so this rule does not converge: canted tables were 5-50% RMS from an average over 32 x 32 to
+// 128 x 128 equal-probability orientations (tests/atmos/test_claims_canting_rule.cpp), and every
+// canted table says so in a note (compute_lee_table).
 struct Orientation {
   Vec3 axis;
   double weight;
@@ -1310,6 +1313,13 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
           "only; a rounder {{shape}} avoids it",
           kUmbilicNoteAxisRatio, flattest, spec.position_deg, spec.sun_elevation_deg));
   }
+  if (!spec.shape.spherical() && spec.canting_deg > 0)
+    t.notes.push_back(fmt::format(
+        "{{canting_deg}} {:g}: the tilts are averaged over 9 orientations (a 3 x 3 Gauss-Hermite rule), which does not "
+        "converge: the bow moves at first order in the tilt, by more than its width, and such tables were 5-50% RMS "
+        "from a converged average (docs/non-spherical.md, \"Canting\"); the table shows the bow's smearing, not its "
+        "converged values",
+        spec.canting_deg));
   if (!wa.bow_fallback_q.empty()) {
     const auto flattest = std::min_element(wa.bow_fallback_q.begin(), wa.bow_fallback_q.end());
     if (*flattest <= 1)
