@@ -20,6 +20,7 @@
 #include "hydrolux/scatter/mie.hpp"
 #include "hydrolux/scatter/size_distribution.hpp"
 #include "hydrolux/scatter/sphere.hpp"
+#include "support/water_index.hpp"
 
 namespace hydrolux {
 namespace {
@@ -27,16 +28,8 @@ namespace {
 constexpr double kPi = hydrolux::kPi<double>;
 constexpr double kDeg = kPi / 180;
 
-// Water at 20 C relative to vacuum: the Sellmeier fit of M. Daimon and A. Masumura, Appl. Opt. 46,
-// 3811 (2007), 20.0 C (coefficients as tabulated by refractiveindex.info), lambda in um.
-double water_daimon_masumura_20c(double um) {
-  const double c[8] = {5.684027565e-1, 5.101829712e-3, 1.726177391e-1, 1.821153936e-2,
-                       2.086189578e-2, 2.620722293e-2, 1.130748688e-1, 1.069792721e1};
-  const double l2 = um * um;
-  double s = 1;
-  for (int i = 0; i < 4; ++i) s += c[2 * i] * l2 / (l2 - c[2 * i + 1]);
-  return std::sqrt(s);
-}
+// Water at 20 C relative to vacuum: Daimon and Masumura's fit (support/water_index.hpp).
+using test_support::water_daimon_masumura_20c;
 // Standard air near 380-550 nm: n - 1 = 2.8e-4 (Ciddor, Appl. Opt. 35, 1566, 1996: 2.83e-4 at
 // 380 nm, 2.78e-4 at 550 nm); its effect on what follows is below 1e-4 of the result.
 constexpr double kAirMinusOne = 2.8e-4;

@@ -22,6 +22,7 @@
 #include "hydrolux/scatter/sphere.hpp"
 #include "hydrolux/scatter/theories.hpp"
 #include "support/asan.hpp"
+#include "support/water_index.hpp"
 
 namespace hydrolux {
 namespace {
@@ -167,17 +168,9 @@ TEST(LeeSamplingClaims, SunsDiskAgainstABruteForceQuadratureOverTheDisk) {
 // Rows against the supernumeraries (docs/lee.md l. 126-134)
 // ---------------------------------------------------------------------------------------------
 
-// Water at 20 C relative to vacuum: the Sellmeier fit of M. Daimon and A. Masumura, Appl. Opt. 46,
-// 3811 (2007), 20.0 C (coefficients as tabulated by refractiveindex.info), lambda in um; standard
-// air n - 1 = 2.83e-4 at 380 nm (Ciddor, Appl. Opt. 35, 1566, 1996).
-double water_daimon_masumura_20c(double um) {
-  const double c[8] = {5.684027565e-1, 5.101829712e-3, 1.726177391e-1, 1.821153936e-2,
-                       2.086189578e-2, 2.620722293e-2, 1.130748688e-1, 1.069792721e1};
-  const double l2 = um * um;
-  double s = 1;
-  for (int i = 0; i < 4; ++i) s += c[2 * i] * l2 / (l2 - c[2 * i + 1]);
-  return std::sqrt(s);
-}
+// Water: Daimon and Masumura's fit (support/water_index.hpp); standard air n - 1 = 2.83e-4 at 380 nm
+// (Ciddor, Appl. Opt. 35, 1566, 1996).
+using test_support::water_daimon_masumura_20c;
 
 // Airy's spacing of the primary's first supernumeraries, degrees: (z_3 - z_2) q^(1/3) / x^(2/3)
 // rad with z_2 = 3.248198, z_3 = 4.820099 (the maxima of Ai(-z)^2, Abramowitz & Stegun Table

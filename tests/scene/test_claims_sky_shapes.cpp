@@ -16,6 +16,7 @@
 
 #include "hydrolux/atmos/lee.hpp"
 #include "support/asan.hpp"
+#include "support/water_index.hpp"
 #include "hydrolux/scene/bow_tables.hpp"
 
 namespace hydrolux {
@@ -133,17 +134,9 @@ TEST(SkyShapeClaims, BeardChuangDropsAboveTheRadiusWhoseLargestDropReaches077Are
 // The bow of 800 um Beard-Chuang drops under a sun 5 degrees up, at its top and its side
 // ---------------------------------------------------------------------------------------------
 
-// Water at 20 C relative to vacuum: the Sellmeier fit of M. Daimon and A. Masumura, Appl. Opt. 46,
-// 3811 (2007), 20.0 C; lambda in um. Air: n - 1 = 2.78e-4 at 555 nm (Ciddor, Appl. Opt. 35, 1566,
-// 1996).
-double water_daimon_masumura_20c(double um) {
-  const double c[8] = {5.684027565e-1, 5.101829712e-3, 1.726177391e-1, 1.821153936e-2,
-                       2.086189578e-2, 2.620722293e-2, 1.130748688e-1, 1.069792721e1};
-  const double l2 = um * um;
-  double s = 1;
-  for (int i = 0; i < 4; ++i) s += c[2 * i] * l2 / (l2 - c[2 * i + 1]);
-  return std::sqrt(s);
-}
+// Water at 20 C relative to vacuum: Daimon and Masumura's fit (support/water_index.hpp). Air:
+// n - 1 = 2.78e-4 at 555 nm (Ciddor, Appl. Opt. 35, 1566, 1996).
+using test_support::water_daimon_masumura_20c;
 
 // A plane section of the drop: an ellipse with semi-axis A along the direction at angle phi from
 // the light's direction X in the scattering plane, B across it; X and Y span the plane, and the
