@@ -404,9 +404,8 @@ TEST_F(Robustness, BaseArgumentsSucceed) {
   const fs::path dir = fx_.root / "base";
   for (const auto& [command, cc] : cases) {
     // The gallery's base run is its whole render (43 figures: 55 s in Release, ~390 s under the
-    // sanitizers, measured 2026-11-28), which cli.test_cli (GalleryWritesIndexAndFigures) already runs
-    // through the CLI in the Release suite and gallery.test_gallery through the library: not a third
-    // time here. Its bad inputs still run in both suites.
+    // sanitizers, measured 2026-11-28), which gallery.test_gallery already runs through the CLI in the
+    // Release suite: not a second time here. Its bad inputs still run in both suites.
     if (command == "gallery") continue;
     fs::create_directories(dir);
     std::vector<std::string> args = words(command);
