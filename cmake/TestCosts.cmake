@@ -3,9 +3,9 @@
 # without costs ctest runs the tests in the order they were declared, which left the longest
 # (web.e2e, declared late) to finish alone at the end. Measured ones take over once ctest has run.
 set(HYDROLUX_TEST_COSTS
-  web.e2e=200 atmos.test_lee=90 cli.test_cli=90 scatter.test_phase_job=80 cli.test_robustness=70
+  web.e2e=200 atmos.test_lee=90 scatter.test_phase_job=80 cli.test_robustness=70 gallery.test_gallery=60
   python.test_batch=60 scatter.test_renderer_export=40 python.test_notebooks=37 python.test_install=23
-  python.test_bindings=21 python.test_examples=19 python.test_batch_hostile=17 gallery.test_gallery=14
+  python.test_bindings=21 python.test_examples=19 python.test_batch_hostile=17
   cli.test_safety=13 python.test_batch_inputs=13 optics.test_bsdf=11 python.test_sky=10)
 
 function(hydrolux_test_cost test)
