@@ -251,6 +251,12 @@ constexpr std::pair<LeeTableKind, std::string_view> kTableKinds[] = {
 
 }  // namespace
 
+double sampling_for_tolerance(double error, double sampling, double most) {
+  double need = sampling;
+  while (need < most && error * sampling / need > kLeeErrorTolerance) need *= 2;
+  return std::min(need, most);
+}
+
 std::string_view table_kind_name(LeeTableKind k) {
   for (const auto& [kind, name] : kTableKinds)
     if (kind == k) return name;
@@ -1287,8 +1293,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   for (const auto& w : weight) all_weight_y += w.Y;
   t.error = half_sum_error(cells, wa, t, all_weight_y);
   if (t.error.luminance_rms && *t.error.luminance_rms > kLeeErrorTolerance) {
-    double need = spec.sampling;
-    while (need < 16 && *t.error.luminance_rms * spec.sampling / need > kLeeErrorTolerance) need *= 2;
+    const double need = sampling_for_tolerance(*t.error.luminance_rms, spec.sampling, lee_param("sampling").hi);
     // With the wavelengths given, sampling sets the radius grid alone.
     t.notes.push_back(
         spec.wavelengths > 0

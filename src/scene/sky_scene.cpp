@@ -102,12 +102,10 @@ void check_sky_memory(const SkySettings& s, Door door, double available) {
 
 std::optional<std::string> sky_profile_note(std::optional<double> error, double sampling, Door door) {
   if (!error || *error <= atmos::kLeeErrorTolerance) return std::nullopt;
-  double need = sampling;
-  const double most = sky_param("sampling").hi;
-  while (need < most && *error * sampling / need > atmos::kLeeErrorTolerance) need *= 2;
+  const double need = atmos::sampling_for_tolerance(*error, sampling, sky_param("sampling").hi);
   return fmt::format("the bow profiles' estimated error is {:.2g}% RMS in luminance, more than {:g}%: give {} {:g} "
                      "(the error falls about as 1 / {})",
-                     100 * *error, 100 * atmos::kLeeErrorTolerance, sky_word("sampling", door), std::min(need, most),
+                     100 * *error, 100 * atmos::kLeeErrorTolerance, sky_word("sampling", door), need,
                      sky_word("sampling", door));
 }
 

@@ -361,6 +361,18 @@ std::vector<double> direct_luminance(const atmos::LeeSpec& spec, double bin_nm, 
   return out;
 }
 
+// A table's luminance against a reference (row-major, rows x columns): relative RMS over the table.
+double rms_off(const atmos::LeeTable& t, const std::vector<double>& ref) {
+  double num = 0, den = 0;
+  for (int r = 0; r < t.rows(); ++r)
+    for (int c = 0; c < t.columns(); ++c) {
+      const double v = ref[std::size_t(r * t.columns() + c)];
+      num += (t.at(r, c).Y - v) * (t.at(r, c).Y - v);
+      den += v * v;
+    }
+  return std::sqrt(num / den);
+}
+
 // docs/lee.md l. 204-208 and 222-226: `--sampling` multiplies every rate; the table converges to
 // the integrals it stands for, within the 1% at sampling 1; its stated error (half its even
 // and odd wavelengths' difference) follows the error. Reference: direct_luminance above, a
@@ -390,14 +402,7 @@ TEST(LeeSamplingClaims, TableAndItsStatedErrorAgainstADirectQuadrature) {
   for (const double sampling : {0.25, 0.5, 1.0, 2.0}) {
     s.sampling = sampling;
     const atmos::LeeTable t = atmos::compute_lee_table(s);
-    double num = 0, den = 0;
-    for (int r = 0; r < t.rows(); ++r)
-      for (int c = 0; c < t.columns(); ++c) {
-        const double v = ref[std::size_t(r * t.columns() + c)];
-        num += (t.at(r, c).Y - v) * (t.at(r, c).Y - v);
-        den += v * v;
-      }
-    const double error = std::sqrt(num / den);
+    const double error = rms_off(t, ref);
     ASSERT_TRUE(t.error.luminance_rms);
     const double stated = *t.error.luminance_rms;
     std::printf("sampling %g: %.3f%% off the direct quadrature, stated %.3f%% (%.2f times)\n", sampling, 100 * error,
@@ -422,15 +427,9 @@ TEST(LeeSamplingClaims, TableAndItsStatedErrorAgainstADirectQuadrature) {
   ASSERT_GT(named, 0.25);
   s.sampling = named;
   const atmos::LeeTable t = atmos::compute_lee_table(s);
-  double num = 0, den = 0;
-  for (int r = 0; r < t.rows(); ++r)
-    for (int c = 0; c < t.columns(); ++c) {
-      const double v = ref[std::size_t(r * t.columns() + c)];
-      num += (t.at(r, c).Y - v) * (t.at(r, c).Y - v);
-      den += v * v;
-    }
-  std::printf("the note names sampling %g: %.3f%% off the direct quadrature\n", named, 100 * std::sqrt(num / den));
-  EXPECT_LT(std::sqrt(num / den), atmos::kLeeErrorTolerance);
+  const double off = rms_off(t, ref);
+  std::printf("the note names sampling %g: %.3f%% off the direct quadrature\n", named, 100 * off);
+  EXPECT_LT(off, atmos::kLeeErrorTolerance);
 }
 
 }  // namespace

@@ -37,21 +37,18 @@
 #include "hydrolux/scatter/mie.hpp"
 #include "hydrolux/scatter/phase_job.hpp"
 #include "support/asan.hpp"
+#include "support/size_reference.hpp"
 
 namespace hydrolux::scatter {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// Water drops at 550 nm with the Mueller elements (support/size_reference.hpp), every 5 degrees.
 PhaseJob drizzle(double mean_um, const std::string& distribution) {
-  PhaseJob job;
-  job.radius_um = mean_um;
-  job.size_distribution = distribution;
-  job.wavelength_nm = 550;
-  job.medium = optics::find_medium("water");
-  job.surrounding = optics::find_medium("air");
+  PhaseJob job = size_reference::water_drops(mean_um, distribution);
+  job.angles_deg.clear();
   for (int a = 0; a <= 180; a += 5) job.angles_deg.push_back(a);
-  job.numbers.mueller = true;
   return job;
 }
 

@@ -255,6 +255,9 @@ struct LeeError {
 // Above this estimated luminance error (relative RMS) a table says so in its notes, naming the
 // sampling that would meet it (the error falls about as 1 / sampling: docs/lee.md, "The table's error").
 inline constexpr double kLeeErrorTolerance = 0.01;
+// The sampling that would bring a table of estimated error `error` at `sampling` within
+// kLeeErrorTolerance: `sampling` doubled while error * sampling / need is above it, at most `most`.
+double sampling_for_tolerance(double error, double sampling, double most);
 
 struct LeeTable {
   LeeSpec spec;
