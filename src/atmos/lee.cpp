@@ -251,10 +251,25 @@ constexpr std::pair<LeeTableKind, std::string_view> kTableKinds[] = {
 
 }  // namespace
 
-double sampling_for_tolerance(double error, double sampling, double most) {
+double sampling_for_tolerance(double error, double sampling, double most, double order) {
   double need = sampling;
-  while (need < most && error * sampling / need > kLeeErrorTolerance) need *= 2;
+  while (need < most && error * std::pow(sampling / need, order) > kLeeErrorTolerance) need *= 2;
   return std::min(need, most);
+}
+
+std::array<Vec3, kCantingAxes> canting_axes(double canting_deg, double su, double sv) {
+  constexpr int side = 3;
+  static_assert(side * side == kCantingAxes);
+  const double sigma = deg_to_rad(canting_deg), most = deg_to_rad(89.0);
+  std::array<Vec3, kCantingAxes> axes;
+  for (int a = 0; a < side; ++a)
+    for (int b = 0; b < side; ++b) {
+      const double u = frac((a + 0.5) / side + su), v = frac((b + 0.5) / side + sv);
+      const double r = sigma * std::sqrt(-2 * std::log1p(-u)), phi = 2 * kPi<> * v;
+      const double tx = std::clamp(r * std::cos(phi), -most, most), tz = std::clamp(r * std::sin(phi), -most, most);
+      axes[std::size_t(a * side + b)] = glm::normalize(Vec3(std::tan(tx), 1, std::tan(tz)));
+    }
+  return axes;
 }
 
 std::string_view table_kind_name(LeeTableKind k) {
@@ -714,10 +729,12 @@ struct Sequences {
         disk_v0(seed_fraction(spec.seed, 2)),
         shift0(seed_fraction(spec.seed, 3)),
         jitter0(seed_fraction(spec.seed, 4)),
+        orient_u0(seed_fraction(spec.seed, 5)),
+        orient_v0(seed_fraction(spec.seed, 6)),
         disk(spec.limb_darkening),
         sun_radius(deg_to_rad(spec.sun_disk_deg) / 2) {}
   double a1 = 1 / kPlastic, a2 = 1 / (kPlastic * kPlastic);
-  double disk_u0, disk_v0, shift0, jitter0;
+  double disk_u0, disk_v0, shift0, jitter0, orient_u0, orient_v0;
   SunDiskSampler disk;
   double sun_radius;  // radians
   // (cos rho, sin rho cos phi) of the n-th point of the disk.
@@ -730,7 +747,20 @@ struct Sequences {
   double shift(int k) const { return frac(shift0 + k * kGolden); }
   // The jitter of the n-th evaluation's first cell.
   double jitter(double n) const { return frac(jitter0 + n * kGolden); }
+  // The shift of the n-th evaluation's canting orientations (drop_orientations).
+  std::array<double, 2> orientation_shift(double n) const {
+    return {frac(orient_u0 + n * a1), frac(orient_v0 + n * a2)};
+  }
 };
+
+}  // namespace
+
+std::array<Vec3, kCantingAxes> evaluation_canting_axes(const LeeSpec& spec, double n) {
+  const auto shift = Sequences(spec).orientation_shift(n);
+  return canting_axes(spec.canting_deg, shift[0], shift[1]);
+}
+
+namespace {
 
 // The cells of the angle axis and the disk's kernel from cells to rows (AngleCells).
 AngleCells make_angle_cells(const LeeSpec& spec, const LeeTable& t, const std::vector<double>& sin_angle,
@@ -902,25 +932,31 @@ struct Wavelength {
   double wavenumber = 0;    // 2 pi n_air / lambda, m^-1
 };
 
-// Non-spherical drops: the directions of their symmetry axes and the weights, a product of
-// 3-point Gauss-Hermite rules in the two tilt components (exact for the mean of any polynomial of
-// degree 5 in the tilts); one vertical axis without canting. The bow moves at first order in the
-// tilt (Moebius's shift; 0.35 degrees per degree at the top for Q = 0.9), by more than its width,
-// so this rule does not converge: canted tables were 5-50% RMS from an average over 32 x 32 to
-// 128 x 128 equal-probability orientations (tests/atmos/test_claims_canting_rule.cpp), and every
-// canted table says so in a note (compute_lee_table).
+// Non-spherical drops: the directions of their symmetry axes and the weights. Without canting, one
+// vertical axis. With canting, the kCantingAxes axes of canting_axes for each evaluation n (one node
+// at one wavelength), equal weights, shifted by the n-th point of a 2-D low-discrepancy sequence
+// (Cranley-Patterson rotation), so that each evaluation's nine are balanced and every evaluation has
+// its own. A table's columns average
+// their nodes over all wavelengths, so each pixel sees nodes x wavelengths x 9 orientations, and the
+// table's error estimate (its even- and odd-numbered wavelengths as two tables) includes the
+// orientations' sampling, whose share falls about as 1 / sqrt(sampling). A fixed product rule cannot do this: the bow moves at first order in the tilt
+// (Moebius's shift; 0.35 degrees per degree at the top for Q = 0.9), by more than its width, and the
+// 3 x 3 Gauss-Hermite rule hydrolux had was 5-87% RMS off (tests/atmos/test_claims_canting_rule.cpp).
 struct Orientation {
   Vec3 axis;
   double weight;
 };
-std::vector<Orientation> drop_orientations(const LeeSpec& spec) {
-  if (spec.shape.spherical() || spec.canting_deg == 0) return {{Vec3(0, 1, 0), 1.0}};
-  const double s = deg_to_rad(spec.canting_deg) * std::sqrt(3.0);
-  const std::array<std::pair<double, double>, 3> rule{{{-s, 1.0 / 6}, {0.0, 2.0 / 3}, {s, 1.0 / 6}}};
-  std::vector<Orientation> o;
-  for (const auto& [tx, wx] : rule)
-    for (const auto& [tz, wz] : rule) o.push_back({glm::normalize(Vec3(std::tan(tx), 1, std::tan(tz))), wx * wz});
-  return o;
+std::size_t orientation_count(const LeeSpec& spec) {
+  return spec.shape.spherical() || spec.canting_deg == 0 ? 1 : std::size_t(kCantingAxes);
+}
+// The axes for the evaluation whose sequence shift is (su, sv) (Sequences::orientation_shift).
+void drop_orientations(const LeeSpec& spec, double su, double sv, std::vector<Orientation>& o) {
+  o.clear();
+  if (orientation_count(spec) == 1) {
+    o.push_back({Vec3(0, 1, 0), 1.0});
+    return;
+  }
+  for (const Vec3& axis : canting_axes(spec.canting_deg, su, sv)) o.push_back({axis, 1.0 / kCantingAxes});
 }
 
 // Below this axis ratio a note warns of the rays beyond the fold near the feet (compute_lee_table).
@@ -981,10 +1017,10 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
   const bool wants_mu = is_wave_theory(spec.theory);
   const int k = wl.k, K = wl.K;
   const scatter::Complex m = wl.m;
-  const std::vector<Orientation> orientations = drop_orientations(spec);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, J, 1), [&](const tbb::blocked_range<std::size_t>& range) {
       thread_local Scratch sc;
+      thread_local std::vector<Orientation> orientations;
       sc.resize(R);
       for (std::size_t j = range.begin(); j != range.end(); ++j) {
         double* out = &wa.node_values[j * R];
@@ -1020,7 +1056,11 @@ void scatter_nodes(const LeeSpec& spec, const LeeTable& t, const std::vector<dou
           }
           case scatter::TheoryKind::Airy: {
             if (!spec.shape.spherical()) {
-              const std::size_t O = orientations.size();
+              const std::size_t O = orientation_count(spec);
+              const auto shift = seq.orientation_shift(n);
+              drop_orientations(spec, shift[0], shift[1], orientations);
+              // Each evaluation has its own orientations: an edge found for another axis is no seed.
+              if (O > 1) std::fill_n(&wa.bow_seeded[j * O], O, char(0));
               section_bow(spec, orientations, m, x, wa.node_a[j] * 1e6, sc.theta, norm, out, out_q,
                           &wa.bow_seed[j * O], &wa.bow_seeded[j * O], &wa.bow_fallback_q[j]);
               break;
@@ -1261,7 +1301,7 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   const std::vector<double> k_work = work_per_wavelength(t, pop, seq, is_wave_theory(spec.theory), total_work);
   WorkArrays wa(J, R, cols, spec.stokes, !q_is_fraction_of_i(spec));
   if (!spec.shape.spherical()) {
-    const std::size_t O = drop_orientations(spec).size();
+    const std::size_t O = orientation_count(spec);
     wa.bow_seed.resize(J * O);
     wa.bow_seeded.assign(J * O, 0);
     wa.bow_fallback_q.assign(J, 2.0);
@@ -1293,7 +1333,11 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   for (const auto& w : weight) all_weight_y += w.Y;
   t.error = half_sum_error(cells, wa, t, all_weight_y);
   if (t.error.luminance_rms && *t.error.luminance_rms > kLeeErrorTolerance) {
-    const double need = sampling_for_tolerance(*t.error.luminance_rms, spec.sampling, lee_param("sampling").hi);
+    // Canted tables' orientations are drawn at random per evaluation: their share of the error falls
+    // about as 1 / sqrt(sampling) (tests/atmos/test_claims_canting_rule.cpp).
+    const bool canted = orientation_count(spec) > 1;
+    const double most = lee_param("sampling").hi;
+    const double need = sampling_for_tolerance(*t.error.luminance_rms, spec.sampling, most, canted ? 0.5 : 1.0);
     // With the wavelengths given, sampling sets the radius grid alone.
     t.notes.push_back(
         spec.wavelengths > 0
@@ -1301,8 +1345,10 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
                           "{{wavelengths}} than {} or a larger {{sampling}}",
                           100 * *t.error.luminance_rms, 100 * kLeeErrorTolerance, spec.wavelengths)
             : fmt::format("the table's estimated error is {:.2g}% RMS in luminance, more than {:g}%: give "
-                          "{{sampling}} {:g} (the error falls about as 1 / {{sampling}})",
-                          100 * *t.error.luminance_rms, 100 * kLeeErrorTolerance, need));
+                          "{{sampling}} {:g}{} (the error falls about as {})",
+                          100 * *t.error.luminance_rms, 100 * kLeeErrorTolerance, need,
+                          need >= most && spec.sampling < most ? ", the most" : "",
+                          canted ? "1 / sqrt({sampling}) with {canting_deg}" : "1 / {sampling}"));
   }
   // Near the method's limit the fold is close to the hyperbolic umbilic: measured by brute-force ray
   // tracing (tests/scatter/test_claims_section_3d.cpp), for axis ratios below 0.78 near the feet with
@@ -1318,13 +1364,11 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
           "only; a rounder {{shape}} avoids it",
           kUmbilicNoteAxisRatio, flattest, spec.position_deg, spec.sun_elevation_deg));
   }
-  if (!spec.shape.spherical() && spec.canting_deg > 0)
+  if (orientation_count(spec) > 1 && !t.error.luminance_rms)
     t.notes.push_back(fmt::format(
-        "{{canting_deg}} {:g}: the tilts are averaged over 9 orientations (a 3 x 3 Gauss-Hermite rule), which does not "
-        "converge: the bow moves at first order in the tilt, by more than its width, and such tables were 5-50% RMS "
-        "from a converged average (docs/non-spherical.md, \"Canting\"); the table shows the bow's smearing, not its "
-        "converged values",
-        spec.canting_deg));
+        "{{canting_deg}} {:g} with one wavelength: each evaluation averages the tilts over {} orientations of its own, "
+        "and no error estimate covers them (it needs two or more wavelengths; docs/non-spherical.md, \"Canting\")",
+        spec.canting_deg, kCantingAxes));
   if (!wa.bow_fallback_q.empty()) {
     const auto flattest = std::min_element(wa.bow_fallback_q.begin(), wa.bow_fallback_q.end());
     if (*flattest <= 1)

@@ -1,26 +1,25 @@
 // Issue 39: an integral the user does not see is converged at the default or states its error.
-// Lee tables of non-spherical drops average the bow over the drops' axis tilts (canting) with a
-// 3 x 3 Gauss-Hermite product rule (src/atmos/lee.cpp, drop_orientations: nodes 0, +-sqrt(3) sigma
-// per tilt component, weights 2/3, 1/6, 1/6; the axis of the tilt (tx, tz) is
-// normalize(tan tx, 1, tan tz)). Here that rule's error is measured on the library's own tables
-// against a much finer rule over the same per-orientation tables: the equal-probability product
-// rule of M x M points (midpoints in the normal distribution's cumulative probability, M = 32 to
-// 128), whose convergence is checked by halving M. (Gauss-Hermite rules of 15 x 15 and 21 x 21,
-// nodes computed here, were tried first and do not converge: the bow moves at first order in the
-// tilt, by more than its width, so the integrand is not a low-degree polynomial in the tilts;
-// BowMovesAtFirstOrderInTheTilt.) Result: the 3 x 3 rule is off by 5-90% RMS of the table
-// (ThreeByThreeRuleAgainstAConvergedReference and the survey, DISABLED_Survey, whose numbers
-// docs/non-spherical.md quotes).
+// Lee tables of non-spherical drops average the bow over the drops' axis tilts (canting): the tilt
+// components (tx, tz) independent normals of standard deviation sigma, the axis normalize(tan tx, 1,
+// tan tz). The library (src/atmos/lee.cpp, drop_orientations) draws nine orientations for each
+// evaluation, its own, so that the orientations are sampled with the wavelengths and radii and the
+// table's error estimate covers them. Here the library's canted table is measured against a much
+// finer rule over per-orientation tables: the equal-probability product rule of M x M points
+// (midpoints in the normal distribution's cumulative probability, M = 32 to 128), whose convergence
+// is checked by halving M. (Gauss-Hermite rules of 3 x 3 (the library's until issue 39) to 21 x 21,
+// nodes computed here, do not converge: the bow moves at first order in the tilt, by more than its
+// width, so the integrand is not a low-degree polynomial in the tilts; BowMovesAtFirstOrderInTheTilt,
+// ThreeByThreeRuleAgainstAConvergedReference and the survey, DISABLED_Survey, whose numbers
+// docs/non-spherical.md quotes.)
 //
 // One orientation's table from the library. A spheroid is symmetric about its axis, so what a drop
 // of axis A sees at sun elevation e and position angle psi depends only on the angle between A and
 // the light and on where A's projection on the sky lies relative to the bow's point: an upright
 // drop (the library's table without canting) at the elevation e' and position psi' of the same
 // geometry sees the same (upright_frame below; checked orientation by orientation through
-// scatter::spheroid_section and scatter::spheroid_bow). The library's sampling (the wavelengths,
-// the cells' jittered points, the sun's disk) does not depend on e or psi, so the canted table of
-// any rule is the weighted sum of upright tables at the rule's mapped frames; for the 3 x 3 rule
-// that sum is checked against the library's canted table, which ties the reference to the library.
+// scatter::spheroid_section and scatter::spheroid_bow). The canted table of any rule is then the
+// weighted sum of upright tables at the rule's mapped frames, each an independent table of the
+// library with its own sampling.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,6 +27,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -230,6 +230,53 @@ TEST(CantingRule, GaussHermiteNodesAndWeights) {
   }
 }
 
+// The library's sampler of canted axes (atmos::canting_axes, each evaluation's nine) against the
+// distribution it draws from: tilt components tx = atan(x / y), tz = atan(z / y) of the axis,
+// independent normals of standard deviation sigma. With shifts uniform on the unit square each axis is
+// an exact draw: one axis per random shift (the i-th shift's axis i mod 9, so that every one of the
+// nine is drawn and the draws are independent), 180,000 shifts, sigma 10 and 30 degrees. Chi-square
+// of each component in 20 bins of equal probability under the normal (written out through erfc), and
+// of the pair in 6 x 6 such bins (independence), below the 1e-6 upper quantile (Wilson-Hilferty: 64.4
+// for 19 degrees of freedom, 90.5 for 35); a sampler with tilts of 0.97 sigma moves the component's
+// statistic to 310 (measured). The clamp at 89 degrees (2.97 sigma at 30) lies inside the outermost bins.
+TEST(CantingRule, AxesAreNormalTilts) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  const auto bin = [](double t_over_sigma, int bins) {
+    const double p = 0.5 * std::erfc(-t_over_sigma / std::sqrt(2.0));
+    return std::clamp(int(p * bins), 0, bins - 1);
+  };
+  for (const double sigma_deg : {10.0, 30.0}) {
+    constexpr int kBins = 20, kJoint = 6, kShifts = 180000;
+    std::vector<double> nx(kBins), nz(kBins), nj(kJoint * kJoint);
+    double count = 0;
+    for (int i = 0; i < kShifts; ++i) {
+      const double su = uniform(rng), sv = uniform(rng);
+      {
+        const Vec3 a = atmos::canting_axes(sigma_deg, su, sv)[std::size_t(i % atmos::kCantingAxes)];
+        ASSERT_GT(a.y, 0);
+        const double tx = deg(std::atan(a.x / a.y)) / sigma_deg, tz = deg(std::atan(a.z / a.y)) / sigma_deg;
+        nx[std::size_t(bin(tx, kBins))] += 1;
+        nz[std::size_t(bin(tz, kBins))] += 1;
+        nj[std::size_t(bin(tx, kJoint) * kJoint + bin(tz, kJoint))] += 1;
+        count += 1;
+      }
+    }
+    const auto chi2 = [&](const std::vector<double>& n) {
+      const double expected = count / double(n.size());
+      double c = 0;
+      for (const double v : n) c += (v - expected) * (v - expected) / expected;
+      return c;
+    };
+    const double cx = chi2(nx), cz = chi2(nz), cj = chi2(nj);
+    RecordProperty("chi2_sigma_" + std::to_string(int(sigma_deg)),
+                   std::to_string(cx) + " " + std::to_string(cz) + " " + std::to_string(cj));
+    EXPECT_LT(cx, 64.4) << sigma_deg;
+    EXPECT_LT(cz, 64.4) << sigma_deg;
+    EXPECT_LT(cj, 90.5) << sigma_deg;
+  }
+}
+
 // The construction of one orientation's table (upright_frame): the drop of axis A at (e, psi) and
 // the upright drop at (e', psi') have the same plane section (semi-axes, and the tilt of the
 // ellipse in the plane up to a half turn) and the same bow: the section's rainbow ray and the 3-D
@@ -275,28 +322,42 @@ TEST(CantingRule, OneOrientationIsAnUprightDropInAnotherFrame) {
   RecordProperty("max_edge", buf);
 }
 
-// The same through the library's tables: its canted table (the 3 x 3 rule inside lee.cpp) is the
-// 3 x 3 rule of this file (gauss_hermite(3)) over upright tables at the mapped frames, with the
-// default sun disk and spectrum. Tolerance 3e-5 of the peak: each orientation's 3-D edge is a
-// search, started in the canted table from the last wavelength's edge and here from the sphere's,
-// so the two agree to the search's convergence, not to rounding (measured <= 7.5e-6 of the peak
-// over the survey's 72 cases, each with a point sun at 550 nm and with the default sun and spectrum,
-// largest at 30 degrees of canting; 2e-6 here). Nodes at +-sigma instead of +-sqrt(3) sigma differ
-// by several percent (asserted > 1%).
-TEST(CantingRule, LibraryTableIsTheThreeByThreeRuleOverUprightTables) {
-  const Rule r3 = gauss_hermite(3);
-  Rule wrong = r3;
-  for (double& t : wrong.node) t /= std::sqrt(3.0);
-  for (const Case& c : {Case{"spheroid:0.9", 20, 20, 45}, Case{"beard-chuang", 10, 0, 0}}) {
-    const int rows = 49;
-    atmos::LeeSpec spec = case_spec(c, Mode::disk, rows);
+// The library's canted table against the converged reference (the equal-probability rule of
+// 64 x 64 orientations over upright tables at the mapped frames; against 32 x 32 it moves by 1.0% RMS
+// here, asserted 2%). The library draws nine orientations of its own for each evaluation (one radius
+// at one wavelength; lee.cpp, drop_orientations), so the orientations' sampling is part of the
+// table's noise, which its error estimate (even- against odd-numbered wavelengths) measures. Case:
+// spheroid:0.9 at 1 mm, canting 10 degrees, sun 20 degrees up, the side of the bow (the bow moves at
+// first order in one tilt component there), a point sun and the default spectrum (41 wavelengths).
+// Measured: 8.6% RMS from the reference with an estimate of 8.7%; at sampling 4, 3.9% with an
+// estimate of 4.0% (about as 1 / sqrt(sampling): random orientations, not a rule). The fixed 3 x 3
+// Gauss-Hermite rule the library had was 21% off in this case with the sun's disk
+// (ThreeByThreeRuleAgainstAConvergedReference). Asserted: the estimate within a factor of 3 of the
+// error at sampling 1 and 4 (issue 39), and the error at sampling 4 below two thirds of that at 1.
+TEST(CantingRule, LibraryTableIsWithinItsStatedErrorOfAConvergedReference) {
+  if (HYDROLUX_TEST_ASAN) GTEST_SKIP() << "5000 tables: slow under AddressSanitizer";
+  const Case c{"spheroid:0.9", 10, 20, 90};
+  const int rows = 161;
+  const std::vector<double> ref = rule_table(c, Mode::spectrum, rows, equal_probability(64));
+  const Difference convergence = difference(rule_table(c, Mode::spectrum, rows, equal_probability(32)), ref);
+  RecordProperty("reference_convergence_rms", std::to_string(convergence.rms));
+  EXPECT_LT(convergence.rms, 0.02);
+  double error_at_1 = 0;
+  for (const double sampling : {1.0, 4.0}) {
+    atmos::LeeSpec spec = case_spec(c, Mode::spectrum, rows);
     spec.canting_deg = c.canting_deg;
-    const std::vector<double> lib = luminance(atmos::compute_lee_table(spec));
-    const std::vector<double> sum = rule_table(c, Mode::disk, rows, r3);
-    const Difference d = difference(lib, sum);
-    RecordProperty("worst_" + c.shape, std::to_string(d.worst));
-    EXPECT_LT(d.worst, 3e-5) << c.shape;
-    EXPECT_GT(difference(rule_table(c, Mode::disk, rows, wrong), sum).rms, 0.01) << c.shape;
+    spec.sampling = sampling;
+    const atmos::LeeTable lib = atmos::compute_lee_table(spec);
+    ASSERT_TRUE(lib.error.luminance_rms.has_value());
+    const double error = difference(luminance(lib), ref).rms, estimate = *lib.error.luminance_rms;
+    RecordProperty("error_at_sampling_" + std::to_string(int(sampling)), std::to_string(error));
+    RecordProperty("estimate_at_sampling_" + std::to_string(int(sampling)), std::to_string(estimate));
+    EXPECT_GT(estimate, error / 3) << "sampling " << sampling;
+    EXPECT_LT(estimate, error * 3) << "sampling " << sampling;
+    if (sampling == 1)
+      error_at_1 = error;
+    else
+      EXPECT_LT(error, error_at_1 * 2 / 3);
   }
 }
 
@@ -341,34 +402,31 @@ TEST(CantingRule, BowMovesAtFirstOrderInTheTilt) {
   EXPECT_LT(slope_09, -0.25);
 }
 
-// The 3 x 3 rule's error on a table, against the converged reference: a point sun at 550 nm (the
-// cheapest table, 0.15 ms), spheroid:0.95 at 1 mm, sun on the horizon, the side of the bow
-// (psi = 90), canting 5 degrees: the most favourable case of the survey (the bow's shift is
-// quadratic in both tilts there). The reference, the equal-probability rule of 64 x 64 points,
-// agrees with 32 x 32 to 1.0% RMS here (asserted 2%; 128 x 128 against 64 x 64: 0.3%). The
-// library's canted table differs from it by 18% RMS of the table (worst row 10% of the peak): the
-// documented error of the rule (docs/non-spherical.md), asserted between 10% and 40%. If the rule
-// in lee.cpp is refined, these bounds are to be replaced by an upper bound at its measured error.
+// Why the library no longer uses a fixed rule: the 3 x 3 Gauss-Hermite product rule (nodes 0,
+// +-sqrt(3) sigma per tilt component, weights 2/3, 1/6, 1/6; the library's rule until issue 39)
+// against the converged reference, with a point sun at 550 nm (the cheapest table, 0.15 ms),
+// spheroid:0.95 at 1 mm, sun on the horizon, the side of the bow (psi = 90), canting 5 degrees: the
+// most favourable case of the survey (the bow's shift is quadratic in both tilts there). The
+// reference, the equal-probability rule of 64 x 64 points, agrees with 32 x 32 to 1.0% RMS here
+// (asserted 2%; 128 x 128 against 64 x 64: 0.3%). The 3 x 3 rule differs from it by 18% RMS of the
+// table (worst row 10% of the peak), asserted above 10% (docs/non-spherical.md, "Canting").
 TEST(CantingRule, ThreeByThreeRuleAgainstAConvergedReference) {
   if (HYDROLUX_TEST_ASAN) GTEST_SKIP() << "5000 tables: slow under AddressSanitizer";
   const Case c{"spheroid:0.95", 5, 0, 90};
   const int rows = 161;
-  atmos::LeeSpec spec = case_spec(c, Mode::mono, rows);
-  spec.canting_deg = c.canting_deg;
-  const std::vector<double> lib = luminance(atmos::compute_lee_table(spec));
+  const std::vector<double> fixed = rule_table(c, Mode::mono, rows, gauss_hermite(3));
   const std::vector<double> ref = rule_table(c, Mode::mono, rows, equal_probability(64));
   const std::vector<double> coarse = rule_table(c, Mode::mono, rows, equal_probability(32));
-  const Difference convergence = difference(coarse, ref), rule = difference(lib, ref);
+  const Difference convergence = difference(coarse, ref), rule = difference(fixed, ref);
   RecordProperty("reference_convergence_rms", std::to_string(convergence.rms));
   RecordProperty("rule_error_rms", std::to_string(rule.rms));
   RecordProperty("rule_error_worst", std::to_string(rule.worst));
   EXPECT_LT(convergence.rms, 0.02);
   EXPECT_GT(rule.rms, 0.10);
-  EXPECT_LT(rule.rms, 0.40);
 }
 
-// The survey behind docs/non-spherical.md's paragraph on the canting rule: every case, the 3 x 3
-// rule (the library's table) against the equal-probability rule of M x M points, and M / 2 against M
+// The survey behind docs/non-spherical.md's paragraph on canting: every case, the library's canted
+// table (at CANTING_SAMPLING, default 1) and with CANTING_OTHER_RULES fixed rules against the equal-probability rule of M x M points, and M / 2 against M
 // (the reference's convergence). Slow (minutes): run with --gtest_also_run_disabled_tests
 // --gtest_filter='*Survey*'; CANTING_MODE = mono | spectrum | disk, CANTING_M (default 128),
 // CANTING_SHAPE, CANTING_CANTING, CANTING_CORNERS (positions 0 and 90 only) to restrict the cases;
@@ -392,23 +450,24 @@ TEST(CantingRule, DISABLED_Survey) {
           const int rows = 161;
           atmos::LeeSpec spec = case_spec(c, mode, rows);
           spec.canting_deg = canting;
+          if (std::getenv("CANTING_SAMPLING")) spec.sampling = std::atof(std::getenv("CANTING_SAMPLING"));
           const atmos::LeeTable lib = atmos::compute_lee_table(spec);
-          const std::vector<double> y3 = luminance(lib);
+          const std::vector<double> y_lib = luminance(lib);
           double clamped = 0;
           const std::vector<double> ref = rule_table(c, mode, rows, fine, &clamped);
           const std::vector<double> ref_half = rule_table(c, mode, rows, half);
-          const Difference rule = difference(y3, ref), conv = difference(ref_half, ref);
-          std::printf("%-8s %-13s cant %4.0f e %3.0f psi %3.0f | 3x3 rms %.4f worst %.4f | M/2 vs M=%d rms %.4f worst %.4f | "
+          const Difference rule = difference(y_lib, ref), conv = difference(ref_half, ref);
+          std::printf("%-8s %-13s cant %4.0f e %3.0f psi %3.0f | library rms %.4f worst %.4f | M/2 vs M=%d rms %.4f worst %.4f | "
                       "clamped %.1e | table err %s\n",
                       mode_name.c_str(), shape.c_str(), canting, elevation, position, rule.rms, rule.worst, m, conv.rms,
                       conv.worst, clamped,
                       lib.error.luminance_rms ? std::to_string(*lib.error.luminance_rms).c_str() : "-");
           if (std::getenv("CANTING_OTHER_RULES")) {
-            // What a replacement rule would need: Gauss-Hermite 5 x 5, 9 x 9 and equal-probability 16 x 16,
-            // 32 x 32 against the reference.
+            // Fixed rules: Gauss-Hermite 3 x 3 (the library's until issue 39), 5 x 5, 9 x 9 and
+            // equal-probability 16 x 16, 32 x 32 against the reference.
             std::printf("    other rules rms:");
             for (const auto& [name, r] : std::vector<std::pair<std::string, Rule>>{
-                     {"GH5", gauss_hermite(5)}, {"GH9", gauss_hermite(9)}, {"EP16", equal_probability(16)},
+                     {"GH3", r3}, {"GH5", gauss_hermite(5)}, {"GH9", gauss_hermite(9)}, {"EP16", equal_probability(16)},
                      {"EP32", equal_probability(32)}})
               std::printf(" %s %.4f", name.c_str(), difference(rule_table(c, mode, rows, r), ref).rms);
             std::printf("\n");

@@ -23,41 +23,8 @@ double beard_chuang_fit(double d_mm) {
          1.677e-4 * d_mm * d_mm * d_mm * d_mm;
 }
 
-// docs/non-spherical.md l. 75-77 (and l. 23): canting is averaged by a 3 x 3 product of 3-point
-// Gauss-Hermite rules in the two tilt components, exact for polynomials of degree 5. The rule of
-// src/atmos/lee.cpp (drop_orientations): nodes 0, +-sqrt(3) sigma with weights 2/3, 1/6, 1/6.
-// Reference: the moments of the normal distribution written out, E[t^k] = 0 for odd k,
-// sigma^k (k - 1)!! for even k (1, 3, 15 for k = 2, 4, 6): the product rule reproduces every
-// E[tx^i tz^j] with i, j <= 5 to rounding, and fails at degree 6 (9 sigma^6 against 15).
-// This checks the documented rule (a copy of its nodes and weights); the library's rule is internal
-// to lee.cpp and is checked against this copy through its tables (CantedTableIsTheRuleOverPlaneSections).
-TEST(ShapeClaims, CantingRuleIsExactToDegreeFive) {
-  const double sigma = 0.1;  // radians; the rule scales with it
-  const double s = sigma * std::sqrt(3.0);
-  const double node[3] = {-s, 0, s}, weight[3] = {1.0 / 6, 2.0 / 3, 1.0 / 6};
-  const auto normal_moment = [&](int k) {
-    if (k % 2) return 0.0;
-    double m = 1;
-    for (int j = k - 1; j > 0; j -= 2) m *= j;
-    return m * std::pow(sigma, k);
-  };
-  for (int i = 0; i <= 6; ++i)
-    for (int j = 0; j <= 6; ++j) {
-      double sum = 0;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) sum += weight[a] * weight[b] * std::pow(node[a], i) * std::pow(node[b], j);
-      const double exact = normal_moment(i) * normal_moment(j);
-      if (i <= 5 && j <= 5) {
-        EXPECT_NEAR(sum, exact, 1e-15) << "tx^" << i << " tz^" << j;
-      } else if (i == 6 && j == 0) {
-        EXPECT_NEAR(sum, 9 * std::pow(sigma, 6), 1e-18);
-        EXPECT_GT(std::abs(sum - exact), 1e-7);  // degree 6 is not exact
-      }
-    }
-}
-
-// The same rule inside the library: each orientation of a round drop (spheroid:1) sees the same
-// circle, so a canted table equals the upright one when the nine weights sum to 1 (1e-6: each
+// Canting in the library: each orientation of a round drop (spheroid:1) sees the same circle, so a
+// canted table equals the upright one when each evaluation's weights sum to 1 (1e-6: each
 // orientation's rainbow ray is found by a search, good to ~1e-7 here; LeeShapes.SphereLimitEqualsTheAiryTable).
 TEST(ShapeClaims, CantingWeightsOfARoundDropSumToOne) {
   atmos::LeeSpec s = atmos::profile_spec(atmos::LeeTableKind::rainbow, 500, 134, 142, 81);
@@ -74,43 +41,33 @@ TEST(ShapeClaims, CantingWeightsOfARoundDropSumToOne) {
   EXPECT_LT(worst, 1e-6 * peak);
 }
 
-// The library's rule itself, through its tables. A one-row table (point sun, one wavelength, one
-// radius, Airy theory of the plane section) holds C sum_o w_o I_o(theta) with C the same for the
-// upright and the canted drop, I_o the section bow of the drop tilted by (tx, tz): the axis
-// normalize(tan tx, 1, tan tz) (docs/non-spherical.md). So canted / upright = sum_o w_o I_o / I_0,
+// The canted table's sum over orientations, through the library's tables. A one-row table (point sun,
+// one wavelength, one radius, Airy theory of the plane section) is one evaluation (n = 0): it holds
+// C sum_o I_o(theta) / 9 with C the same for the upright and the canted drop, I_o the section bow of
+// the drop of axis o, the nine axes of that evaluation (atmos::evaluation_canting_axes; their
+// distribution is CantingRule.AxesAreNormalTilts's). So canted / upright = sum_o I_o / (9 I_0),
 // computed here from the public section functions (spheroid_section, section_rainbow, section_airy,
 // section_airy_intensity, and spheroid_bow, which moves each profile to the tilted drop's 3-D bow
-// angle: the orientations' optics, not their rule) with the 3 x 3 rule of the
-// previous test. Spheroid 0.9, 1 mm, 550 nm, canting 10 degrees, at z = 0.5, 1.5 and 3 of the
-// upright bow (canted / upright 0.47, 0.62, 0.56). Within 1e-9 relative (rounding of sums of nine
-// terms); the same sum with nodes at +-sigma (a plain mistake) differs by 11-31% (asserted: > 2%).
-TEST(ShapeClaims, CantedTableIsTheRuleOverPlaneSections) {
+// angle). Spheroid 0.9, 1 mm, 550 nm, canting 10 degrees, at z = 0.5, 1.5 and 3 of the upright
+// bow. Within 1e-9 relative (rounding of sums of nine terms); the same sum with each section's own
+// angle instead of the 3-D edge differs by more than 2% (asserted), so the table uses the edge.
+TEST(ShapeClaims, CantedTableIsTheSumOverItsOrientationsPlaneSections) {
   constexpr double kPi = 3.14159265358979323846;
   const double sigma_deg = 10, radius_um = 1000, nm = 550, q = 0.9;
   const auto water = optics::find_medium("water");
   const auto air = optics::find_medium("air");
   const scatter::SphereProblem sp = scatter::sphere_problem(radius_um, nm, *water, *air);
-  const auto bow_of = [&](double tx, double tz) {
-    const Vec3 axis = glm::normalize(Vec3(std::tan(tx), 1, std::tan(tz)));
+  const auto bow_of = [&](const Vec3& axis, bool edge_3d) {
     const auto bow = scatter::section_rainbow(sp.m.real(), 2, scatter::spheroid_section(q, axis, 0, 0));
     if (!bow) return std::optional<scatter::SectionAiry>();
     scatter::SectionAiry a = scatter::section_airy(*bow, sp.x, sp.m.imag());
-    const auto edge = scatter::spheroid_bow(sp.m.real(), 2, q, axis, 0, 0, *bow);  // the 3-D angle
-    if (edge) a.theta_r = edge->scattering_angle;
+    if (edge_3d)
+      if (const auto edge = scatter::spheroid_bow(sp.m.real(), 2, q, axis, 0, 0, *bow)) a.theta_r = edge->scattering_angle;
     return std::optional<scatter::SectionAiry>(a);
   };
-  const auto upright_bow = bow_of(0, 0);
+  const auto upright_bow = bow_of(Vec3(0, 1, 0), true);
   ASSERT_TRUE(upright_bow.has_value());
-  const auto rule_sum = [&](double node_scale, double theta) {
-    const double s = sigma_deg * kPi / 180 * node_scale;
-    const double node[3] = {-s, 0, s}, weight[3] = {1.0 / 6, 2.0 / 3, 1.0 / 6};
-    double sum = 0;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        if (const auto bow = bow_of(node[a], node[b])) sum += weight[a] * weight[b] * scatter::section_airy_intensity(*bow, theta);
-    return sum;
-  };
-  double wrong_rule_off = 0;
+  double section_angle_off = 0;
   for (const double z : {0.5, 1.5, 3.0}) {
     const double theta = upright_bow->theta_r + upright_bow->side * z / upright_bow->scale;
     const double deg = theta * 180 / kPi;
@@ -126,11 +83,16 @@ TEST(ShapeClaims, CantedTableIsTheRuleOverPlaneSections) {
     const double i0 = scatter::section_airy_intensity(*upright_bow, theta);
     ASSERT_GT(upright, 0) << z;
     ASSERT_GT(i0, 0) << z;
-    const double want = rule_sum(std::sqrt(3.0), theta) / i0;
+    double sum = 0, sum_section = 0;
+    for (const Vec3& axis : atmos::evaluation_canting_axes(spec, 0)) {
+      if (const auto bow = bow_of(axis, true)) sum += scatter::section_airy_intensity(*bow, theta);
+      if (const auto bow = bow_of(axis, false)) sum_section += scatter::section_airy_intensity(*bow, theta);
+    }
+    const double want = sum / (atmos::kCantingAxes * i0);
     EXPECT_NEAR(canted / upright, want, 1e-9 * want) << "z " << z;
-    wrong_rule_off = std::max(wrong_rule_off, std::abs(rule_sum(1.0, theta) / i0 / want - 1));
+    section_angle_off = std::max(section_angle_off, std::abs(sum_section / sum - 1));
   }
-  EXPECT_GT(wrong_rule_off, 0.02);
+  EXPECT_GT(section_angle_off, 0.02);
 }
 
 // docs/non-spherical.md l. 125-127: the primary's fold meets the hyperbolic umbilic at width /

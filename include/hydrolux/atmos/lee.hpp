@@ -41,6 +41,7 @@
 #include "hydrolux/color/cie.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/progress.hpp"
+#include "hydrolux/core/vec.hpp"
 #include "hydrolux/scatter/theories.hpp"
 
 namespace hydrolux::optics {
@@ -243,6 +244,18 @@ struct LeeWork {
   int cells = 0;                 // angles per evaluation: the rows' cells and a margin for the disk
 };
 
+// The axes of canted drops (LeeSpec::canting_deg) for one evaluation of a table (one radius node at
+// one wavelength): kCantingAxes axes of equal weight whose tilt components (tx, tz) are independent
+// normals of standard deviation canting_deg (the axis normalize(tan tx, 1, tan tz); each component
+// held within 89 degrees), by Box-Muller from a 3 x 3 stratified grid of the unit square shifted by
+// (su, sv) in [0, 1)^2. With a uniform shift each axis is an exact draw; each evaluation of a table
+// takes the next shift of a 2-D low-discrepancy sequence (docs/non-spherical.md, "Canting").
+inline constexpr int kCantingAxes = 9;
+std::array<Vec3, kCantingAxes> canting_axes(double canting_deg, double su, double sv);
+// The axes that evaluation n (n = node j * wavelengths + wavelength k) of spec's table takes, from
+// its seed: canting_axes at that evaluation's shift.
+std::array<Vec3, kCantingAxes> evaluation_canting_axes(const LeeSpec& spec, double n);
+
 // A table's estimated error, from the table itself: its wavelengths split into the even- and the
 // odd-numbered, each half a table of its own (its sum scaled to the whole's luminance weight) with its
 // own wavelengths, radius grids and cell points; half their difference estimates the whole table's
@@ -256,8 +269,9 @@ struct LeeError {
 // sampling that would meet it (the error falls about as 1 / sampling: docs/lee.md, "The table's error").
 inline constexpr double kLeeErrorTolerance = 0.01;
 // The sampling that would bring a table of estimated error `error` at `sampling` within
-// kLeeErrorTolerance: `sampling` doubled while error * sampling / need is above it, at most `most`.
-double sampling_for_tolerance(double error, double sampling, double most);
+// kLeeErrorTolerance, were the error to fall as sampling^-order: `sampling` doubled while
+// error * (sampling / need)^order is above it, at most `most`.
+double sampling_for_tolerance(double error, double sampling, double most, double order = 1);
 
 struct LeeTable {
   LeeSpec spec;
