@@ -102,7 +102,7 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
         size_spread: float = _LEE["size_spread"]["default"], wavelengths_nm: Tuple[float, float] = (380.0, 780.0),
         wavelengths: int = 0, temperature_c: Optional[float] = _LEE["temperature_c"]["default"],
         medium: str = "water", sun: str = "astm-g173-direct", color_space: str = "rec709",
-        sampling: float = _LEE["sampling"]["default"], seed: int = _LEE["seed"]["default"],
+        sampling: Optional[float] = _LEE["sampling"]["default"], seed: int = _LEE["seed"]["default"],
         threads: int = _LEE["threads"]["default"], shape: str = "sphere",
         sun_elevation_deg: float = _LEE["sun_elevation_deg"]["default"],
         position_deg: float = _LEE["position_deg"]["default"],
@@ -121,7 +121,8 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
     bow's position angle around the antisolar point: 0 top, 90 side, 180 bottom) and
     ``canting_deg`` [0, 30] (docs/non-spherical.md); ``info["drop_shape"]`` holds the shape's name
     and, for those, the three angles and ``axis_ratio`` per column. Other arguments as the CLI's
-    flags of the same names. ``stokes``: also the Stokes Q (``q_xyz``) and ``dolp`` (docs/lee.md,
+    flags of the same names (``sampling`` None: chosen, 1 and once more at up to 4 where the table's
+    estimated error is above 1%). ``stokes``: also the Stokes Q (``q_xyz``) and ``dolp`` (docs/lee.md,
     "Polarisation"). Long: the GIL is released and Ctrl-C stops it.
 
     Example:
@@ -150,7 +151,7 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
     options["temperature_c"] = _opt_real(temperature_c, "temperature_c")
     medium, sun = _text(medium, "medium", _MEDIUM), _text(sun, "sun", "a spectrum name as the CLI's --sun")
     color_space = _text(color_space, "color_space", "an RGB space as the CLI's --color-space")
-    options.update(sampling=_real(sampling, "sampling"), seed=seed, threads=threads)
+    options.update(sampling=_opt_real(sampling, "sampling"), seed=seed, threads=threads)
     # The drops' shape and the bow's point: last in the signature, so positional calls keep working.
     shape = _text(shape, "shape", "sphere, spheroid:Q or beard-chuang")
     options.update(sun_elevation_deg=_real(sun_elevation_deg, "sun_elevation_deg"),

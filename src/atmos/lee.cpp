@@ -398,7 +398,8 @@ LeeSpec make_lee_spec(const LeeRequest& r) {
   s.sun_disk_deg = r.sun_disk_deg;
   s.limb_darkening = r.limb_darkening;
   s.size_spread = r.size_spread;
-  s.sampling = r.sampling;
+  s.sampling = r.sampling.value_or(1);
+  s.sampling_most = r.sampling ? 0.0 : kAutoSamplingMost;
   s.seed = r.seed;
   s.threads = r.threads;
   s.temperature_c = r.temperature_c;
@@ -1279,8 +1280,9 @@ std::vector<std::string> lee_resolution_notes(const LeeSpec& spec) {
   return notes;
 }
 
-LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
-  validate(spec);
+namespace {
+
+LeeTable compute_lee_table_at(const LeeSpec& spec, const ProgressFn& progress) {
   LeeTable t;
   t.spec = spec;
   t.notes = lee_resolution_notes(spec);
@@ -1384,6 +1386,32 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   t.work.term_angles = t.work.terms * std::int64_t(R);
   t.work.cells = int(R);
   return t;
+}
+
+}  // namespace
+
+LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
+  validate(spec);
+  LeeTable t = compute_lee_table_at(spec, progress);
+  // Automatic sampling: once more at the sampling that would meet the tolerance (the spectrum's error
+  // falls about as 1 / sampling, canting's about as 1 / sqrt(sampling)), where it fits. With the
+  // wavelengths given, sampling sets the radius grid alone: that table keeps its note.
+  if (!(spec.sampling_most > spec.sampling) || spec.wavelengths > 0 || !t.error.luminance_rms ||
+      *t.error.luminance_rms <= kLeeErrorTolerance)
+    return t;
+  LeeSpec more = spec;
+  more.sampling = sampling_for_tolerance(*t.error.luminance_rms, spec.sampling, spec.sampling_most,
+                                         orientation_count(spec) > 1 ? 0.5 : 1.0);
+  if (!(more.sampling > spec.sampling) || estimated_bytes(more) > double(available_memory_bytes())) return t;
+  const ProgressFn second = progress ? ProgressFn([&](double f, std::string_view label) {
+    progress(f, fmt::format("sampling {:g} (the table at {:g}: {:.2g}% error): {}", more.sampling, spec.sampling,
+                            100 * *t.error.luminance_rms, label));
+  })
+                                     : ProgressFn();
+  LeeTable better = compute_lee_table_at(more, second);
+  better.first_sampling = spec.sampling;
+  better.first_error = t.error.luminance_rms;
+  return better;
 }
 
 LeeImages lee_images(const LeeTable& t, double exposure, double white) {

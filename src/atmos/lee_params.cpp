@@ -51,8 +51,9 @@ const Field<LeeRequest> kLee[] = {
       "Non-spherical drops: standard deviation of the tilt of their axes from the vertical, per component, in degrees"},
      HYDROLUX_PARAM_MEMBER(canting_deg)},
     {{"sampling", "--sampling", "sampling", K::real, "", 0.25, 16,
-      "Multiplier on every sampling rate (wavelengths, radius grid)"},
-     HYDROLUX_PARAM_MEMBER(sampling)},
+      "Multiplier on every sampling rate (wavelengths, radius grid) [automatic: 1, and once more at up to 4 where "
+      "the table's estimated error is above 1%]"},
+     HYDROLUX_PARAM_OPTIONAL(sampling)},
     {seed_param("sampling", "Seed of the sampling pattern"),
      HYDROLUX_PARAM_MEMBER(seed)},
     {threads_param("sampling", "Threads (0: every core)"), HYDROLUX_PARAM_MEMBER(threads)},

@@ -183,10 +183,13 @@ nlohmann::json lee_sidecar(const atmos::LeeTable& t, const atmos::LeeImages& im,
   j["medium"] = {{"drop", s.drop_medium}, {"surrounding", s.surrounding_medium}};
   if (s.temperature_c) j["medium"]["temperature_c"] = *s.temperature_c;
   j["sampling"] = {{"multiplier", s.sampling},
+                   {"automatic", s.sampling_most > 0},
                    {"wavelengths", t.work.wavelengths},
                    {"radius_nodes", t.work.radius_nodes},
                    {"angle_cells", t.work.cells},
                    {"seed", s.seed}};
+  if (t.first_sampling && t.first_error)
+    j["sampling"]["first_pass"] = {{"multiplier", *t.first_sampling}, {"luminance_rms", *t.first_error}};
   j["work"] = {{"evaluations", t.work.evaluations}, {"terms", t.work.terms}, {"term_angles", t.work.term_angles}};
   j["png"] = {{"tone_mapping", "Reinhard et al. 2002 photographic operator on luminance, hue kept: exposure = 0.18 / "
                                "log-average luminance; L' = L (1 + L/white^2) / (1 + L), white = 99.9th percentile "
@@ -312,8 +315,10 @@ Dataset lee_dataset(const atmos::LeeTable& t, const atmos::LeeImages& im, std::s
     a.number("sun_elevation_deg", s.sun_elevation_deg)
         .number("position_deg", s.position_deg)
         .number("canting_deg", s.canting_deg);
-  a.number("sampling", s.sampling)
-      .integer("seed", std::int64_t(s.seed))
+  a.number("sampling", s.sampling).integer("sampling_automatic", s.sampling_most > 0 ? 1 : 0);
+  if (t.first_sampling && t.first_error)
+    a.number("sampling_first_pass", *t.first_sampling).number("error_luminance_rms_first_pass", *t.first_error);
+  a.integer("seed", std::int64_t(s.seed))
       .number("display_exposure", im.exposure)
       .number("display_white", im.white)
       .integer("evaluations", std::int64_t(t.work.evaluations));

@@ -221,14 +221,21 @@ LeeJobResult run_lee_job(const LeeJob& job, atmos::LeeSpec s, const LeeJobHooks&
   r.theory = scatter::theory_name(s.theory);
   r.work = t.work;
   r.error = t.error;
+  r.sampling = t.spec.sampling;
+  r.first_sampling = t.first_sampling;
+  r.first_error = t.first_error;
   return r;
 }
 
 std::string lee_summary(const LeeJobResult& r) {
-  return fmt::format("lee: wrote {} ({}x{}, {}) in {:.1f} s ({} evaluations, {:.3g} terms x angles{})", r.written,
+  return fmt::format("lee: wrote {} ({}x{}, {}) in {:.1f} s ({} evaluations, {:.3g} terms x angles{}{})", r.written,
                      r.columns, r.rows, r.theory, r.seconds, r.work.evaluations, double(r.work.term_angles),
                      r.error.luminance_rms
                          ? fmt::format("; estimated error {:.2g}% RMS in luminance", 100 * *r.error.luminance_rms)
+                         : std::string(),
+                     r.first_sampling && r.first_error
+                         ? fmt::format("; at sampling {:g}, chosen because {:g} gave {:.2g}%", r.sampling,
+                                       *r.first_sampling, 100 * *r.first_error)
                          : std::string());
 }
 

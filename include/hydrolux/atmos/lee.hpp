@@ -117,6 +117,10 @@ struct LeeSpec {
   color::Illuminant sun = color::Illuminant::astm_g173_direct();
   color::RgbSpace rgb_space = color::RgbSpace::rec709;
   double sampling = 1;  // multiplies every sampling rate
+  // Automatic sampling (a request without one): where the table at `sampling` estimates its error
+  // above kLeeErrorTolerance, it is computed again at the sampling that would meet it
+  // (sampling_for_tolerance), at most sampling_most, within the memory available. 0: `sampling` as given.
+  double sampling_most = 0;
   std::uint64_t seed = 1;
   int threads = 0;  // 0: every core
   // Non-spherical drops (Airy theory of the plane section: docs/non-spherical.md). The bow's point
@@ -154,7 +158,7 @@ struct LeeRequest {
   double sun_disk_deg = kSunDiskDeg;
   bool limb_darkening = false;
   double size_spread = 0.1;
-  double sampling = 1;
+  std::optional<double> sampling;  // unset: automatic, from 1 up to kAutoSamplingMost (LeeSpec::sampling_most)
   std::uint64_t seed = 1;
   int threads = 0;
   std::optional<double> temperature_c;  // the drop medium's default when unset
@@ -268,6 +272,9 @@ struct LeeError {
 // Above this estimated luminance error (relative RMS) a table says so in its notes, naming the
 // sampling that would meet it (the error falls about as 1 / sampling: docs/lee.md, "The table's error").
 inline constexpr double kLeeErrorTolerance = 0.01;
+// The most an automatic sampling (LeeSpec::sampling_most) goes to: 4 costs up to 16 times the table at
+// 1 (more wavelengths and radius nodes alike); beyond it the table's note names the sampling to give.
+inline constexpr double kAutoSamplingMost = 4;
 // The sampling that would bring a table of estimated error `error` at `sampling` within
 // kLeeErrorTolerance, were the error to fall as sampling^-order: `sampling` doubled while
 // error * (sampling / need)^order is above it, at most `most`.
@@ -296,6 +303,9 @@ struct LeeTable {
   // lee_resolution_notes(spec), and the table's estimated error where it is above kLeeErrorTolerance
   std::vector<std::string> notes;
   LeeError error;
+  // With automatic sampling (spec.sampling_most) and a second pass: the first pass's sampling and
+  // estimated error (spec.sampling is the second's).
+  std::optional<double> first_sampling, first_error;
 
   int columns() const { return int(radius_um.size()); }
   int rows() const { return int(angle_deg.size()); }
@@ -308,7 +318,8 @@ struct LeeTable {
   color::Rgb rgb(int row, int column, bool into_gamut = true) const;
 };
 
-// Computes a table. `progress` is called after each wavelength with the fraction of the work done.
+// Computes a table. `progress` is called after each wavelength with the fraction of the work done
+// (with automatic sampling, anew for the second pass, its label naming the sampling).
 LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress = {});
 
 // What a rainbow table cannot resolve at its settings, one line each, naming the parameters that fix

@@ -53,6 +53,10 @@ struct LeeJobResult {
   double seconds = 0;   // the table's computation
   atmos::LeeWork work;  // evaluations, terms x angles
   atmos::LeeError error;  // the table's estimated error (LeeTable::error)
+  // The sampling the table was computed at; with automatic sampling and a second pass, the first's
+  // sampling and estimated error (LeeTable::first_sampling, first_error).
+  double sampling = 1;
+  std::optional<double> first_sampling, first_error;
 };
 
 // The table's spec from the job's texts and the declared values: the table, theory and shape, the
