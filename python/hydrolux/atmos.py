@@ -122,7 +122,7 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
     ``canting_deg`` [0, 30] (docs/non-spherical.md); ``info["drop_shape"]`` holds the shape's name
     and, for those, the three angles and ``axis_ratio`` per column. Other arguments as the CLI's
     flags of the same names (``sampling`` None: chosen, 1 and once more at up to 4 where the table's
-    estimated error is above 1%). ``stokes``: also the Stokes Q (``q_xyz``) and ``dolp`` (docs/lee.md,
+    estimated error is above 1%; ``info["sampling"]`` says which, with the first pass's estimate). ``stokes``: also the Stokes Q (``q_xyz``) and ``dolp`` (docs/lee.md,
     "Polarisation"). Long: the GIL is released and Ctrl-C stops it.
 
     Example:
@@ -160,7 +160,7 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
     d = _core.lee(theory, radius_um, wavelengths_nm, wavelengths, shape, medium, sun, color_space,
                   options)
     info = {k: d[k] for k in ("theory", "color_space", "exposure", "white", "evaluations", "drop_shape", "dataset",
-                              "notes", "error")}
+                              "notes", "error", "sampling")}
     info["history"] = _history(lee, arguments)
     return LeeTable(d["rgb"], d["xyz"], d["display"], d["radius_um"], d["angle_deg"], d["cos_angle"],
                     d["wavelengths_nm"], info, d.get("q_xyz"), d.get("dolp"))

@@ -107,6 +107,19 @@ py::dict lee(const std::string& theory, std::optional<std::pair<double, double>>
   error["luminance_rms"] = t.error.luminance_rms ? py::object(py::float_(*t.error.luminance_rms)) : py::object(py::none());
   if (s.stokes) error["q_rms"] = t.error.q_rms ? py::object(py::float_(*t.error.q_rms)) : py::object(py::none());
   d["error"] = error;
+  // The sampling the table was computed at, and with automatic sampling's second pass the first's
+  // sampling and estimated error (atmos::LeeTable::first_sampling, first_error), as the sidecar states them.
+  py::dict sampling;
+  sampling["multiplier"] = t.spec.sampling;
+  sampling["automatic"] = t.spec.sampling_most > 0;
+  if (t.first_sampling && t.first_error) {
+    py::dict first;
+    first["multiplier"] = *t.first_sampling, first["luminance_rms"] = *t.first_error;
+    sampling["first_pass"] = first;
+  } else {
+    sampling["first_pass"] = py::none();
+  }
+  d["sampling"] = sampling;
   d["exposure"] = im.exposure, d["white"] = im.white;
   d["evaluations"] = t.work.evaluations;
   // The drops' shape as the JSON sidecar states it (io/lee_files.cpp): its name, and for

@@ -245,6 +245,25 @@ def test_lee_stokes_matches_cli_and_leaves_intensity_alone(cli):
         h.lee(stokes=1, **kw)
 
 
+def test_lee_automatic_sampling_matches_cli(cli, tmp_path):
+    # One radius without a spread and a point sun: about 13% estimated at sampling 1, so without a
+    # sampling the table is computed once more at 4 (docs/lee.md, "Automatic sampling"), as the CLI does.
+    kw = dict(radius_um=10, size=(1, 64), size_spread=0, sun_disk_deg=0)
+    t = h.lee(**kw)
+    s = t.info["sampling"]
+    assert s["automatic"] and s["multiplier"] == 4
+    assert s["first_pass"]["multiplier"] == 1 and s["first_pass"]["luminance_rms"] > 0.01
+    assert t.info["error"]["luminance_rms"] < s["first_pass"]["luminance_rms"]
+    np.testing.assert_array_equal(t.xyz, h.lee(sampling=4, **kw).xyz)
+    given = h.lee(sampling=1, **kw).info["sampling"]
+    assert not given["automatic"] and given["multiplier"] == 1 and given["first_pass"] is None
+    out = tmp_path / "t.exr"
+    cli("lee", "--radius-um", 10, "--size", "1x64", "--size-spread", 0, "--sun-disk-deg", 0, "-o", out, "-q")
+    sidecar = json.loads((tmp_path / "t.json").read_text())
+    assert sidecar["sampling"]["multiplier"] == 4 and sidecar["sampling"]["automatic"]
+    assert sidecar["sampling"]["first_pass"] == s["first_pass"]
+
+
 def test_lee_signature_defaults_are_the_declared_ones():
     sig = inspect.signature(h.lee).parameters
     assert sig["shape"].default == "sphere"
