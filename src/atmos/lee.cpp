@@ -937,10 +937,10 @@ struct Wavelength {
 // vertical axis. With canting, the kCantingAxes axes of canting_axes for each evaluation n (one node
 // at one wavelength), equal weights, shifted by the n-th point of a 2-D low-discrepancy sequence
 // (Cranley-Patterson rotation), so that each evaluation's nine are balanced and every evaluation has
-// its own. A table's columns average
-// their nodes over all wavelengths, so each pixel sees nodes x wavelengths x 9 orientations, and the
-// table's error estimate (its even- and odd-numbered wavelengths as two tables) includes the
-// orientations' sampling, whose share falls about as 1 / sqrt(sampling). A fixed product rule cannot do this: the bow moves at first order in the tilt
+// its own. A table's columns average their nodes over all wavelengths, so each pixel sees nodes x
+// wavelengths x 9 orientations, and the table's error estimate (its even- and odd-numbered
+// wavelengths as two tables) includes the orientations' sampling, whose share falls about as
+// 1 / sqrt(sampling). A fixed product rule cannot do this: the bow moves at first order in the tilt
 // (Moebius's shift; 0.35 degrees per degree at the top for Q = 0.9), by more than its width, and the
 // 3 x 3 Gauss-Hermite rule hydrolux had was 5-87% RMS off (tests/atmos/test_claims_canting_rule.cpp).
 struct Orientation {
