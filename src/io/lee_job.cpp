@@ -204,18 +204,19 @@ LeeJobResult run_lee_job(const LeeJob& job, atmos::LeeSpec s, const LeeJobHooks&
   const auto start = std::chrono::steady_clock::now();
   const atmos::LeeTable t = atmos::compute_lee_table(s, h.progress);
   if (h.finish_progress) h.finish_progress();
-  // What only the table itself shows (its estimated error above the tolerance), once it is computed.
-  if (h.warn)
-    for (std::size_t i = before.size(); i < t.notes.size(); ++i) h.warn(t.notes[i]);
   LeeJobResult r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const atmos::LeeImages im = atmos::lee_images(t);
-  if (job.json && h.out) h.out(lee_profile_json(t).dump() + "\n");
   if (out) {
     out->write(t, im, job, h.codec);
     files.commit();
     r.written = out->describe();
   }
+  // What only the table itself shows (its estimated error above the tolerance), once it is computed
+  // and written: a failure to write stays one line.
+  if (h.warn)
+    for (std::size_t i = before.size(); i < t.notes.size(); ++i) h.warn(t.notes[i]);
+  if (job.json && h.out) h.out(lee_profile_json(t).dump() + "\n");
   r.columns = t.columns();
   r.rows = t.rows();
   r.theory = scatter::theory_name(s.theory);
