@@ -122,8 +122,9 @@ def lee(table: str = _LEE["table"]["default"], theory: str = "mie", radius_um=No
     ``canting_deg`` [0, 30] (docs/non-spherical.md); ``info["drop_shape"]`` holds the shape's name
     and, for those, the three angles and ``axis_ratio`` per column. Other arguments as the CLI's
     flags of the same names (``sampling`` None: chosen, 1 and once more at up to 4 where the table's
-    estimated error is above 1%; ``info["sampling"]`` says which, with the first pass's estimate). ``stokes``: also the Stokes Q (``q_xyz``) and ``dolp`` (docs/lee.md,
-    "Polarisation"). Long: the GIL is released and Ctrl-C stops it.
+    estimated error is above 1%; ``info["sampling"]`` says which, with the first pass's estimate).
+    ``stokes``: also the Stokes Q (``q_xyz``) and ``dolp`` (docs/lee.md, "Polarisation"). Long: the
+    GIL is released and Ctrl-C stops it.
 
     Example:
 
