@@ -29,7 +29,10 @@ class SkyResult(NamedTuple):
     bow's ``positions`` (position angles computed; 1 for spheres) and ``profile_error``, the bow
     profiles' largest estimated error (relative RMS in luminance, from their even against their odd
     wavelengths; docs/lee.md, "The table's error"), with ``notes`` saying when it is above 1% and the
-    ``sampling`` that would meet it."""
+    ``sampling`` that would meet it, and ``sampling`` as :func:`hydrolux.lee`'s ``info["sampling"]``:
+    the profiles' largest ``multiplier``, ``automatic`` (no ``sampling`` given: each profile at 1, and
+    once more at up to 4 where its estimate is above 1%) and ``first_pass`` (``multiplier`` 1 and the
+    largest ``luminance_rms`` of the profiles computed twice; None where none was)."""
     image: np.ndarray
     display: Optional[np.ndarray]
     stats: dict
@@ -49,7 +52,7 @@ def sky(size: Sequence[int] = _SIZE_DEFAULT, shape: str = "sphere", *, environme
     half-dome. A polariser (``polarizer_deg``) or the Stokes images (``stokes``) as the CLI has them.
     The same values as the CLI's EXR, float for float; a bad value raises ValueError with the CLI's
     range. Computing the tables takes seconds (about 12 s for 500 um drops at ``sampling`` 1 on two
-    cores; ``sampling`` 0.25 is 16 times faster).
+    cores; ``sampling`` 0.25 is 16 times faster; without ``sampling``, automatic as above).
 
     Example:
 

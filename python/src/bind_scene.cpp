@@ -56,11 +56,11 @@ py::dict sky(const std::string& shape_name, std::optional<py::array> environment
     Image radiance, display;
     double l_ref = 0, sun_lux = 0, optical_depth = 0;
     int positions = 1;
-    std::optional<double> profile_error;
+    scene::ProfileAccuracy accuracy;
   };
   const Frame f = run_cancellable([&](const ProgressFn& progress) {
     scene::SkyTables t = scene::compute_sky_tables(o, shape, progress);
-    const std::optional<double> profile_error = scene::largest_error(t.rainbow, t.corona);
+    const scene::ProfileAccuracy accuracy = scene::profile_accuracy(t.rainbow, t.corona);
     const scene::SkyCompositor comp(s, std::move(t.rainbow), std::move(t.corona), env, o.environment_scale);
     Frame r;
     r.radiance = comp.render(mask ? &*mask : nullptr);
@@ -71,7 +71,7 @@ py::dict sky(const std::string& shape_name, std::optional<py::array> environment
     r.sun_lux = comp.sun_sky().sun_illuminance_lux;
     r.optical_depth = comp.beta_geo_per_m() * (s.curtain_far_m - s.curtain_near_m);
     r.positions = comp.rainbow_positions();
-    r.profile_error = profile_error;
+    r.accuracy = accuracy;
     return r;
   });
   py::dict d;
@@ -83,9 +83,23 @@ py::dict sky(const std::string& shape_name, std::optional<py::array> environment
   st["optical_depth"] = f.optical_depth;
   st["shape"] = atmos::drop_shape_name(shape);
   st["positions"] = f.positions;
-  st["profile_error"] = f.profile_error ? py::object(py::float_(*f.profile_error)) : py::object(py::none());
+  const scene::ProfileAccuracy& a = f.accuracy;
+  st["profile_error"] = a.error ? py::object(py::float_(*a.error)) : py::object(py::none());
+  // As hydrolux.lee's info["sampling"]: the profiles' (largest) multiplier, whether it was chosen, and
+  // where some were computed twice, the first pass's (largest) estimate.
+  py::dict sampling;
+  sampling["multiplier"] = a.sampling;
+  sampling["automatic"] = !o.sampling.has_value();
+  if (a.first_error) {
+    py::dict first;
+    first["multiplier"] = 1.0, first["luminance_rms"] = *a.first_error;
+    sampling["first_pass"] = first;
+  } else {
+    sampling["first_pass"] = py::none();
+  }
+  st["sampling"] = sampling;
   py::list notes;
-  if (auto note = scene::sky_profile_note(f.profile_error, o.sampling, Door::python)) notes.append(*note);
+  if (auto note = scene::sky_profile_note(a.error, a.sampling, Door::python)) notes.append(*note);
   st["notes"] = notes;
   d["stats"] = st;
   return d;

@@ -69,7 +69,12 @@ def test_drop_shapes():
         assert len(frame.stats["notes"]) == 1 and "give sampling " in frame.stats["notes"][0]
     else:
         assert frame.stats["notes"] == []
+    assert frame.stats["sampling"] == {"multiplier": 0.25, "automatic": False, "first_pass": None}
     assert np.isfinite(frame.image).all() and frame.image.min() > 0
+    # Without a sampling the profiles choose theirs (1 here, under 1%: no second pass), as the CLI's do.
+    chosen = sky((8, 8), radius_um=10)
+    assert chosen.stats["sampling"] == {"multiplier": 1.0, "automatic": True, "first_pass": None}
+    assert chosen.stats["profile_error"] < 0.01 and chosen.stats["notes"] == []
     with pytest.raises(ValueError, match=r"^shape 'egg': expected sphere, spheroid:Q"):
         sky((24, 16), shape="egg", **SCENE)
     with pytest.raises(ValueError, match=r"^shape beard-chuang: .* at most 89 degrees up \(sun_elevation_deg 90;"):

@@ -86,7 +86,10 @@ ExportTables export_tables(const ExportJob& job) {
                             "[1, {}] with the corona, which --radius-um above {:g} um leaves out)",
                             size_text(job.options.size), corona.rows, kMaxCoronaRows / 2, kMaxCoronaRows / 2,
                             scene::kCoronaMaxRadiusUm));
-  rainbow.sampling = corona.sampling = o.sampling;
+  // Unset: automatic, as hydrolux lee's (each table once more at up to atmos::kAutoSamplingMost where its
+  // estimated error is above 1%).
+  rainbow.sampling = corona.sampling = o.sampling.value_or(1);
+  rainbow.sampling_most = corona.sampling_most = o.sampling ? 0.0 : atmos::kAutoSamplingMost;
   // The Stokes Q too (1.04x the time of I alone, BENCHMARKS.md): the tables' EXR gains Q.X, Q.Y, Q.Z
   // and the shaders a polariser (<name>_q.f32; the 3-D table's Q comes along, its spec derived from
   // this one).

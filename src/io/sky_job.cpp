@@ -90,12 +90,12 @@ SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
   if (a.moisture) moisture = read_decoded(h.codec, "--moisture", *a.moisture, warner(h)).image;
 
   scene::RainbowSlices rainbow(std::move(tables.rainbow));
-  std::optional<double> profile_error;
+  scene::ProfileAccuracy accuracy;
   if (!tables_given) {  // this radius's tables, computed now
     scene::SkyTables computed = scene::compute_sky_tables(o, shape, h.progress);
     rainbow = std::move(computed.rainbow);
     tables.corona = std::move(computed.corona);
-    profile_error = scene::largest_error(rainbow, tables.corona);
+    accuracy = scene::profile_accuracy(rainbow, tables.corona);
   }
   const scene::SkyCompositor comp(s, std::move(rainbow), std::move(tables.corona), env, o.environment_scale);
   const auto t0 = std::chrono::steady_clock::now();
@@ -111,7 +111,7 @@ SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
                            format, PngOptions{}));
   files.commit();
   // The profiles' accuracy once the frame is written (a failure before it is the one line said).
-  if (auto note = scene::sky_profile_note(profile_error, o.sampling, Door::cli)) warner(h)(*note);
+  if (auto note = scene::sky_profile_note(accuracy.error, accuracy.sampling, Door::cli)) warner(h)(*note);
   r.settings = s;
   r.output = a.output;
   r.shape = atmos::drop_shape_name(shape);
@@ -120,10 +120,26 @@ SkyJobResult run_sky_job(const SkyJob& a, const SkyJobHooks& h) {
   r.optical_depth = comp.beta_geo_per_m() * (s.curtain_far_m - s.curtain_near_m);
   r.sun_illuminance_lux = comp.sun_sky().sun_illuminance_lux;
   r.bake_ms = comp.bake_seconds() * 1e3;
-  r.profile_error = profile_error;
+  r.profile_error = accuracy.error;
+  r.profile_sampling = accuracy.sampling;
+  r.sampling_automatic = !tables_given && !o.sampling;
+  r.profile_first_error = accuracy.first_error;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
+
+namespace {
+
+// "sampling up to 2, chosen because 1 gave up to 1.9%", "sampling 1, chosen", "sampling 0.5": how the profiles'
+// sampling came about.
+std::string profile_sampling_text(const SkyJobResult& r) {
+  if (!r.sampling_automatic) return fmt::format("sampling {:g}", r.profile_sampling);
+  if (!r.profile_first_error) return fmt::format("sampling {:g}, chosen", r.profile_sampling);
+  return fmt::format("sampling up to {:g}, chosen because 1 gave up to {:.2g}%", r.profile_sampling,
+                     100 * *r.profile_first_error);
+}
+
+}  // namespace
 
 std::string sky_summary(const SkyJobResult& r) {
   const scene::SkySettings& s = r.settings;
@@ -137,9 +153,9 @@ std::string sky_summary(const SkyJobResult& r) {
       s.rain_rate_mmh, r.optical_depth, r.sun_illuminance_lux / 1000,
       r.shaped ? fmt::format(" {} drops: the bow at {} position angles (Airy theory);", r.shape, r.positions)
                : std::string(),
-      r.profile_error
-          ? fmt::format(" the bow profiles' estimated error {:.2g}% RMS in luminance;", 100 * *r.profile_error)
-          : std::string(),
+      r.profile_error ? fmt::format(" the bow profiles' estimated error {:.2g}% RMS in luminance ({});",
+                                    100 * *r.profile_error, profile_sampling_text(r))
+                      : std::string(),
       r.render_ms, s.mode == scene::BowMode::per_pixel ? "" : fmt::format(" (bake {:.1f} ms)", r.bake_ms), r.seconds);
 }
 

@@ -1,5 +1,6 @@
 #include "hydrolux/io/sky_report.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -106,6 +107,15 @@ nlohmann::json write_shaped_rainbow_table(OutputDirectory& dir, const std::strin
   j["position_deg"] = io::to_json(t.position_deg);
   j["sun_elevation_deg"] = t.sun_elevation_deg;
   j["drop_shape"].erase("position_deg");  // one per layer: position_deg
+  // Each layer's tables chose their own sampling (automatic sampling) and state their own error: the
+  // sidecar the largest of them, and each layer's (the larger of its two orders').
+  const auto largest = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
+  j["sampling"]["multiplier"] = largest(t.sampling_by_layer);
+  j["sampling"]["by_layer"] = io::to_json(t.sampling_by_layer);
+  j["sampling"].erase("first_pass");
+  j["error"]["luminance_rms"] = largest(t.error_by_layer);
+  j["error"]["luminance_rms_by_layer"] = io::to_json(t.error_by_layer);
+  j["error"].erase("q_rms");  // the first layer's alone
   j["layout"]["z"] =
       "position angle: layer k holds position_deg[k] (0, 10, ..., 180), the angle around the antisolar point a = "
       "-sun from the zenith side (0, the bow's top) to the nadir side (180, its bottom), the same left and right: "

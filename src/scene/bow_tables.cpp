@@ -27,9 +27,10 @@ atmos::LeeSpec bow_table_spec(atmos::LeeTableKind kind, std::optional<double> ra
   return s;
 }
 
-atmos::LeeSpec sky_profile_spec(atmos::LeeTableKind kind, double radius_um, double sampling) {
+atmos::LeeSpec sky_profile_spec(atmos::LeeTableKind kind, double radius_um, std::optional<double> sampling) {
   atmos::LeeSpec spec = bow_table_spec(kind, radius_um);
-  spec.sampling = sampling;
+  spec.sampling = sampling.value_or(1);
+  spec.sampling_most = sampling ? 0.0 : atmos::kAutoSamplingMost;
   return spec;
 }
 
@@ -39,6 +40,8 @@ BowSlice compute_bow_slice(const atmos::LeeSpec& profile, const ProgressFn& prog
   const atmos::LeeTable t = atmos::compute_lee_table(profile, progress);
   BowSlice s = slice_at_radius(bow_table(t), profile.radius_min_um);
   s.error = t.error.luminance_rms;
+  s.sampling = t.spec.sampling;
+  s.first_error = t.first_error;
   return s;
 }
 
@@ -47,6 +50,18 @@ std::optional<double> largest_error(const RainbowSlices& rainbow, const BowSlice
   for (const BowSlice& s : rainbow.by_position)
     if (s.error) e = std::max(e.value_or(0.0), *s.error);
   return e;
+}
+
+ProfileAccuracy profile_accuracy(const RainbowSlices& rainbow, const BowSlice& corona) {
+  ProfileAccuracy a;
+  a.error = largest_error(rainbow, corona);
+  const auto add = [&](const BowSlice& s) {
+    a.sampling = std::max(a.sampling, s.sampling);
+    if (s.first_error) a.first_error = std::max(a.first_error.value_or(0.0), *s.first_error);
+  };
+  add(corona);
+  for (const BowSlice& s : rainbow.by_position) add(s);
+  return a;
 }
 
 double max_shape_sun_elevation_deg() { return atmos::lee_param("sun_elevation_deg").hi; }
@@ -61,7 +76,7 @@ atmos::LeeSpec shape_table_spec(atmos::LeeSpec base, const atmos::DropShapeSpec&
   return base;
 }
 
-atmos::LeeSpec sky_shape_profile_spec(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
+atmos::LeeSpec sky_shape_profile_spec(const atmos::DropShapeSpec& shape, double radius_um, std::optional<double> sampling,
                                       double sun_elevation_deg, double position_deg, int p) {
   return shape_table_spec(sky_profile_spec(atmos::LeeTableKind::rainbow, radius_um, sampling), shape,
                           sun_elevation_deg, position_deg, p);
@@ -87,7 +102,7 @@ void check_shape_radius(const atmos::DropShapeSpec& shape, double radius_um) {
                                     : std::string("Airy theory's size parameter limit at 380 nm")));
 }
 
-RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
+RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double radius_um, std::optional<double> sampling,
                                      double sun_elevation_deg, bool secondary, const ProgressFn& progress,
                                      bool stokes) {
   std::vector<atmos::LeeSpec> specs;
@@ -110,11 +125,13 @@ RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double r
     BowSlice s = compute_bow_slice(specs[i], sub);
     if (specs[i].theory.p == 2) {
       out.by_position.push_back(std::move(s));
-    } else {  // the secondary, on the same rows: added
-      auto& v = out.by_position.back().rgb;
-      for (std::size_t j = 0; j < v.size(); ++j) v[j] += s.rgb[j];
-      auto& q = out.by_position.back().q;
-      for (std::size_t j = 0; j < q.size(); ++j) q[j] += s.q[j];
+    } else {  // the secondary, on the same rows: added; the slice states the larger error and sampling
+      BowSlice& sum = out.by_position.back();
+      for (std::size_t j = 0; j < sum.rgb.size(); ++j) sum.rgb[j] += s.rgb[j];
+      for (std::size_t j = 0; j < sum.q.size(); ++j) sum.q[j] += s.q[j];
+      if (s.error) sum.error = std::max(sum.error.value_or(0.0), *s.error);
+      sum.sampling = std::max(sum.sampling, s.sampling);
+      if (s.first_error) sum.first_error = std::max(sum.first_error.value_or(0.0), *s.first_error);
     }
   }
   return out;
@@ -158,6 +175,7 @@ ShapedRainbowTable compute_shaped_rainbow_table(const atmos::LeeSpec& rainbow, c
       };
     atmos::LeeTable t = atmos::compute_lee_table(specs[i], sub);
     const BowTable b = bow_table(t);  // the gamut-mapped RGB as float, as the compositor's slices hold it
+    const double error = t.error.luminance_rms.value_or(0.0), sampling = t.spec.sampling;
     if (i == 0) {
       out.first = std::move(t);
       out.rgb.assign(std::size_t(kShapePositions) * b.rgb.size(), 0.f);
@@ -166,6 +184,11 @@ ShapedRainbowTable compute_shaped_rainbow_table(const atmos::LeeSpec& rainbow, c
     if (specs[i].theory.p == 2) {
       layer = out.position_deg.size();
       out.position_deg.push_back(specs[i].position_deg);
+      out.error_by_layer.push_back(error);
+      out.sampling_by_layer.push_back(sampling);
+    } else {
+      out.error_by_layer[layer] = std::max(out.error_by_layer[layer], error);
+      out.sampling_by_layer[layer] = std::max(out.sampling_by_layer[layer], sampling);
     }
     // The secondary added to its position's primary, in float, as compute_shaped_rainbow does.
     float* dst = &out.rgb[layer * b.rgb.size()];

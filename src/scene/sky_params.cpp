@@ -110,9 +110,10 @@ std::span<const Field<SkyOptions>> sky_params() {
        HYDROLUX_PARAM_MEMBER(settings.stokes)},
       {{"sampling", "--sampling", "tables", K::real, "", sampling.lo, sampling.hi,
         "Sampling multiplier of the tables computed without --lut (not with --lut); the time grows as its square: "
-        "about 12 s at 1 for 500 um drops on two cores, an hour at 16",
+        "about 12 s at 1 for 500 um drops on two cores, an hour at 16 [automatic: 1, and once more at up to 4 for "
+        "each table whose estimated error is above 1%]",
         {}, {}, "lut", "sets the sampling of the tables computed without {lut}; {lut} gives the tables (omit {sampling})"},
-       HYDROLUX_PARAM_MEMBER(sampling)},
+       HYDROLUX_PARAM_OPTIONAL(sampling)},
   };
   return table;
 }
@@ -135,8 +136,9 @@ std::span<const Field<ExportOptions>> export_params() {
                    "Table size WxH: W radii, H angles of the rainbow table (the corona table has 2H) [512x1024]"),
        HYDROLUX_PARAM_OPTIONAL_PARTS(size)},
       {{"sampling", "--sampling", "tables", K::real, "", sampling.lo, sampling.hi,
-        "Multiplier on the tables' sampling rates"},
-       HYDROLUX_PARAM_MEMBER(sampling)},
+        "Multiplier on the tables' sampling rates [automatic: 1, and once more at up to 4 for each table whose "
+        "estimated error is above 1%]"},
+       HYDROLUX_PARAM_OPTIONAL(sampling)},
       {{"turbidity", "--turbidity", "sky", K::real, "", kMinTurbidity, kMaxTurbidity,
         "Turbidity of sky.json's sky and sun (Preetham)"},
        HYDROLUX_PARAM_MEMBER(turbidity)},

@@ -175,6 +175,18 @@ TEST(SkyCli, RainRateAndBlendChangeTheFrame) {
   for (std::size_t i = 0; i < wp.pixels.size(); ++i) ASSERT_GE(wp.pixels[i], dry.pixels[i] * (1 - 1e-6f));
 }
 
+// The summary says how the profiles' sampling came about: chosen without --sampling (fogbow droplets'
+// profiles state under 1% at 1, so no second pass), as given with it.
+TEST(SkyCli, SummaryStatesTheProfilesSampling) {
+  const fs::path out = hydrolux::testing::temp_dir("hydrolux_sky_sampling");
+  auto r = run("sky --size 8x8 --radius-um 10 -o " + (out / "chosen.png").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("RMS in luminance (sampling 1, chosen);"), std::string::npos) << r.err;
+  r = run("sky --size 8x8 --radius-um 10 --sampling 0.25 -o " + (out / "given.png").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("RMS in luminance (sampling 0.25);"), std::string::npos) << r.err;
+}
+
 TEST(SkyCli, TablesAreCheckedAgainstTheScene) {
   const fs::path& d = assets();
   const fs::path out = hydrolux::testing::temp_dir("hydrolux_sky_cli_bad");

@@ -302,4 +302,47 @@ TEST(SkyShapes, TheProfilesErrorIsReportedWithTheSamplingThatMeetsIt) {
       << *most;
 }
 
+// Without a sampling the sky's profiles choose theirs as hydrolux lee's tables do (atmos::compute_lee_table:
+// 1, and once more at the sampling the 1 / sampling rule names, at most 4, where the estimate is above 1%).
+// The bow's bottom (position 180) of Q = 0.9 spheroids at 200 um, the sun 25 degrees up, states 2.0% at
+// sampling 1 (measured): the profile is computed again at 2, and is then the profile computed at a given
+// sampling of 2, float for float; a given sampling is computed once. The profiles' report carries the
+// largest sampling and first-pass estimate (profile_accuracy).
+TEST(SkyShapes, ProfilesWithoutASamplingChooseOneAsLeeTablesDo) {
+  const atmos::DropShapeSpec q09 = atmos::parse_drop_shape("spheroid:0.9");
+  const atmos::LeeSpec automatic = scene::sky_shape_profile_spec(q09, 200, std::nullopt, 25, 180, 2);
+  EXPECT_EQ(automatic.sampling, 1);
+  EXPECT_EQ(automatic.sampling_most, atmos::kAutoSamplingMost);
+  const BowSlice chosen = scene::compute_bow_slice(automatic);
+  ASSERT_TRUE(chosen.error && chosen.first_error);
+  std::printf("first pass %.3g%%, second at sampling %g: %.3g%%\n", 100 * *chosen.first_error, chosen.sampling,
+              100 * *chosen.error);
+  EXPECT_GT(*chosen.first_error, atmos::kLeeErrorTolerance);
+  EXPECT_LT(*chosen.first_error, 2 * atmos::kLeeErrorTolerance);  // the rule names 2
+  EXPECT_EQ(chosen.sampling, 2);
+  EXPECT_LT(*chosen.error, *chosen.first_error / 1.5);
+
+  const atmos::LeeSpec at2 = scene::sky_shape_profile_spec(q09, 200, 2.0, 25, 180, 2);
+  EXPECT_EQ(at2.sampling_most, 0);
+  const BowSlice given = scene::compute_bow_slice(at2);
+  EXPECT_EQ(given.rgb, chosen.rgb);
+  EXPECT_EQ(given.error, chosen.error);
+  EXPECT_FALSE(given.first_error);
+  EXPECT_EQ(given.sampling, 2);
+
+  // The report: the largest sampling and first-pass estimate of the slices (a slice read from a file
+  // has sampling 0 and neither).
+  BowSlice once;
+  once.sampling = 1;
+  once.error = 0.002;
+  const std::vector<BowSlice> by_position{once, chosen, BowSlice{}};
+  const scene::ProfileAccuracy a = scene::profile_accuracy(RainbowSlices(by_position), BowSlice{});
+  EXPECT_EQ(a.sampling, 2);
+  EXPECT_EQ(a.first_error, chosen.first_error);
+  EXPECT_EQ(a.error, chosen.error);
+  const scene::ProfileAccuracy none = scene::profile_accuracy(RainbowSlices(std::vector<BowSlice>{once}), BowSlice{});
+  EXPECT_EQ(none.sampling, 1);
+  EXPECT_FALSE(none.first_error);
+}
+
 }  // namespace

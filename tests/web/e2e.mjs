@@ -233,6 +233,16 @@ async function main() {
   for (const f of ['rainbow.f32', 'rainbow.json', 'corona.f32', 'corona.json', 'rainbow_shaped.f32', 'rainbow_shaped.json',
     'sky.json', 'glsl/example.frag'])
     if (!fs.existsSync(path.join(assetsDir, f))) fail(`the assets lack ${f}`);
+  // The 3-D table's sidecar states each layer's sampling and error (each position's tables choose their
+  // own without --sampling) and the largest of them.
+  if (!args.assets && fs.existsSync(path.join(assetsDir, 'rainbow_shaped.json'))) {
+    const shaped = JSON.parse(fs.readFileSync(path.join(assetsDir, 'rainbow_shaped.json'), 'utf8'));
+    const bySampling = shaped.sampling.by_layer, byError = shaped.error.luminance_rms_by_layer;
+    if (!(bySampling.length === 19 && bySampling.every((v) => v === 0.5) && shaped.sampling.multiplier === 0.5))
+      fail(`rainbow_shaped.json: sampling ${JSON.stringify(shaped.sampling)}, expected 0.5 in each of 19 layers`);
+    if (!(byError.length === 19 && shaped.error.luminance_rms === Math.max(...byError) && byError.every((v) => v > 0)))
+      fail(`rainbow_shaped.json: error ${JSON.stringify(shaped.error)}, expected the largest of 19 layers' estimates`);
+  }
   // The real drops' profile itself: an export of REAL's one radius (its 3-D table one column of
   // 1024 rows, as hydrolux sky --shape computes it; no corona table for such drops).
   const exactDir = path.join(workDir, 'assets-real-drops');

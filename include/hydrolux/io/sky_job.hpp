@@ -49,8 +49,13 @@ struct SkyJobResult {
   double render_ms = 0, bake_ms = 0;
   double seconds = 0;            // in all
   // The bow profiles' estimated error (scene::largest_error: RMS in luminance, relative), computed
-  // profiles only (none with --lut).
+  // profiles only (none with --lut); the largest sampling they were computed at, whether it was chosen
+  // (no --sampling) and, where automatic sampling computed some twice, the largest first-pass estimate
+  // (scene::profile_accuracy).
   std::optional<double> profile_error;
+  double profile_sampling = 0;
+  bool sampling_automatic = false;
+  std::optional<double> profile_first_error;
 };
 
 // Runs the job. Error (bad input, before anything is written), IoError, IoFailure (the system failed

@@ -29,18 +29,29 @@ atmos::LeeSpec bow_table_spec(atmos::LeeTableKind kind, std::optional<double> ra
                               int rows = kBowTableRows);
 
 // The tables hydrolux sky computes for one radius without given tables: bow_table_spec's profile at
-// `radius_um` with the sampling multiplier `sampling`. Not validated.
-atmos::LeeSpec sky_profile_spec(atmos::LeeTableKind kind, double radius_um, double sampling);
+// `radius_um` with the sampling multiplier `sampling`; unset, automatic (atmos::LeeSpec::sampling_most:
+// 1, and once more at up to atmos::kAutoSamplingMost where the profile's estimated error is above 1%).
+// Not validated.
+atmos::LeeSpec sky_profile_spec(atmos::LeeTableKind kind, double radius_um, std::optional<double> sampling);
 // The largest radius those tables allow (atmos::max_radius_um of the rainbow's: Mie's size parameter
 // limit at 380 nm for the 10% spread), so that the help, the check and the work agree.
 double max_sky_radius_um();
 
 // A profile's table (one column) computed and sliced at its radius, for the compositor, with the
-// table's estimated error (BowSlice::error).
+// table's estimated error and sampling (BowSlice::error, sampling, first_error).
 BowSlice compute_bow_slice(const atmos::LeeSpec& profile, const ProgressFn& progress = {});
 // The largest estimated error (BowSlice::error) of the slices that state one: what `hydrolux sky` and
 // hydrolux.sky report of the profiles they computed.
 std::optional<double> largest_error(const RainbowSlices& rainbow, const BowSlice& corona);
+// What the profiles computed for a scene say of their accuracy: the largest estimated error
+// (largest_error), the largest sampling multiplier they were computed at, and, where automatic
+// sampling computed some a second time, the largest first-pass estimate among those.
+struct ProfileAccuracy {
+  std::optional<double> error;
+  double sampling = 0;
+  std::optional<double> first_error;
+};
+ProfileAccuracy profile_accuracy(const RainbowSlices& rainbow, const BowSlice& corona);
 
 // ---- non-spherical drops (hydrolux sky --shape; docs/sky.md, "Drop shapes") ----
 //
@@ -58,10 +69,10 @@ double max_shape_sun_elevation_deg();
 atmos::LeeSpec shape_table_spec(atmos::LeeSpec base, const atmos::DropShapeSpec& shape, double sun_elevation_deg,
                                 double position_deg, int p = 2);
 // The rainbow profile of `shape` drops at one position angle: sky_profile_spec's rainbow profile
-// (the radius, its 10% spread, the rows, `sampling`) in Airy theory of the drops' plane section,
+// (the radius, its 10% spread, the rows, `sampling`, unset for automatic) in Airy theory of the drops' plane section,
 // order `p` (2 the primary, 3 the secondary), with the sun's elevation and the position angle; the
 // drops' axes vertical (no canting). Not validated.
-atmos::LeeSpec sky_shape_profile_spec(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
+atmos::LeeSpec sky_shape_profile_spec(const atmos::DropShapeSpec& shape, double radius_um, std::optional<double> sampling,
                                       double sun_elevation_deg, double position_deg, int p = 2);
 // The largest radius those profiles allow (whole micrometres): Airy theory's size parameter limit,
 // and for beard-chuang the flattest drop of the spread keeping an axis ratio of at least
@@ -73,9 +84,11 @@ void check_shape_radius(const atmos::DropShapeSpec& shape, double radius_um);
 
 // The rainbow of `shape` drops of `radius_um` for a sun `sun_elevation_deg` up: the profiles at the
 // kShapePositions position angles, the primary (airy) and, when `secondary`, the secondary (airy:3)
-// added, each sliced at the radius. Validates each spec (atmos::validate). `progress` rises from 0
-// to 1 over all of them. `stokes`: the slices carry the Stokes Q too (for a polariser).
-RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double radius_um, double sampling,
+// added, each sliced at the radius (the slice's error and sampling the larger of the two orders').
+// `sampling` unset: automatic, per table (sky_profile_spec). Validates each spec (atmos::validate).
+// `progress` rises from 0 to 1 over all of them. `stokes`: the slices carry the Stokes Q too (for a
+// polariser).
+RainbowSlices compute_shaped_rainbow(const atmos::DropShapeSpec& shape, double radius_um, std::optional<double> sampling,
                                      double sun_elevation_deg, bool secondary, const ProgressFn& progress = {},
                                      bool stokes = false);
 
@@ -104,6 +117,9 @@ struct ShapedRainbowTable {
   std::vector<float> rgb;
   // The same of the Stokes Q (BowTable::q) when `rainbow` asked for it (LeeSpec::stokes); else empty.
   std::vector<float> q;
+  // Per layer, the larger of its two orders' estimated error (LeeTable::error's luminance_rms) and
+  // sampling multiplier: with automatic sampling each order's table at each position chooses its own.
+  std::vector<double> error_by_layer, sampling_by_layer;
   int columns() const { return first.columns(); }
   int rows() const { return first.rows(); }
   int positions() const { return int(position_deg.size()); }

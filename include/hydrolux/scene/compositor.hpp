@@ -68,6 +68,11 @@ struct BowSlice {
   // The profile's estimated error (atmos::LeeTable::error's luminance_rms) where it was computed here
   // (compute_bow_slice); unset for a slice of a table read from a file and for one wavelength.
   std::optional<double> error;
+  // Where it was computed here: the sampling multiplier its table was computed at (after automatic
+  // sampling's second pass, atmos::compute_lee_table), and, where a second pass was made, the first
+  // pass's estimate. 0 and unset for a slice read from a file.
+  double sampling = 0;
+  std::optional<double> first_error;
   bool empty() const { return rows == 0; }
   bool has_q() const { return !q.empty(); }
   // Linear between row centres on the axis; 0 outside [first, last]. `cos_theta` and `theta_deg`

@@ -20,7 +20,8 @@ namespace hydrolux::scene {
 struct SkyOptions {
   SkySettings settings;
   double environment_scale = 1;  // multiplier on an environment map's values
-  double sampling = 1;           // of the tables computed for one radius (sky_profile_spec)
+  // Of the tables computed for one radius (sky_profile_spec); unset: automatic.
+  std::optional<double> sampling;
   // The drops' shape, atmos::parse_drop_shape's names (a text, not a declared row): non-spherical
   // drops' bow is computed per position angle (bow_tables.hpp, compute_shaped_rainbow).
   std::string shape = "sphere";
@@ -30,7 +31,7 @@ struct SkyOptions {
 struct ExportOptions {
   std::optional<double> radius_um;  // one radius: one-column tables
   std::optional<std::array<int, 2>> size;  // the rainbow table's columns and rows (the corona's 2 x rows)
-  double sampling = 1;              // the tables' sampling multiplier
+  std::optional<double> sampling;   // the tables' sampling multiplier; unset: automatic (LeeSpec::sampling_most)
   double turbidity = SkySettings{}.turbidity;
   // Non-spherical drops (a text, not a declared row, as SkyOptions::shape): the position-dependent
   // rainbow table besides the spheres' (bow_tables.hpp, compute_shaped_rainbow_table), for a sun

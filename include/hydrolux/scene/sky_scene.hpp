@@ -58,7 +58,8 @@ struct SkyTables {
 SkyTables compute_sky_tables(const SkyOptions& o, const atmos::DropShapeSpec& shape, const ProgressFn& progress = {});
 // Where the profiles computed (their largest_error) are above the Lee tables' tolerance
 // (atmos::kLeeErrorTolerance), a line saying so and naming the sampling that would meet it (the error
-// falls about as 1 / sampling), the flag spelled for `door`; nothing otherwise.
+// falls about as 1 / sampling) from `sampling`, the one they were computed at (ProfileAccuracy), the
+// flag spelled for `door`; nothing otherwise.
 std::optional<std::string> sky_profile_note(std::optional<double> error, double sampling, Door door);
 
 }  // namespace hydrolux::scene
