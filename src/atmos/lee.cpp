@@ -1390,7 +1390,7 @@ LeeTable compute_lee_table_at(const LeeSpec& spec, const ProgressFn& progress) {
 
 }  // namespace
 
-LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
+LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress, std::optional<std::uint64_t> available_bytes) {
   validate(spec);
   LeeTable t = compute_lee_table_at(spec, progress);
   // Automatic sampling: once more at the sampling that would meet the tolerance (the spectrum's error
@@ -1402,7 +1402,16 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress) {
   LeeSpec more = spec;
   more.sampling = sampling_for_tolerance(*t.error.luminance_rms, spec.sampling, spec.sampling_most,
                                          orientation_count(spec) > 1 ? 0.5 : 1.0);
-  if (!(more.sampling > spec.sampling) || estimated_bytes(more) > double(available_memory_bytes())) return t;
+  if (!(more.sampling > spec.sampling)) return t;
+  // Where the second pass would not fit, the table stays as it is and says why (its note above names
+  // the sampling that would meet the tolerance).
+  const double need = estimated_bytes(more), available = double(available_bytes.value_or(available_memory_bytes()));
+  if (need > available) {
+    t.notes.push_back(fmt::format("automatic sampling did not compute it again at {{sampling}} {:g}: that needs about "
+                                  "{} of memory and {} is available",
+                                  more.sampling, format_bytes(need), format_bytes(available)));
+    return t;
+  }
   const ProgressFn second = progress ? ProgressFn([&](double f, std::string_view label) {
     progress(f, fmt::format("sampling {:g} (the table at {:g}: {:.2g}% error): {}", more.sampling, spec.sampling,
                             100 * *t.error.luminance_rms, label));

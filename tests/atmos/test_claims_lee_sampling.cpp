@@ -17,6 +17,7 @@
 
 #include "hydrolux/atmos/lee.hpp"
 #include "hydrolux/color/cie.hpp"
+#include "hydrolux/core/memory.hpp"
 #include "hydrolux/optics/media.hpp"
 #include "hydrolux/scatter/debye.hpp"
 #include "hydrolux/scatter/mie.hpp"
@@ -443,12 +444,18 @@ TEST(LeeSamplingClaims, TableAndItsStatedErrorAgainstADirectQuadrature) {
 // kept; a request for sampling 1 is computed once and keeps its note; a table within the tolerance at 1
 // (the same drop with a size spread of 0.05) is computed once; so is one whose wavelengths are
 // given (sampling then sets the radius grid alone).
-TEST(LeeAutoSampling, ASecondPassWhereTheFirstIsAboveTheTolerance) {
+// That table's request: one 10 um radius, no spread, a point sun, 256 rows, no sampling given.
+atmos::LeeRequest one_radius_point_sun() {
   atmos::LeeRequest r;
   r.radius_um = std::array<double, 2>{10, 10};
   r.size = std::array<int, 2>{1, 256};
   r.size_spread = 0;
   r.sun_disk_deg = 0;
+  return r;
+}
+
+TEST(LeeAutoSampling, ASecondPassWhereTheFirstIsAboveTheTolerance) {
+  const atmos::LeeRequest r = one_radius_point_sun();
   ASSERT_FALSE(r.sampling.has_value());
   const atmos::LeeSpec automatic = atmos::make_lee_spec(r);
   EXPECT_EQ(automatic.sampling, 1);
@@ -495,6 +502,30 @@ TEST(LeeAutoSampling, ASecondPassWhereTheFirstIsAboveTheTolerance) {
   ASSERT_TRUE(k_given.error.luminance_rms);
   EXPECT_GT(*k_given.error.luminance_rms, atmos::kLeeErrorTolerance);
   EXPECT_FALSE(k_given.first_sampling.has_value());
+}
+
+// Where the second pass would not fit in the memory available, the first pass is the table, with a
+// note saying why (the memory given to compute_lee_table as atmos::check_table_memory takes it): one byte
+// short of the second pass's estimated_bytes, no second pass; exactly enough, the second pass.
+TEST(LeeAutoSampling, NoSecondPassWhereItWouldNotFitAndTheNoteSaysWhy) {
+  const atmos::LeeSpec automatic = atmos::make_lee_spec(one_radius_point_sun());
+  atmos::LeeSpec at4 = automatic;
+  at4.sampling = atmos::kAutoSamplingMost;
+  at4.sampling_most = 0;
+  const double need = atmos::estimated_bytes(at4);
+  const atmos::LeeTable short_of = atmos::compute_lee_table(automatic, {}, std::uint64_t(need) - 1);
+  EXPECT_EQ(short_of.spec.sampling, 1);
+  EXPECT_FALSE(short_of.first_sampling.has_value());
+  ASSERT_FALSE(short_of.notes.empty());
+  const std::string& why = short_of.notes.back();
+  EXPECT_NE(why.find("automatic sampling did not compute it again at {sampling} 4: that needs about "),
+            std::string::npos)
+      << why;
+  EXPECT_NE(why.find(format_bytes(need)), std::string::npos) << why;
+  const atmos::LeeTable enough = atmos::compute_lee_table(automatic, {}, std::uint64_t(need) + 1);
+  EXPECT_EQ(enough.spec.sampling, atmos::kAutoSamplingMost);
+  EXPECT_TRUE(enough.first_sampling.has_value());
+  for (const auto& n : enough.notes) EXPECT_EQ(n.find("automatic sampling did not"), std::string::npos) << n;
 }
 
 }  // namespace

@@ -319,8 +319,11 @@ struct LeeTable {
 };
 
 // Computes a table. `progress` is called after each wavelength with the fraction of the work done
-// (with automatic sampling, anew for the second pass, its label naming the sampling).
-LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress = {});
+// (with automatic sampling, anew for the second pass, its label naming the sampling). Automatic
+// sampling's second pass is made where its estimated_bytes fit in `available` (available_memory_bytes()
+// unless given); where not, the table says so in a note.
+LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress = {},
+                           std::optional<std::uint64_t> available = std::nullopt);
 
 // What a rainbow table cannot resolve at its settings, one line each, naming the parameters that fix
 // it between braces ({size}, {angle_deg}, {theory}, {radius_um}, {size_spread}: core/error.hpp's
