@@ -151,6 +151,58 @@ TEST(ClaimsRendererMedium, ADropsIntensityRipplesInAngleDownToPiOverX) {
   EXPECT_GT(fastest / total, 0.03);
 }
 
+// Marshall-Palmer rain at 5 mm/h and 550 nm (water in air), by a rule of this file: Marshall and Palmer's
+// n(r) ~ exp(-Lambda r), Lambda = 8200 h^-0.21 m^-1 per unit radius, over 50-3000 um, summed by the
+// midpoint rule on radii dx apart in x, no smoothing, at the cosines `mu`: the number-weighted means of
+// (|S1|^2 + |S2|^2) / 2 (S11) and of k^2 C_sca (so that i / k2_csca is the phase per steradian,
+// normalised over the sphere), on every core.
+struct RainReference {
+  std::vector<double> i;
+  double k2_csca = 0;
+  std::size_t radii = 0;
+};
+RainReference rain_reference(const std::vector<double>& mu, double dx) {
+  const SphereProblem sp = sphere_problem(1.0, 550, *optics::find_medium("water"), *optics::find_medium("air"));
+  const double k = sp.x;  // per um
+  const double lambda_per_um = 8200 * std::pow(5.0, -0.21) * 1e-6;
+  const double x_lo = k * 50, x_hi = k * 3000;
+  const std::size_t n = std::size_t((x_hi - x_lo) / dx);
+  const unsigned workers = std::max(1u, std::thread::hardware_concurrency());
+  struct Sums {
+    std::vector<double> i;
+    double csca = 0, count = 0;
+  };
+  std::vector<std::future<Sums>> parts;
+  for (unsigned w = 0; w < workers; ++w)
+    parts.push_back(std::async(std::launch::async, [&, w] {
+      Sums s{std::vector<double>(mu.size(), 0.0)};
+      std::vector<Complex> s1(mu.size()), s2(mu.size());
+      MieCoefficients c;
+      for (std::size_t j = w; j < n; j += workers) {
+        const double x = x_lo + (double(j) + 0.5) * dx;
+        const double nr = std::exp(-lambda_per_um * x / k);
+        mie_coefficients(sp.m, x, c);
+        mie_amplitudes(c, mu, s1, s2, 1);
+        for (std::size_t q = 0; q < mu.size(); ++q) s.i[q] += nr * (std::norm(s1[q]) + std::norm(s2[q])) / 2;
+        s.csca += nr * mie_efficiencies(c).qsca * kPi * x * x;  // k^2 C_sca
+        s.count += nr;
+      }
+      return s;
+    }));
+  RainReference ref{std::vector<double>(mu.size(), 0.0)};
+  double count = 0;
+  for (auto& f : parts) {
+    const Sums s = f.get();
+    for (std::size_t q = 0; q < mu.size(); ++q) ref.i[q] += s.i[q];
+    ref.k2_csca += s.csca;
+    count += s.count;
+  }
+  for (double& v : ref.i) v /= count;
+  ref.k2_csca /= count;
+  ref.radii = n;
+  return ref;
+}
+
 // docs/renderer-export.md, "Rain": Marshall-Palmer rain's default table (5 mm/h at 550 nm: 64 radii, each
 // radius's intensity smoothed over angle before the size average) against a size average by a rule of
 // this file: Marshall and Palmer's n(r) ~ exp(-Lambda r), Lambda = 8200 h^-0.21 m^-1 per unit radius,
@@ -182,39 +234,7 @@ TEST(ClaimsRendererMedium, RainsDefaultTableAgainstADenseSizeAverage) {
   const double th_split = std::acos(mu_split), th_c = t.cut_deg * kPi / 180;
   for (int i = 0; i < 8; ++i) mu.push_back(std::cos(th_split + (th_c - th_split) * i / 7.0)), width.push_back(0);
 
-  // The reference: per steradian, normalised over the sphere, (|S1|^2 + |S2|^2) / 2 over k^2 C_sca.
-  const SphereProblem sp = sphere_problem(1.0, 550, *job.medium, *job.surrounding);
-  const double k = sp.x;  // per um
-  const double lambda_per_um = 8200 * std::pow(5.0, -0.21) * 1e-6, dx = 0.7;
-  const double x_lo = k * 50, x_hi = k * 3000;
-  const std::size_t n = std::size_t((x_hi - x_lo) / dx);
-  const unsigned workers = std::max(1u, std::thread::hardware_concurrency());
-  struct Sums {
-    std::vector<double> i;
-    double csca = 0;
-  };
-  std::vector<std::future<Sums>> parts;
-  for (unsigned w = 0; w < workers; ++w)
-    parts.push_back(std::async(std::launch::async, [&, w] {
-      Sums s{std::vector<double>(mu.size(), 0.0)};
-      std::vector<Complex> s1(mu.size()), s2(mu.size());
-      MieCoefficients c;
-      for (std::size_t j = w; j < n; j += workers) {
-        const double x = x_lo + (double(j) + 0.5) * dx;
-        const double nr = std::exp(-lambda_per_um * x / k);
-        mie_coefficients(sp.m, x, c);
-        mie_amplitudes(c, mu, s1, s2, 1);
-        for (std::size_t i = 0; i < mu.size(); ++i) s.i[i] += nr * (std::norm(s1[i]) + std::norm(s2[i])) / 2;
-        s.csca += nr * mie_efficiencies(c).qsca * kPi * x * x;  // k^2 C_sca
-      }
-      return s;
-    }));
-  Sums all{std::vector<double>(mu.size(), 0.0)};
-  for (auto& f : parts) {
-    const Sums s = f.get();
-    for (std::size_t i = 0; i < mu.size(); ++i) all.i[i] += s.i[i];
-    all.csca += s.csca;
-  }
+  const RainReference ref = rain_reference(mu, 0.7);
   const auto table_at = [&](double m) {  // linear in mu, as a renderer reads it
     const double u = (m + 1) / 2 * double(t.values.size() - 1);
     const std::size_t j = std::min(std::size_t(u), t.values.size() - 2);
@@ -223,7 +243,7 @@ TEST(ClaimsRendererMedium, RainsDefaultTableAgainstADenseSizeAverage) {
   double l1 = 0, mean_rel = 0, worst = 0, worst_deg = 0;
   std::vector<double> diff(mu.size());
   for (std::size_t i = 0; i < mu.size(); ++i) {
-    const double want = all.i[i] / all.csca * t.normalisation, got = table_at(mu[i]);
+    const double want = ref.i[i] / ref.k2_csca * t.normalisation, got = table_at(mu[i]);
     diff[i] = std::abs(got - want);
     const double rel = diff[i] / want;
     mean_rel += rel / double(mu.size());
@@ -234,13 +254,45 @@ TEST(ClaimsRendererMedium, RainsDefaultTableAgainstADenseSizeAverage) {
   const double stated = t.l1_error + *o.phase_size_l1;
   std::printf("rain: L1 %.4f against %zu radii (stated %.4f: table %.4f + size %.4f); relative error mean %.4f, worst "
               "%.3f at %.1f deg\n",
-              l1, n, stated, t.l1_error, *o.phase_size_l1, mean_rel, worst, worst_deg);
+              l1, ref.radii, stated, t.l1_error, *o.phase_size_l1, mean_rel, worst, worst_deg);
   EXPECT_TRUE(t.target_met);
   EXPECT_LT(l1, job.numbers.max_error);
   EXPECT_LT(l1, 0.015);
   EXPECT_GT(stated, l1 / 3);
   EXPECT_LT(stated, 3 * l1);
   EXPECT_LT(mean_rel, 0.05);
+}
+
+// docs/mie.md, "Size averages": the phase job's default size average of Marshall-Palmer rain (5 mm/h,
+// 550 nm), S11 at 16 angles from 2 to 178 degrees, against rain_reference (0.7 apart in x). Not run by
+// ctest (the job alone refines to 262,145 radii, minutes on two cores): run it by hand with
+// --gtest_also_run_disabled_tests (4.5 minutes here). Measured 2026-12-06: 262,145 radii (converged: last
+// change 1.3e-3), S11 within 1.1e-4 of the reference at every angle (worst at 178 degrees); its estimated
+// error, 2.0e-3, is 18 times that, an upper bound here (the reference moves by up to 5.6e-3 from a step
+// of 0.25 at its worst angle, so the factor is not resolved). Asserted: within the tolerance.
+TEST(ClaimsRendererMedium, DISABLED_RainsPhaseJobAgainstADenseSizeAverage) {
+  PhaseJob job;
+  job.size_distribution = "marshall-palmer:5";
+  job.wavelength_nm = 550;
+  job.medium = optics::find_medium("water");
+  job.surrounding = optics::find_medium("air");
+  job.numbers.mueller = true;
+  for (double a = 2; a <= 178; a += 11.7333333333) job.angles_deg.push_back(a);
+  std::vector<double> mu;
+  for (const double a : job.angles_deg) mu.push_back(std::cos(a * kPi / 180));
+  const PhaseResult got = run_phase_job(job);
+  const RainReference ref = rain_reference(mu, 0.7);
+  ASSERT_TRUE(got.mueller && got.error);
+  double worst = 0, worst_deg = 0;
+  for (std::size_t q = 0; q < mu.size(); ++q) {
+    const double e = std::abs(got.mueller->s11[q] / ref.i[q] - 1);
+    if (e > worst) worst = e, worst_deg = job.angles_deg[q];
+  }
+  std::printf("rain's phase job: %zu radii, last change %.3g, estimated S11 error %.3g; S11 off %.3g at worst (%.1f "
+              "deg); notes %zu\n",
+              got.radii, got.last_change.value_or(-1), got.error->s11, worst, worst_deg, got.notes.size());
+  for (const auto& note : got.notes) std::printf("  note: %s\n", note.c_str());
+  EXPECT_LT(worst, job.numbers.tolerance);
 }
 
 }  // namespace
