@@ -1412,9 +1412,12 @@ LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress, std:
                                   more.sampling, format_bytes(need), format_bytes(available)));
     return t;
   }
+  // The second pass's progress runs on from the share of the work already done (the work grows as the
+  // square of the sampling: more wavelengths and a denser radius grid alike), so that an ETA stays right.
+  const double done = 1 / (1 + (more.sampling / spec.sampling) * (more.sampling / spec.sampling));
   const ProgressFn second = progress ? ProgressFn([&](double f, std::string_view label) {
-    progress(f, fmt::format("sampling {:g} (the table at {:g}: {:.2g}% error): {}", more.sampling, spec.sampling,
-                            100 * *t.error.luminance_rms, label));
+    progress(done + (1 - done) * f, fmt::format("sampling {:g} (the table at {:g}: {:.2g}% error): {}", more.sampling,
+                                                spec.sampling, 100 * *t.error.luminance_rms, label));
   })
                                      : ProgressFn();
   LeeTable better = compute_lee_table_at(more, second);

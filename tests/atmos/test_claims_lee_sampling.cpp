@@ -12,7 +12,9 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hydrolux/atmos/lee.hpp"
@@ -460,8 +462,23 @@ TEST(LeeAutoSampling, ASecondPassWhereTheFirstIsAboveTheTolerance) {
   const atmos::LeeSpec automatic = atmos::make_lee_spec(r);
   EXPECT_EQ(automatic.sampling, 1);
   EXPECT_EQ(automatic.sampling_most, atmos::kAutoSamplingMost);
-  const atmos::LeeTable t = atmos::compute_lee_table(automatic);
+  std::vector<std::pair<double, std::string>> steps;  // the progress reported
+  const atmos::LeeTable t =
+      atmos::compute_lee_table(automatic, [&](double f, std::string_view label) { steps.emplace_back(f, label); });
   ASSERT_TRUE(t.first_sampling && t.first_error && t.error.luminance_rms);
+  // The progress: the first pass rises to 1; the second (its labels name sampling 4) runs on from the
+  // first pass's share of the work, 1 / (1 + 4^2), rising to 1.
+  const auto second = std::find_if(steps.begin(), steps.end(),
+                                   [](const auto& s) { return s.second.rfind("sampling 4 (the table at 1: ", 0) == 0; });
+  ASSERT_NE(second, steps.begin());
+  ASSERT_NE(second, steps.end());
+  EXPECT_EQ(std::prev(second)->first, 1.0);
+  EXPECT_GE(second->first, 1.0 / 17);
+  for (auto it = std::next(steps.begin()); it != steps.end(); ++it)
+    if (it != second) {
+      EXPECT_GE(it->first, std::prev(it)->first);
+    }
+  EXPECT_EQ(steps.back().first, 1.0);
   std::printf("first pass: sampling %g, %.3g%%; second: sampling %g, %.3g%%\n", *t.first_sampling,
               100 * *t.first_error, t.spec.sampling, 100 * *t.error.luminance_rms);
   EXPECT_EQ(*t.first_sampling, 1);

@@ -319,7 +319,8 @@ struct LeeTable {
 };
 
 // Computes a table. `progress` is called after each wavelength with the fraction of the work done
-// (with automatic sampling, anew for the second pass, its label naming the sampling). Automatic
+// (with automatic sampling's second pass, from the first pass's share of the work, 1 / (1 + (s2 / s1)^2),
+// to 1, its label naming the sampling). Automatic
 // sampling's second pass is made where its estimated_bytes fit in `available` (available_memory_bytes()
 // unless given); where not, the table says so in a note.
 LeeTable compute_lee_table(const LeeSpec& spec, const ProgressFn& progress = {},
