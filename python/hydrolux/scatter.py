@@ -418,8 +418,10 @@ class RendererMedium(NamedTuple):
     relative error at the worst wavelength; None for one radius), ``phase_radii`` (the radii the phase
     averages over; unless ``nodes`` is given, gamma and lognormal drops double them from 64 until the
     phase moves by at most half of ``max_error`` when they are doubled again), ``phase_radii_chosen``
-    (so chosen) and ``phase_size_l1``: the phase's size average's own error estimated, the L1 distance
-    to the same average over twice the radii (None for one radius and rain).
+    (so chosen), ``phase_smoothed`` (Marshall-Palmer rain: each radius's intensity averaged over angle
+    before the size average, docs/renderer-export.md "Rain") and ``phase_size_l1``: the phase's size
+    average's own error estimated, the L1 distance to the same average over twice the radii (for rain,
+    outside the forward cut, to the same smoothed average over half the radii; None for one radius).
 
     Example:
 

@@ -443,6 +443,7 @@ py::dict renderer_medium(py::handle radius_arg, const std::string& size_distribu
   info["spectra_radii"] = o.spectra_radii;
   info["phase_size_l1"] = o.phase_size_l1 ? py::object(py::float_(*o.phase_size_l1)) : py::object(py::none());
   info["phase_radii"] = o.phase_radii, info["phase_radii_chosen"] = o.phase_radii_chosen;
+  info["phase_smoothed"] = o.phase_smoothed;
   d["info"] = info;
   return d;
 }

@@ -26,6 +26,7 @@ def test_arrays_and_normalisation():
     np.testing.assert_allclose(m.sigma_t_per_m, m.sigma_s_per_m + m.sigma_a_per_m, rtol=1e-15)
     np.testing.assert_array_equal(m.albedo, m.sigma_s_per_m / m.sigma_t_per_m)
     assert m.info["cut_deg"] == 0 and m.info["l1_error"] > 0
+    assert m.info["phase_smoothed"] is False  # rain's alone (its default table: test_claims_renderer_medium.cpp)
     assert abs(m.info["normalisation"] - 1) <= m.info["l1_error"]
     # The spectra's size average states its radii and estimated error (held against a finer rule by
     # tests/scatter/test_renderer_export.cpp); one radius has none.
