@@ -215,7 +215,8 @@ RainReference rain_reference(const std::vector<double>& mu, double dx) {
 // Measured: 0.0069, the stated table error plus size error 0.0131 (1.9 times), the mean relative error
 // 2.0% (worst 10% at 117 degrees, where the phase is near its minimum). Asserted: within the default
 // --max-error 0.05 with the estimate within a factor 3 of it, and below 0.015; the mean relative error
-// below 5%.
+// below 5%. Just outside the primary bow the single radii's supernumeraries remain (their Airy fringes
+// are wider than the window): at five angles over 141-143 degrees, 16% off at worst (asserted 5-40%).
 TEST(ClaimsRendererMedium, RainsDefaultTableAgainstADenseSizeAverage) {
   if (HYDROLUX_TEST_ASAN) GTEST_SKIP() << "48,000 Mie solutions up to x = 34,000: slow under ASan";
   MediumJob job;
@@ -234,7 +235,11 @@ TEST(ClaimsRendererMedium, RainsDefaultTableAgainstADenseSizeAverage) {
   const double th_split = std::acos(mu_split), th_c = t.cut_deg * kPi / 180;
   for (int i = 0; i < 8; ++i) mu.push_back(std::cos(th_split + (th_c - th_split) * i / 7.0)), width.push_back(0);
 
-  const RainReference ref = rain_reference(mu, 0.7);
+  // Besides, 141-143 degrees: just outside the primary bow, where the single radii's supernumeraries remain.
+  const std::size_t spread = mu.size();
+  std::vector<double> at = mu;
+  for (const double deg : {141.0, 141.5, 142.0, 142.5, 143.0}) at.push_back(std::cos(deg * kPi / 180));
+  const RainReference ref = rain_reference(at, 0.7);
   const auto table_at = [&](double m) {  // linear in mu, as a renderer reads it
     const double u = (m + 1) / 2 * double(t.values.size() - 1);
     const std::size_t j = std::min(std::size_t(u), t.values.size() - 2);
@@ -251,6 +256,14 @@ TEST(ClaimsRendererMedium, RainsDefaultTableAgainstADenseSizeAverage) {
     if (width[i] > 0) l1 += 2 * kPi * diff[i] * width[i];
   }
   for (std::size_t i = 17; i < mu.size(); ++i) l1 += 2 * kPi * (diff[i - 1] + diff[i]) / 2 * (mu[i] - mu[i - 1]);
+  double bow_worst = 0;
+  for (std::size_t i = spread; i < at.size(); ++i) {
+    const double want = ref.i[i] / ref.k2_csca * t.normalisation;
+    bow_worst = std::max(bow_worst, std::abs(table_at(at[i]) - want) / want);
+  }
+  std::printf("rain: at 141-143 degrees off by %.3f at worst\n", bow_worst);
+  EXPECT_GT(bow_worst, 0.05);  // the supernumeraries of the single radii: see above
+  EXPECT_LT(bow_worst, 0.4);
   const double stated = t.l1_error + *o.phase_size_l1;
   std::printf("rain: L1 %.4f against %zu radii (stated %.4f: table %.4f + size %.4f); relative error mean %.4f, worst "
               "%.3f at %.1f deg\n",
