@@ -3,7 +3,7 @@
 # without costs ctest runs the tests in the order they were declared, which left the longest
 # (web.e2e, declared late) to finish alone at the end. Measured ones take over once ctest has run.
 set(HYDROLUX_TEST_COSTS
-  web.e2e=200 atmos.test_lee=90 scatter.test_phase_job=80 cli.test_robustness=70 gallery.test_gallery=60
+  web.e2e=200 atmos.test_lee=90 cli.test_robustness=70 gallery.test_gallery=60
   python.test_batch=60 scatter.test_claims_renderer_medium=50 scatter.test_renderer_export=40
   python.test_notebooks=37 python.test_install=23
   python.test_bindings=21 python.test_examples=19 python.test_batch_hostile=17

@@ -285,7 +285,9 @@ class PhaseResult(NamedTuple):
         """The phase function as an :class:`xarray.Dataset` with CF attributes: dimension
         scattering_angle (degree); phase, i1, i2 (and s11, s12, s33, s34, pol); the radii and weights
         averaged over on a dimension quadrature_node; the theory, the drops, the wavelength and the
-        index as attributes, ``history`` naming the call.
+        index as attributes, ``history`` naming the call; for a size average that chose its radii, each
+        element's ``estimated_error`` (``phase`` takes S11's) and the tolerance, the last halving's change
+        and the shifted grid's difference as attributes.
 
         Example:
 
@@ -308,6 +310,14 @@ class PhaseResult(NamedTuple):
                         s34=(self.s34, "Mueller element S34, size-averaged"),
                         pol=(self.pol, "degree of linear polarisation -S12 / S11"))
         data_vars = {k: xr.Variable(angle, v, attrs={"units": "1", "long_name": ln}) for k, (v, ln) in data.items()}
+        # A size average that chose its radii states each element's estimated error (at its worst angle,
+        # relative to S11 there) on the element, and the phase function takes S11's.
+        error = self.info.get("error")
+        if error is not None:
+            for name in ("s11", "s12", "s33", "s34"):
+                if name in data_vars:
+                    data_vars[name].attrs["estimated_error"] = float(error[name])
+            data_vars["phase"].attrs["estimated_error"] = float(error["s11"])
         node = ("quadrature_node",)
         data_vars["quadrature_weight"] = xr.Variable(node, np.asarray(self.info["weight"]), attrs={
             "units": "1", "long_name": "weight of each radius in the number-weighted mean"})
@@ -324,6 +334,13 @@ class PhaseResult(NamedTuple):
                  "m_real": m.real, "m_imag": m.imag}
         if info.get("x") is not None:
             attrs["size_parameter"] = float(info["x"])
+        if error is not None:
+            attrs["size_average_tolerance"] = float(info["tolerance"])
+            attrs["size_average_last_change"] = float(info["last_change"])
+            if info.get("shifted_change") is not None:
+                attrs["size_average_shifted_change"] = float(info["shifted_change"])
+            attrs["estimated_error_meaning"] = ("each variable's estimated_error: its error at its worst angle, relative "
+                                                "to S11 there (docs/mie.md, \"Size averages\")")
         if info.get("notes"):
             attrs["comment"] = "; ".join(info["notes"])
         return xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)
@@ -350,8 +367,10 @@ def phase(radius_um: Optional[float], wavelength_nm: float, theory: str = "mie",
     "marshall-palmer:H" (H mm/h, radii 50-3000 um), averaged over radii it chooses until the average
     is within ``tolerance`` (None: the CLI's default, 0.005) of the converged one at every angle
     (``info["last_change"]``: how much the last halving of the radii's spacing moved it;
-    ``info["error"]``: the estimated error of each Mueller element at its worst angle, relative to S11
-    there, a dict of s11, s12, s33, s34), or over a fixed count of ``nodes`` radii instead.
+    ``info["shifted_change"]``: for Mie, how far a grid of the last spacing shifted by 0.618 of it
+    differs, a check on the halvings, whose grids share their radii; ``info["error"]``: the estimated
+    error of each Mueller element at its worst angle, relative to S11 there, a dict of s11, s12, s33,
+    s34), or over a fixed count of ``nodes`` radii instead.
     ``medium``, ``surrounding``: names as :func:`media` (or "const:1.49"). ``angles_deg``: scattering
     angles in [0, 180] degrees (0 = forward), an array or the CLI's text "A:B:N" or "0,10,90" (read
     by the CLI's parser: the same angles). ``temperature_c``: of the media that model it (water).

@@ -328,6 +328,7 @@ py::dict phase(const std::string& theory, py::handle radius_arg, py::handle wave
   // The automatic average's tolerance, its last halving's largest change and its estimated error per
   // Mueller element (None for one radius or a fixed count).
   info["last_change"] = res.last_change ? py::object(py::float_(*res.last_change)) : py::object(py::none());
+  info["shifted_change"] = res.shifted_change ? py::object(py::float_(*res.shifted_change)) : py::object(py::none());
   if (res.error) {
     py::dict error;
     error["s11"] = res.error->s11, error["s12"] = res.error->s12, error["s33"] = res.error->s33,

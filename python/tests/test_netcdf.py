@@ -96,6 +96,16 @@ def test_the_labelled_forms_of_phase_bulk_optics_and_size_distributions():
     assert ds.quadrature_radius.size == 16 and ds.attrs["theory"] == "mie"
     assert ds.attrs["history"].endswith("hydrolux.phase(radius_um=10, wavelength_nm=550, size_distribution="
                                         "'gamma:0.1', angles_deg='0:180:7', nodes=16, mueller=True)")
+    assert "estimated_error" not in ds.phase.attrs and "size_average_tolerance" not in ds.attrs  # a fixed count
+    # A size average that chose its radii carries its estimates (docs/mie.md, "Size averages").
+    auto = hydrolux.phase(2, 550, size_distribution="gamma:0.1", angles_deg="0:180:7", mueller=True)
+    ads = auto.to_xarray()
+    for name in ("s11", "s12", "s33", "s34"):
+        assert ads[name].attrs["estimated_error"] == auto.info["error"][name]
+    assert ads.phase.attrs["estimated_error"] == auto.info["error"]["s11"]
+    assert ads.attrs["size_average_tolerance"] == 0.005
+    assert ads.attrs["size_average_last_change"] == auto.info["last_change"]
+    assert ads.attrs["size_average_shifted_change"] == auto.info["shifted_change"]
     fog = hydrolux.SizeDistribution.gamma(10e-6, 0.2, number_per_m3=1e8)
     b = hydrolux.bulk_optics(1.333, 550, fog, nodes=32)
     bd = b.to_xarray()

@@ -50,7 +50,8 @@ const Field<PhaseRequest> kPhase[] = {
      HYDROLUX_PARAM_OPTIONAL(nodes)},
     {{"tolerance", "--tolerance", "sizes", K::real, "", 1e-4, 0.1,
       "The size average's relative error allowed at every angle: radii evenly spaced, halved until two spacings "
-      "agree to half of it (docs/mie.md, \"Size averages\")",
+      "agree to half of it and, for Mie, a grid shifted by 0.618 of the last spacing does too (docs/mie.md, \"Size "
+      "averages\")",
       "nodes", kNodesOnlyWith, {}, "{size_distribution=} is one radius, with nothing to average (omit {tolerance})"},
      HYDROLUX_PARAM_MEMBER(tolerance)},
     {kTemperature, HYDROLUX_PARAM_OPTIONAL(temperature_c)},

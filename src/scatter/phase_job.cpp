@@ -176,7 +176,14 @@ PhaseResult compute_phase(const PhasePlan& plan, const ProgressFn& progress) {
     r.last_change = refined.last_change;
     r.error = refined.error;
     r.tolerance = job.numbers.tolerance;
-    if (!refined.converged)
+    r.shifted_change = refined.shifted_change;
+    if (!refined.converged && refined.shifted_change && *refined.shifted_change >= job.numbers.tolerance)
+      r.notes.push_back(fmt::format("the size average stopped at {} radii (the most) while a grid shifted by {:.2f} of "
+                                    "its spacing still differed by {:.2g}% at its worst angle: not within --tolerance "
+                                    "{:g}% (docs/mie.md, \"Size averages\")",
+                                    r.quadrature.size(), kRefineCheckShift, 100 * *refined.shifted_change,
+                                    100 * job.numbers.tolerance));
+    else if (!refined.converged)
       r.notes.push_back(fmt::format("the size average stopped at {} radii (the most) while its last halving still moved "
                                     "it by {:.2g}% at its worst angle: not within --tolerance {:g}% (docs/mie.md, "
                                     "\"Size averages\")",

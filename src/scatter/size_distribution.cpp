@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <numeric>
 
 #include "hydrolux/core/error.hpp"
@@ -72,11 +74,29 @@ void gauss_hermite(int nodes, std::vector<double>& t, std::vector<double>& w) {
   gauss_from_jacobi(std::move(diag), std::move(off), 1.0, t, w);
 }
 
-// Gauss-Legendre on [-1, 1]: a_k = 0, b_k = k / sqrt(4k^2 - 1), mu0 = 2.
+// Gauss-Legendre on [-1, 1]: a_k = 0, b_k = k / sqrt(4k^2 - 1), mu0 = 2. The rule depends on the count
+// alone, and the eigenvalue problem is quadratic in it (4096 nodes: about half a second), so each count's
+// rule is computed once per process and kept (a few hundred kB at most: counts are at most
+// kMaxQuadratureNodes, and a process uses few).
 void gauss_legendre(int nodes, std::vector<double>& t, std::vector<double>& w) {
+  struct Rule {
+    std::vector<double> t, w;
+  };
+  static std::mutex mutex;
+  static std::map<int, Rule> rules;
+  {
+    const std::lock_guard lock(mutex);
+    if (const auto it = rules.find(nodes); it != rules.end()) {
+      t = it->second.t;
+      w = it->second.w;
+      return;
+    }
+  }
   std::vector<double> diag(nodes, 0.0), off(nodes > 0 ? nodes - 1 : 0);
   for (int k = 1; k < nodes; ++k) off[k - 1] = k / std::sqrt(4.0 * k * k - 1);
   gauss_from_jacobi(std::move(diag), std::move(off), 2.0, t, w);
+  const std::lock_guard lock(mutex);
+  rules.try_emplace(nodes, Rule{t, w});
 }
 
 }  // namespace

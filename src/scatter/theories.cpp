@@ -7,6 +7,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -219,22 +220,30 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
   WeightedSums sums(angles);
   std::vector<double> radii;  // every radius computed, in the order computed
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  constexpr std::size_t kBlock = 64;
+  // S1 and S2 at the angles `at` for each radius of `r` (radius-major), one radius a task.
+  const auto solve = [&](std::span<const double> r, std::span<const double> at, std::vector<Complex>& s1,
+                         std::vector<Complex>& s2) {
+    s1.resize(r.size() * at.size());
+    s2.resize(r.size() * at.size());
+    arena.execute([&] {
+      tbb::parallel_for(std::size_t(0), r.size(), [&](std::size_t j) {
+        const auto sp = sphere_problem(r[j] * 1e6, wavelength_nm, drop, surrounding, temperature_c);
+        amplitudes(t, sp.m, sp.x, at, std::span(s1).subspan(j * at.size(), at.size()),
+                   std::span(s2).subspan(j * at.size(), at.size()), 1);
+      });
+    });
+  };
   // Adds the radii r_min + (first + j stride) h for j < count, weighted n(r) (half at the range's ends): in
-  // blocks computed in parallel, one radius a task, and summed in order (the same sums on any thread count).
+  // blocks computed in parallel and summed in order (the same sums on any thread count).
   const auto add = [&](double h, std::size_t first, std::size_t stride, std::size_t count, std::size_t level_total) {
-    constexpr std::size_t kBlock = 64;
-    std::vector<Complex> s1(kBlock * angles), s2(kBlock * angles);
+    std::vector<Complex> s1, s2;
+    std::vector<double> r;
     for (std::size_t b0 = 0; b0 < count; b0 += kBlock) {
       const std::size_t nb = std::min(kBlock, count - b0);
-      std::vector<double> r(nb);
+      r.resize(nb);
       for (std::size_t j = 0; j < nb; ++j) r[j] = r_min + double(first + (b0 + j) * stride) * h;
-      arena.execute([&] {
-        tbb::parallel_for(std::size_t(0), nb, [&](std::size_t j) {
-          const auto sp = sphere_problem(r[j] * 1e6, wavelength_nm, drop, surrounding, temperature_c);
-          amplitudes(t, sp.m, sp.x, checked, std::span(s1).subspan(j * angles, angles),
-                     std::span(s2).subspan(j * angles, angles), 1);
-        });
-      });
+      solve(r, checked, s1, s2);
       for (std::size_t j = 0; j < nb; ++j) {
         const bool end = first + (b0 + j) * stride == 0 || r[j] >= r_max - 0.5 * h;
         const double w = d.number_density(r[j]) * (end ? 0.5 : 1.0);
@@ -253,6 +262,60 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
     }
   };
 
+  // The shifted grid's angles (Mie only: it checks for the resonances): per probe of a kRefineProbeStepDeg
+  // grid the angle asked nearest it within half a step, or else the probe, an index into `checked`;
+  // ascending, so those asked come first.
+  std::vector<std::size_t> check_at;
+  for (int i = 0; t.kind == TheoryKind::Mie && double(i) * kRefineProbeStepDeg <= 180 + 1e-9; ++i) {
+    const double probe = double(i) * probe_step;
+    std::size_t best = checked.size();
+    for (std::size_t k = 0; k < checked.size(); ++k) {
+      const bool usable = k < theta_rad.size() ? std::abs(checked[k] - probe) <= probe_step / 2 : checked[k] == probe;
+      if (usable && (best == checked.size() || std::abs(checked[k] - probe) < std::abs(checked[best] - probe)))
+        best = k;
+    }
+    if (best < checked.size()) check_at.push_back(best);
+  }
+  std::sort(check_at.begin(), check_at.end());
+  check_at.erase(std::unique(check_at.begin(), check_at.end()), check_at.end());
+  // The trapezoid grid of spacing h with every radius moved by kRefineCheckShift h (weights n(r) h; n vanishes
+  // at the range's ends) against the average `last` at the check's angles.
+  const auto shifted_check = [&](double spacing, std::size_t count, const Intensities& last) {
+    std::vector<double> at(check_at.size());
+    for (std::size_t k = 0; k < at.size(); ++k) at[k] = checked[check_at[k]];
+    const std::size_t asked_here =
+        std::size_t(std::count_if(check_at.begin(), check_at.end(), [&](std::size_t k) { return k < theta_rad.size(); }));
+    WeightedSums shifted(at.size());
+    std::vector<Complex> s1, s2;
+    std::vector<double> r;
+    for (std::size_t b0 = 0; b0 < count; b0 += kBlock) {
+      const std::size_t nb = std::min(kBlock, count - b0);
+      r.resize(nb);
+      for (std::size_t j = 0; j < nb; ++j) r[j] = r_min + (double(b0 + j) + kRefineCheckShift) * spacing;
+      solve(r, at, s1, s2);
+      for (std::size_t j = 0; j < nb; ++j) {
+        const double w = d.number_density(r[j]);
+        for (std::size_t k = 0; k < at.size(); ++k) {
+          const Complex a1 = s1[j * at.size() + k], a2 = s2[j * at.size() + k];
+          shifted.i1[k] += w * std::norm(a1);
+          shifted.i2[k] += w * std::norm(a2);
+          shifted.c[k] += w * (a2 * std::conj(a1));
+        }
+        shifted.weight += w;
+      }
+      if (progress)
+        progress(double(b0 + nb) / double(count),
+                 fmt::format("{} of {} shifted radii (checking the {:g}%)", b0 + nb, count, 100 * tolerance));
+    }
+    Intensities before;
+    for (const std::size_t k : check_at) {
+      before.i1.push_back(last.i1[k]);
+      before.i2.push_back(last.i2[k]);
+      before.s2_s1conj.push_back(last.s2_s1conj[k]);
+    }
+    return changes(before, shifted.mean(), asked_here);
+  };
+
   double h = (r_max - r_min) / double(intervals);
   add(h, 0, 1, intervals + 1, intervals + 1);
   if (!(sums.weight > 0)) throw Error("size distribution: no drops in the range averaged over");
@@ -260,6 +323,7 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
   out.averaged = sums.mean();
   out.last_change = INFINITY;
   std::optional<Changes> previous;  // the halving before
+  bool check_failed = false;        // a shifted grid differed: the grids before it were off
   for (int halvings = 1; 2 * intervals + 1 <= kMaxRefinedRadii; ++halvings) {
     // Halve the spacing: the new radii are the midpoints, odd multiples of the new step.
     h /= 2;
@@ -280,9 +344,34 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
                    now.element.s34 * factor};
     }
     previous = now;
-    if (halvings >= 2 && out.last_change < tolerance / 2) {
-      out.converged = true;
-      break;
+    if (halvings < 2) continue;
+    if (check_at.empty()) {
+      if (out.last_change < tolerance / 2) {
+        out.converged = true;
+        break;
+      }
+      continue;
+    }
+    // The shifted grid checks the last grid (kRefineCheckShift) where the halvings agree, and after it once
+    // found them off at every grid: then the last halving's change measures the grid before, whose error
+    // the check found, and the shifted grid, whose radii are none of the last grid's, is the measure.
+    if (out.last_change < tolerance / 2 || check_failed) {
+      const Changes shifted = shifted_check(h, intervals, out.averaged);
+      out.shifted_change = shifted.largest;
+      // Two grids whose errors are alike and independent differ by sqrt(2) times either's.
+      const MuellerErrors e = shifted.element;
+      const MuellerErrors from_shift{e.s11 / std::numbers::sqrt2, e.s12 / std::numbers::sqrt2,
+                                     e.s33 / std::numbers::sqrt2, e.s34 / std::numbers::sqrt2};
+      if (check_failed)
+        out.error = from_shift;
+      else
+        out.error = {std::max(out.error.s11, from_shift.s11), std::max(out.error.s12, from_shift.s12),
+                     std::max(out.error.s33, from_shift.s33), std::max(out.error.s34, from_shift.s34)};
+      if (shifted.largest < tolerance) {
+        out.converged = true;
+        break;
+      }
+      check_failed = true;
     }
   }
   // The angles asked, without the probes.

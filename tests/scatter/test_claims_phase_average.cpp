@@ -34,7 +34,7 @@ using namespace size_reference;
 // docs/mie.md, the table of "Size averages" and the paragraph below it: cloud droplets of 2 um at
 // 181 angles, the default tolerance 0.005. The page's figures (two digits) are checked within 10%
 // (half a unit of the second digit is up to 5%; the reference's own convergence 0.7%); the worst
-// angle exactly; the estimated error within a factor of 3 of the error (the page: 2.5 and 0.84); the
+// angle exactly; the estimated error within a factor of 3 of the error (the page: 2.5 and 1.27); the
 // last halving's change 10 to 100 times the error (the page: "one to two orders of magnitude": 79 and
 // 16); `--tolerance 0.0005` within 1e-6 and 1e-5 of the reference (measured 6.9e-8 and 4.9e-6).
 // The radii chosen and the stated change and estimate are the output's own statements, checked
@@ -48,7 +48,7 @@ TEST(ClaimsPhaseAverage, CloudDropletsAgainstAMidpointRuleInX) {
     double last_change, estimate, worst, worst_deg, mean, s12, fine_bound;
   };
   for (const Case& c : {Case{"gamma:0.1", true, 4097, 8193, 3.4e-4, 1.1e-5, 4.3e-6, 180, 7.5e-7, 3.4e-6, 1e-6},
-                       Case{"lognormal:0.1", false, 2049, 4097, 1.8e-3, 9.2e-5, 1.1e-4, 115, 2.0e-5, 9.1e-5, 1e-5}}) {
+                       Case{"lognormal:0.1", false, 2049, 4097, 1.8e-3, 1.4e-4, 1.1e-4, 115, 2.0e-5, 9.1e-5, 1e-5}}) {
     SCOPED_TRACE(c.distribution);
     const PhasePlan plan = plan_phase(water_drops(2, c.distribution));
     const PhaseResult got = compute_phase(plan);

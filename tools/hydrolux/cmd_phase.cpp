@@ -60,10 +60,15 @@ int run_phase(const PhaseArgs& a) {
       fmt::print("# number-weighted mean over {} radii{}\n", result.radii,
                  result.last_change
                      ? fmt::format(" (chosen for --tolerance {:g}% at every angle; the last halving moved it {:.2g}% at "
-                                   "most; estimated error at the worst angle, relative to S11 there: S11 {:.2g}%, "
+                                   "most{}; estimated error at the worst angle, relative to S11 there: S11 {:.2g}%, "
                                    "S12 {:.2g}%, S33 {:.2g}%, S34 {:.2g}%)",
-                                   100 * *result.tolerance, 100 * *result.last_change, 100 * result.error->s11,
-                                   100 * result.error->s12, 100 * result.error->s33, 100 * result.error->s34)
+                                   100 * *result.tolerance, 100 * *result.last_change,
+                                   result.shifted_change
+                                       ? fmt::format(", a grid shifted by {:.2f} of its spacing differs by {:.2g}% at most",
+                                                     scatter::kRefineCheckShift, 100 * *result.shifted_change)
+                                       : std::string(),
+                                   100 * result.error->s11, 100 * result.error->s12, 100 * result.error->s33,
+                                   100 * result.error->s34)
                      : std::string());
     for (const auto& note : result.notes) fmt::print("# {}\n", note);
     fmt::print("# i1 = |S1|^2 (perpendicular), i2 = |S2|^2 (parallel), i = (i1 + i2) / 2 "

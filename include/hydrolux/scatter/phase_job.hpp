@@ -130,6 +130,9 @@ struct PhaseResult {
   // (RefinedIntensities::error); unset for one radius and --nodes.
   std::optional<double> tolerance, last_change;
   std::optional<MuellerErrors> error;
+  // Mie: the grid shifted by kRefineCheckShift of the last spacing, its largest difference from the last
+  // grid (RefinedIntensities::shifted_change); unset where it was not computed.
+  std::optional<double> shifted_change;
   // Where the theory is out of its depth for this job, one line each (Airy theory away from its
   // rainbow angle, geometric optics at x < 100).
   std::vector<std::string> notes;

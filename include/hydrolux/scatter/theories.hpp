@@ -72,8 +72,10 @@ Intensities average_intensities(const Theory& t, const RadiusQuadrature& q, doub
 // at every angle, relative to S11 = (i1 + i2) / 2 there, in i1, i2 and S2 S1* alike. A wave theory (Mie,
 // Debye) starts at radii kRefineStartStepX apart in x, which resolves the interference of rays
 // between radii (its ripple is ~0.8 in x) so that two grids cannot agree by aliasing it alike; its
-// morphology-dependent resonances, far narrower, are what the halvings then average. At most
-// kMaxRefinedRadii radii: converged is false where the last change is still above tolerance / 2.
+// morphology-dependent resonances, far narrower, are what the halvings then average. For Mie a shifted
+// grid checks the halvings once they agree (kRefineCheckShift). At most kMaxRefinedRadii radii:
+// converged is false where the last change is still above tolerance / 2, or the shifted grid's
+// difference above the tolerance.
 // Measured on cloud droplets (gamma 2-20 um, relative width 0.05-0.5, 550 nm) against 2^20 radii:
 // within the tolerance at every angle (docs/mie.md, "Size averages").
 inline constexpr double kRefineStartStepX = 0.25;
@@ -84,6 +86,18 @@ inline constexpr std::size_t kMaxRefinedRadii = (std::size_t(1) << 18) + 1;
 // single orders leave most angles dark). A resonance shows at some angles only:
 // checked on ten angles, averages stopped at a quarter of the radii with 4 times the error.
 inline constexpr double kRefineProbeStepDeg = 5;
+// Where two halvings agree, one more grid checks them: the last spacing's radii each moved by
+// kRefineCheckShift of the spacing (the golden section: no grid of the halvings holds any of them), at the
+// check's angles (per kRefineProbeStepDeg probe, the angle asked nearest it or the probe itself). The
+// nested grids share their nodes, so a component of the intensities' ripple that repeats with the last
+// spacing (or any whole fraction of it) is summed alike on every grid, and no halving's change shows it;
+// at wide drizzle's resonances that hid 4.5e-3 of S12 (docs/mie.md). The shifted grid sums it at another
+// phase. Its difference from the last grid over sqrt(2) counts as the error at least (two grids of one
+// spacing whose errors are alike and independent differ by sqrt(2) times either's), and the average
+// halves again while that difference is above the tolerance; once it has been, the shifted grid alone decides (the halving's
+// change then measures the grid found off) and is the error. It costs a grid of the last spacing at
+// about 37 angles: 30-60% more time at 181 angles (BENCHMARKS.md).
+inline constexpr double kRefineCheckShift = 0.6180339887498949;
 // The error estimate's largest ratio of one halving's change to the one before (RefinedIntensities::error:
 // the changes to come summed as a geometric series, r / (1 - r) times the last, at most 4 times).
 inline constexpr double kErrorRatioCap = 0.8;
@@ -100,9 +114,15 @@ struct RefinedIntensities {
   double last_change = 0;
   // The estimated error per element at its worst angle asked, relative to S11 there: each element's last
   // change times r / (1 - r), r the ratio of the last two halvings' changes (root mean square over the
-  // angles checked) capped at kErrorRatioCap. Measured against 2^19-2^20 radii on cloud droplets (gamma 2-20 um, widths 0.05-0.5,
-  // and lognormal:0.3 10 um) at the default tolerance: 0.37 to 2.9 times the error (docs/mie.md).
+  // angles checked) capped at kErrorRatioCap; where the shifted grid was computed, at least its
+  // difference from the last grid over sqrt(2) (at the check's angles asked), and after a failed check
+  // that alone. Measured at the default tolerance against other rules on cloud droplets (2-20 um) and
+  // drizzle (50 um): the largest of the four 1.27 to 2.33 times the largest error, and in wide drizzle
+  // each within 0.55 to 0.83 of its own (docs/mie.md, "Size averages").
   MuellerErrors error;
+  // The shifted grid's largest difference from the last grid in i1, i2 or S2 S1* at the check's angles,
+  // relative to S11 there (kRefineCheckShift); unset where the halvings never agreed.
+  std::optional<double> shifted_change;
   bool converged = false;
 };
 RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistribution& d, double r_min, double r_max,
