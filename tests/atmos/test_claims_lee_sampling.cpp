@@ -125,9 +125,10 @@ double flat_average(const Fine& f, double theta_deg) {
 // corona's aureole and its first dark ring at 0.77 degree, the glory's rings), one wavelength
 // (550 nm), 0.01-degree rows on 0-1.5 and 178.5-180 degrees, every fifth row against disk_average
 // of the Mie intensity summed directly on a 0.0005-degree grid. What separates them is the table's
-// quadrature of the disk, 2048 quasi-random points binned into cells, against the 54,000 here:
-// its error grows with T's variation across the disk, largest beside the dark ring where T falls
-// by 10-50 times across it (measured 0.1% where T is smooth, up to 1.1% there, RMS 0.3%). So the
+// quadrature of the disk, quasi-random points binned into cells (16,384 for these rows, all within 4
+// sun radii of an axis; 2048 elsewhere), against the 54,000 here: its error grows with T's variation
+// across the disk, largest beside the dark ring where T falls by 10-50 times across it (measured 0.1%
+// where T is smooth, up to 0.9% there, RMS 0.3%; with 2048 points, up to 1.1%). So the
 // tolerance is 1.5% at each row, and 0.6% for the RMS over the rows. At the axis a flat 1-D
 // average (flat_average, uniform disk) is 10-12% off the exact one for the aureole and 24-31% for
 // the glory, and the tables are within 0.4% of the exact one: a matrix that did not wrap would fail.
