@@ -305,7 +305,7 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
       }
       if (progress)
         progress(double(b0 + nb) / double(count),
-                 fmt::format("{} of {} shifted radii (checking the {:g}%)", b0 + nb, count, 100 * tolerance));
+                 fmt::format("{} of {} radii of the shifted grid (checking the halvings)", b0 + nb, count));
     }
     Intensities before;
     for (const std::size_t k : check_at) {
