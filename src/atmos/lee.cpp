@@ -798,7 +798,8 @@ AngleCells make_angle_cells(const LeeSpec& spec, const LeeTable& t, const std::v
       std::vector<std::pair<int, double>> share;  // a few cells: a linear search is quickest
       int lo = 0, hi = 0;
       const double to_axis = std::min(t.angle_deg[i], 180 - t.angle_deg[i]);
-      const std::size_t n = seq.sun_radius <= 0 ? 1 : std::size_t(to_axis < near_axis_deg ? kDiskPointsNearAxis : kDiskPoints);
+      const int row_points = to_axis < near_axis_deg ? kDiskPointsNearAxis : kDiskPoints;
+      const std::size_t n = seq.sun_radius > 0 ? std::size_t(row_points) : 1;
       for (std::size_t q = 0; q < n; ++q) {
         const auto& d = disk[q];
         const double mu = std::clamp(t.cos_angle[i] * d[0] + sin_angle[i] * d[1], -1.0, 1.0);

@@ -76,12 +76,13 @@ void gauss_hermite(int nodes, std::vector<double>& t, std::vector<double>& w) {
 
 // Gauss-Legendre on [-1, 1]: a_k = 0, b_k = k / sqrt(4k^2 - 1), mu0 = 2. The rule depends on the count
 // alone, and the eigenvalue problem is quadratic in it (4096 nodes: about half a second), so each count's
-// rule is computed once per process and kept (a few hundred kB at most: counts are at most
-// kMaxQuadratureNodes, and a process uses few).
+// rule is computed once per process and kept: the last kKeptRules counts (at most 8 x 64 kB at
+// kMaxQuadratureNodes).
 void gauss_legendre(int nodes, std::vector<double>& t, std::vector<double>& w) {
   struct Rule {
     std::vector<double> t, w;
   };
+  constexpr std::size_t kKeptRules = 8;
   static std::mutex mutex;
   static std::map<int, Rule> rules;
   {
@@ -96,6 +97,7 @@ void gauss_legendre(int nodes, std::vector<double>& t, std::vector<double>& w) {
   for (int k = 1; k < nodes; ++k) off[k - 1] = k / std::sqrt(4.0 * k * k - 1);
   gauss_from_jacobi(std::move(diag), std::move(off), 2.0, t, w);
   const std::lock_guard lock(mutex);
+  if (rules.size() >= kKeptRules && !rules.contains(nodes)) rules.erase(rules.begin());
   rules.try_emplace(nodes, Rule{t, w});
 }
 

@@ -149,6 +149,15 @@ struct WeightedSums {
   std::vector<Complex> c;
   double weight = 0;
   explicit WeightedSums(std::size_t angles) : i1(angles), i2(angles), c(angles) {}
+  // Adds one radius's amplitudes at every angle (s1, s2 of size i1.size()), weighted w.
+  void add(double w, std::span<const Complex> s1, std::span<const Complex> s2) {
+    for (std::size_t k = 0; k < i1.size(); ++k) {
+      i1[k] += w * std::norm(s1[k]);
+      i2[k] += w * std::norm(s2[k]);
+      c[k] += w * (s2[k] * std::conj(s1[k]));
+    }
+    weight += w;
+  }
   Intensities mean() const {
     Intensities out{i1, i2, c};
     for (std::size_t k = 0; k < i1.size(); ++k) {
@@ -246,14 +255,8 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
       solve(r, checked, s1, s2);
       for (std::size_t j = 0; j < nb; ++j) {
         const bool end = first + (b0 + j) * stride == 0 || r[j] >= r_max - 0.5 * h;
-        const double w = d.number_density(r[j]) * (end ? 0.5 : 1.0);
-        for (std::size_t k = 0; k < angles; ++k) {
-          const Complex a1 = s1[j * angles + k], a2 = s2[j * angles + k];
-          sums.i1[k] += w * std::norm(a1);
-          sums.i2[k] += w * std::norm(a2);
-          sums.c[k] += w * (a2 * std::conj(a1));
-        }
-        sums.weight += w;
+        sums.add(d.number_density(r[j]) * (end ? 0.5 : 1.0), std::span(s1).subspan(j * angles, angles),
+                 std::span(s2).subspan(j * angles, angles));
         radii.push_back(r[j]);
       }
       if (progress)
@@ -283,8 +286,8 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
   const auto shifted_check = [&](double spacing, std::size_t count, const Intensities& last) {
     std::vector<double> at(check_at.size());
     for (std::size_t k = 0; k < at.size(); ++k) at[k] = checked[check_at[k]];
-    const std::size_t asked_here =
-        std::size_t(std::count_if(check_at.begin(), check_at.end(), [&](std::size_t k) { return k < theta_rad.size(); }));
+    const auto asked = [&](std::size_t k) { return k < theta_rad.size(); };
+    const std::size_t asked_here = std::size_t(std::count_if(check_at.begin(), check_at.end(), asked));
     WeightedSums shifted(at.size());
     std::vector<Complex> s1, s2;
     std::vector<double> r;
@@ -293,16 +296,9 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
       r.resize(nb);
       for (std::size_t j = 0; j < nb; ++j) r[j] = r_min + (double(b0 + j) + kRefineCheckShift) * spacing;
       solve(r, at, s1, s2);
-      for (std::size_t j = 0; j < nb; ++j) {
-        const double w = d.number_density(r[j]);
-        for (std::size_t k = 0; k < at.size(); ++k) {
-          const Complex a1 = s1[j * at.size() + k], a2 = s2[j * at.size() + k];
-          shifted.i1[k] += w * std::norm(a1);
-          shifted.i2[k] += w * std::norm(a2);
-          shifted.c[k] += w * (a2 * std::conj(a1));
-        }
-        shifted.weight += w;
-      }
+      for (std::size_t j = 0; j < nb; ++j)
+        shifted.add(d.number_density(r[j]), std::span(s1).subspan(j * at.size(), at.size()),
+                    std::span(s2).subspan(j * at.size(), at.size()));
       if (progress)
         progress(double(b0 + nb) / double(count),
                  fmt::format("{} of {} radii of the shifted grid (checking the halvings)", b0 + nb, count));

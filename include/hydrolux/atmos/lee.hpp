@@ -26,11 +26,11 @@
 // with the Mie ripple). Each evaluation (one wavelength, one radius) samples every row's cell -- the
 // interval of one row spacing around the row on its axis (angle or cosine) -- at a jittered point,
 // and the sun's disk is a fixed kernel from cells to rows (exact spherical angles, 2048 points of
-// the disk, 16,384 within 4 sun radii of 0 and 180 degrees). So a row holds the average over its cell convolved with the disk, centred on its
-// sample position: the right value for a texel, and free of aliasing from fringes finer than the
-// table; a table of one row takes one point of the disk per evaluation instead. `sampling`
-// multiplies every rate (K, the radius grid's density); tests check that doubling it changes the
-// standard table by less than 1% RMS in luminance.
+// the disk, 16,384 within 4 sun radii of 0 and 180 degrees). So a row holds the average over its
+// cell convolved with the disk, centred on its sample position: the right value for a texel, and
+// free of aliasing from fringes finer than the table; a table of one row takes one point of the disk
+// per evaluation instead. `sampling` multiplies every rate (K, the radius grid's density); tests
+// check that doubling it changes the standard table by less than 1% RMS in luminance.
 #include <array>
 #include <cstdint>
 #include <memory>

@@ -94,9 +94,9 @@ inline constexpr double kRefineProbeStepDeg = 5;
 // at wide drizzle's resonances that hid 4.5e-3 of S12 (docs/mie.md). The shifted grid sums it at another
 // phase. Its difference from the last grid over sqrt(2) counts as the error at least (two grids of one
 // spacing whose errors are alike and independent differ by sqrt(2) times either's), and the average
-// halves again while that difference is above the tolerance; once it has been, the shifted grid alone decides (the halving's
-// change then measures the grid found off) and is the error. It costs a grid of the last spacing at
-// about 37 angles: 30-60% more time at 181 angles (BENCHMARKS.md).
+// halves again while that difference is above the tolerance; once it has been, the shifted grid
+// alone decides (the halving's change then measures the grid found off) and is the error. It costs
+// a grid of the last spacing at about 37 angles: 30-60% more time at 181 angles (BENCHMARKS.md).
 inline constexpr double kRefineCheckShift = 0.6180339887498949;
 // The error estimate's largest ratio of one halving's change to the one before (RefinedIntensities::error:
 // the changes to come summed as a geometric series, r / (1 - r) times the last, at most 4 times).
