@@ -25,6 +25,11 @@
 namespace hydrolux::scatter {
 
 namespace {
+
+// The cost of a radius in a size average, in units of one angle's amplitudes: its Mie coefficients cost about
+// as much as its amplitudes at 80 angles (the shifted grid, at 37 angles, adds 34-56% to an average at 181
+// angles: BENCHMARKS.md). Only the progress shown uses it.
+constexpr double kRadiusCostInAngles = 80;
 constexpr const char* kTheories = "mie, debye:P, airy[:P], geometric[:P]";
 
 int parse_order(std::string_view text, std::string_view whole) {
@@ -226,6 +231,21 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
   std::size_t intervals = kMinRefinedRadii - 1;
   while (double(intervals + 1) < wanted && 8 * intervals + 1 <= kMaxRefinedRadii) intervals *= 2;  // two halvings left
 
+  // Progress: the work done over the work foreseen if the grid being computed is the last one needed (for Mie,
+  // with its shifted check), in radii weighted by their cost (kRadiusCostInAngles + the angles computed). It
+  // rises while the halvings converge as foreseen; where a grid is found off, the work foreseen grows (one
+  // halving more), the fraction steps back and the label says why.
+  double work_done = 0, work_foreseen = 0;
+  const auto cost = [](std::size_t radii_count, std::size_t angle_count) {
+    return double(radii_count) * (kRadiusCostInAngles + double(angle_count));
+  };
+  std::string stage;  // what the label names before the counts
+  const auto report = [&](std::size_t done, std::size_t of, std::string_view what) {
+    if (progress)
+      progress(std::min(work_done / work_foreseen, 1.0),
+               fmt::format("{}{} of {} {} (to {:g}%)", stage, done, of, what, 100 * tolerance));
+  };
+
   WeightedSums sums(angles);
   std::vector<double> radii;  // every radius computed, in the order computed
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
@@ -259,9 +279,8 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
                  std::span(s2).subspan(j * angles, angles));
         radii.push_back(r[j]);
       }
-      if (progress)
-        progress(double(radii.size()) / double(level_total),
-                 fmt::format("{} of {} radii (refining to {:g}%)", radii.size(), level_total, 100 * tolerance));
+      work_done += cost(nb, angles);
+      report(radii.size(), level_total, "radii");
     }
   };
 
@@ -299,9 +318,8 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
       for (std::size_t j = 0; j < nb; ++j)
         shifted.add(d.number_density(r[j]), std::span(s1).subspan(j * at.size(), at.size()),
                     std::span(s2).subspan(j * at.size(), at.size()));
-      if (progress)
-        progress(double(b0 + nb) / double(count),
-                 fmt::format("{} of {} radii of the shifted grid (checking the halvings)", b0 + nb, count));
+      work_done += cost(nb, at.size());
+      report(b0 + nb, count, "radii of a shifted grid");
     }
     Intensities before;
     for (const std::size_t k : check_at) {
@@ -312,7 +330,17 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
     return changes(before, shifted.mean(), asked_here);
   };
 
+  // The work foreseen once a grid of `new_radii` more radii and `n` intervals is begun, `halvings` halvings
+  // from the first: its radii, the halvings still needed (two at least) and, for Mie, the shifted check.
+  const auto foresee = [&](std::size_t new_radii, std::size_t n, int halvings) {
+    double w = work_done + cost(new_radii, angles);
+    for (; halvings < 2; ++halvings, n *= 2) w += cost(n, angles);
+    if (!check_at.empty()) w += cost(n, check_at.size());
+    work_foreseen = w;
+  };
+
   double h = (r_max - r_min) / double(intervals);
+  foresee(intervals + 1, intervals, 0);
   add(h, 0, 1, intervals + 1, intervals + 1);
   if (!(sums.weight > 0)) throw Error("size distribution: no drops in the range averaged over");
   RefinedIntensities out;
@@ -323,6 +351,10 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
   for (int halvings = 1; 2 * intervals + 1 <= kMaxRefinedRadii; ++halvings) {
     // Halve the spacing: the new radii are the midpoints, odd multiples of the new step.
     h /= 2;
+    stage = halvings <= 2 ? fmt::format("halving {}: ", halvings)
+                          : fmt::format("halving {} ({}): ", halvings,
+                                        check_failed ? "the shifted grid differed" : "the last two grids differed");
+    foresee(intervals, 2 * intervals, halvings);
     add(h, 1, 2, intervals, 2 * intervals + 1);
     intervals *= 2;
     Intensities next = sums.mean();
@@ -352,6 +384,7 @@ RefinedIntensities refine_average_intensities(const Theory& t, const SizeDistrib
     // found them off at every grid: then the last halving's change measures the grid before, whose error
     // the check found, and the shifted grid, whose radii are none of the last grid's, is the measure.
     if (out.last_change < tolerance / 2 || check_failed) {
+      stage = "checking the halvings: ";
       const Changes shifted = shifted_check(h, intervals, out.averaged);
       out.shifted_change = shifted.largest;
       // Two grids whose errors are alike and independent differ by sqrt(2) times either's.

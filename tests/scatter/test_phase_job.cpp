@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "support/asan.hpp"
@@ -300,6 +302,42 @@ TEST(PhaseJob, NodesReplaceTheRefinementAndOneRadiusTakesNoTolerance) {
     FAIL() << "a tolerance for one radius accepted";
   } catch (const ParamError& e) {
     EXPECT_STREQ(e.what(), "tolerance 0.01: size_distribution mono is one radius, with nothing to average (omit tolerance)");
+  }
+}
+
+// The size average's progress: a fraction of the work foreseen (the grid being computed, the halvings still
+// needed and the shifted check) that rises while the halvings converge as foreseen, falls only where the
+// label says more work was found (a halving beyond the second, after two grids or the shifted grid
+// differed) and ends at 1. Before, each halving ran to 100% on its own and the check from 0% again.
+TEST(PhaseJob, TheSizeAveragesProgressStepsBackOnlyWhereItSaysWhy) {
+  for (const auto& [radius_um, distribution] : {std::pair{1.0, "gamma:0.3"}, std::pair{8.0, "gamma:0.2"}}) {
+    SCOPED_TRACE(fmt::format("{} um {}", radius_um, distribution));
+    std::vector<double> angles(181);
+    for (std::size_t i = 0; i < angles.size(); ++i) angles[i] = double(i);
+    auto job = water_drop(radius_um, angles);
+    job.size_distribution = distribution;
+    std::vector<std::pair<double, std::string>> calls;
+    const PhaseResult r = run_phase_job(job, [&](double f, std::string_view label) { calls.emplace_back(f, label); });
+    ASSERT_TRUE(r.shifted_change && r.tolerance && *r.shifted_change < *r.tolerance);  // converged
+    ASSERT_GT(calls.size(), 4u);
+    EXPECT_DOUBLE_EQ(calls.back().first, 1.0);
+    EXPECT_NE(calls.back().second.find("checking the halvings: "), std::string::npos) << calls.back().second;
+    int steps_back = 0;
+    for (std::size_t k = 1; k < calls.size(); ++k) {
+      EXPECT_GE(calls[k].first, 0.0);
+      EXPECT_LE(calls[k].first, 1.0);
+      if (calls[k].first >= calls[k - 1].first) continue;
+      ++steps_back;
+      const std::string& label = calls[k].second;
+      EXPECT_TRUE(label.starts_with("halving ") && (label.find("(the last two grids differed)") != std::string::npos ||
+                                                     label.find("(the shifted grid differed)") != std::string::npos))
+          << calls[k - 1].first << " -> " << calls[k].first << ": " << label;
+      EXPECT_NE(calls[k].second.substr(0, 10), calls[k - 1].second.substr(0, 10)) << "a step back within a stage";
+    }
+    // The 1 um average converges at the second halving, as foreseen: no step back at all; the 8 um one halves
+    // more often (each step back is a halving beyond the second).
+    if (radius_um == 1.0) EXPECT_EQ(steps_back, 0);
+    else EXPECT_GT(steps_back, 0);
   }
 }
 
