@@ -8,6 +8,7 @@
 #include "hydrolux/drop/physics_params.hpp"
 #include "hydrolux/drop/undistort.hpp"
 #include "hydrolux/optics/params.hpp"
+#include "hydrolux/rain/detect.hpp"
 #include "hydrolux/rain/fog.hpp"
 #include "hydrolux/rain/frame_paths.hpp"
 #include "hydrolux/rain/lens_drops.hpp"
@@ -45,6 +46,27 @@ const std::vector<JobSpec>& job_specs() {
           "glass plane in front of the camera, each refracting the scene behind it (Snell and Fresnel at the exact cap), defocused by "
           "the aperture's circle of confusion, with their coverage mask. Deterministic for a --seed (docs/lens-drops.md).";
       v.push_back(std::move(lens));
+    }
+    {
+      JobSpec detect{"detect_rain", "hydrolux detect-rain", "Rain found in a folder of frames: one mask per frame", {}};
+      detect.params = describe_fields(rain::detect_path_params());
+      for (const auto& p : describe_fields(rain::detect_params())) detect.params.push_back(p);
+      detect.description =
+          "Rain found in a folder of frames (Garg & Nayar 2004): candidates brighter than both neighbouring frames by "
+          "--min-change-grey, each connected streak's photometric test (its change against its background has slope "
+          "beta <= --drop-time-s / --exposure-s), and the spatio-temporal correlation over --window-px x "
+          "--window-frames, kept where it is elongated along the rain's common direction; one 8-bit PNG mask per frame, "
+          "each stage's on request. Baselines: --method candidates, median (docs/rain-detection.md).";
+      v.push_back(std::move(detect));
+      JobSpec eval{"rain_eval", "hydrolux rain-eval", "Rain masks scored against the true ones", {}};
+      eval.params = describe_fields(rain::eval_path_params());
+      for (const auto& p : describe_fields(rain::eval_params())) eval.params.push_back(p);
+      eval.description =
+          "Predicted rain masks (detect-rain's, or any detector's: nonzero = rain) scored against the true ones that "
+          "hydrolux rain --mask-dir writes (rain where the alpha reaches --rain-alpha; faint streaks between "
+          "--ignore-alpha and it not scored): precision, recall, F1 and IoU per frame and overall, as text or JSON "
+          "(docs/rain-detection.md).";
+      v.push_back(std::move(eval));
     }
     {
       JobSpec fog{"fog", "hydrolux fog", "Fog, haze or mist over a photograph, a folder of frames or a video", {}};

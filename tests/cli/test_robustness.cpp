@@ -138,6 +138,7 @@ constexpr bool kSanitizerSubset = HYDROLUX_TEST_ASAN != 0;
 
 struct Fixtures {
   fs::path root, png, exr;
+  fs::path frames;  // three copies of png, f0.png to f2.png: a folder of frames
 };
 
 struct Case {
@@ -151,7 +152,8 @@ struct Case {
 
 std::string substitute(std::string s, const fs::path& dir, const Fixtures& fx) {
   for (const auto& [key, value] :
-       {std::pair{std::string("{dir}"), dir.string()}, {"{png}", fx.png.string()}, {"{exr}", fx.exr.string()}})
+       {std::pair{std::string("{dir}"), dir.string()}, {"{png}", fx.png.string()}, {"{exr}", fx.exr.string()},
+        {"{frames}", fx.frames.string()}})
     for (std::size_t pos; (pos = s.find(key)) != std::string::npos;) s.replace(pos, key.size(), value);
   return s;
 }
@@ -338,6 +340,9 @@ class Robustness : public ::testing::Test {
     r = run_argv({"drop", "undistort", "-q", "--image", fx_.png.string(), "--drop-center", "16,16",
                   "--drop-radius-px", "10", "--size", "64x32", "--fov-deg", "120", "-o", fx_.exr.string()});
     ASSERT_EQ(r.code, 0) << r.err;
+    fx_.frames = fx_.root / "frames";
+    fs::create_directories(fx_.frames);
+    for (const char* name : {"f0.png", "f1.png", "f2.png"}) fs::copy_file(fx_.png, fx_.frames / name);
   }
   static void TearDownTestSuite() {
     std::error_code ec;

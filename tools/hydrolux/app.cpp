@@ -149,6 +149,8 @@ constexpr TopCommand kTopCommands[] = {
     {"rain", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_rain(app)); }},
     {"fog", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_fog(app)); }},
     {"lens-drops", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_lens_drops(app)); }},
+    {"detect-rain", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_detect_rain(app)); }},
+    {"rain-eval", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_rain_eval(app)); }},
     {"medium", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_medium(app)); }},
     {"gallery", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_gallery(app)); }},
     {"spec", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_spec(app)); }},

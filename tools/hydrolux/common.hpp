@@ -64,6 +64,8 @@ Command add_export(CLI::App& app);
 Command add_rain(CLI::App& app);
 Command add_fog(CLI::App& app);
 Command add_lens_drops(CLI::App& app);
+Command add_detect_rain(CLI::App& app);
+Command add_rain_eval(CLI::App& app);
 Command add_medium(CLI::App& app);
 Command add_spec(CLI::App& app);
 

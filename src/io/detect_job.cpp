@@ -1,0 +1,216 @@
+#include "hydrolux/io/detect_job.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <nlohmann/json.hpp>
+
+#include "hydrolux/core/error.hpp"
+#include "hydrolux/core/memory.hpp"
+#include "hydrolux/io/files.hpp"
+#include "hydrolux/io/frames.hpp"
+
+namespace hydrolux::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The image files of a folder by name (frames.hpp's extensions, no hidden ones), or Error naming the flag.
+std::map<std::string, fs::path> masks_in(const std::string& dir, std::string_view flag) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error(fmt::format("{} {}: not a folder", flag, dir));
+  std::map<std::string, fs::path> out;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (!is_frame_file(e.path()) || name.front() == '.' || !fs::is_regular_file(e.path(), ec)) continue;
+    out.emplace(e.path().stem().string(), e.path());
+  }
+  if (ec) throw Error(fmt::format("{} {}: cannot list: {}", flag, dir, ec.message()));
+  if (out.empty()) throw Error(fmt::format("{} {}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)", flag, dir));
+  return out;
+}
+
+Image mask_image(const rain::Mask& m) {
+  Image img(m.width, m.height, 1);
+  for (std::size_t i = 0; i < m.on.size(); ++i) img.pixels[i] = m.on[i] ? 1.f : 0.f;
+  img.non_colour = true;
+  return img;
+}
+
+nlohmann::ordered_json scores(const rain::Confusion& c) {
+  const auto ratio = [](double v) { return std::isnan(v) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(v); };
+  return {{"precision", ratio(c.precision())}, {"recall", ratio(c.recall())}, {"f1", ratio(c.f1())},
+          {"iou", ratio(c.iou())},           {"true_positive", c.true_positive}, {"false_positive", c.false_positive},
+          {"false_negative", c.false_negative}, {"true_negative", c.true_negative}, {"ignored", c.ignored}};
+}
+
+}  // namespace
+
+DetectReport run_detect_job(const DetectJob& job, const DetectHooks& hooks) {
+  rain::validate(job.settings);
+  if (job.input_dir.empty()) throw Error("--input-dir is required");
+  if (job.output_dir.empty()) throw Error("--output-dir is required");
+  const FrameFolder plan = plan_frame_folder({job.input_dir, job.output_dir, std::nullopt, std::nullopt});
+  std::error_code ec;
+  if (job.stages_dir) {
+    if (fs::exists(*job.stages_dir, ec) && same_file(*job.stages_dir, job.input_dir))
+      throw Error(fmt::format("--stages-dir {}: is the input folder", *job.stages_dir));
+    if (fs::exists(*job.stages_dir, ec) && fs::exists(job.output_dir, ec) && same_file(*job.stages_dir, job.output_dir))
+      throw Error(fmt::format("--stages-dir {}: is --output-dir; the stages and the masks share names", *job.stages_dir));
+  }
+  if (plan.frames.size() < 3)
+    throw Error(fmt::format("--input-dir {}: {} frame{}; rain detection compares each frame with the ones before and "
+                            "after it, so it needs at least 3",
+                            job.input_dir, plan.frames.size(), plan.frames.size() == 1 ? "" : "s"));
+  DetectReport report;
+  std::map<std::string, std::string> names;  // mask name -> frame
+  for (const auto& f : plan.frames) {
+    const std::string name = f.stem().string() + ".png";
+    const auto [it, fresh] = names.emplace(name, f.filename().string());
+    if (!fresh)
+      throw Error(fmt::format("--input-dir {}: {} and {} would both have the mask {}", job.input_dir, it->second,
+                              f.filename().string(), name));
+    report.frames.push_back(name);
+  }
+  // Every frame's grey levels and masks are held: refuse what would not fit, from the first frame's size.
+  std::vector<rain::GreyFrame> grey;
+  grey.reserve(plan.frames.size());
+  const auto warn_none = [](const std::string&) {};
+  for (std::size_t k = 0; k < plan.frames.size(); ++k) {
+    const DecodedImage d = read_decoded(hooks.codec, "--input-dir", plan.frames[k], warn_none);
+    if (k == 0) {
+      report.width = d.image.width, report.height = d.image.height;
+      // Grey levels (4 bytes), the stages' masks (3 bytes), the correlation's table (32 bytes, one frame).
+      const double bytes = double(plan.frames.size()) * double(d.image.width) * double(d.image.height) * 8.0 +
+                           double(d.image.width + 1) * double(d.image.height + 1) * 64.0;
+      if (bytes > 0.8 * double(available_memory_bytes()))
+        throw Error(fmt::format("--input-dir {}: {} frames of {}x{} need about {} to detect rain in, more than the {} "
+                                "available; split the folder",
+                                job.input_dir, plan.frames.size(), d.image.width, d.image.height, format_bytes(bytes),
+                                format_bytes(double(available_memory_bytes()))));
+    }
+    if (d.image.width != report.width || d.image.height != report.height)
+      throw Error(fmt::format("--input-dir {}: {} is {}x{}, the first frame {}x{}", job.input_dir,
+                              plan.frames[k].filename().string(), d.image.width, d.image.height, report.width,
+                              report.height));
+    grey.push_back(rain::grey_levels(d.image));
+    if (hooks.progress)
+      hooks.progress(0.2 * double(k + 1) / double(plan.frames.size()),
+                     fmt::format("reading {} of {} frames", k + 1, plan.frames.size()));
+  }
+  const rain::Detection det = rain::detect_rain(grey, job.settings, [&](double f, std::string_view what) {
+    if (hooks.progress) hooks.progress(0.2 + 0.7 * f, what);
+  });
+
+  OutputDirectory out(job.output_dir, "--output-dir");
+  std::optional<OutputDirectory> stages;
+  if (job.stages_dir) stages.emplace(*job.stages_dir, "--stages-dir");
+  const PngOptions png{8, kDefaultPngCompression};
+  for (std::size_t k = 0; k < det.result.size(); ++k) {
+    out.write(report.frames[k], hooks.codec.encode(coverage_for_encoding(mask_image(det.result[k]), ImageFormat::png),
+                                                   ImageFormat::png, png));
+    report.detected.push_back(det.result[k].count());
+    if (stages)
+      for (const auto& [folder, masks] : {std::pair{"candidates", &det.candidates}, {"photometric", &det.photometric},
+                                          {"correlated", &det.correlated}})
+        if (!masks->empty())
+          stages->write(fmt::format("{}/{}", folder, report.frames[k]),
+                        hooks.codec.encode(coverage_for_encoding(mask_image((*masks)[k]), ImageFormat::png),
+                                           ImageFormat::png, png));
+    if (!det.candidates.empty()) report.candidates += det.candidates[k].count();
+    if (!det.photometric.empty()) report.photometric += det.photometric[k].count();
+    if (!det.correlated.empty()) report.correlated += det.correlated[k].count();
+    if (hooks.progress)
+      hooks.progress(0.9 + 0.1 * double(k + 1) / double(det.result.size()),
+                     fmt::format("writing {} of {} masks", k + 1, det.result.size()));
+  }
+  if (stages) stages->commit();
+  out.commit();
+  return report;
+}
+
+std::string detect_summary(const DetectJob& job, const DetectReport& r) {
+  std::size_t total = 0;
+  for (const std::size_t n : r.detected) total += n;
+  const double pixels = double(r.width) * double(r.height) * double(r.frames.size());
+  std::string s = fmt::format("detect-rain: {} masks of {}x{} in {}: {:.3f}% of the pixels rain ({})", r.frames.size(),
+                              r.width, r.height, job.output_dir, 100 * double(total) / pixels,
+                              job.settings.method == rain::DetectMethod::garg_nayar   ? "garg-nayar"
+                              : job.settings.method == rain::DetectMethod::candidates ? "candidates"
+                                                                                      : "median");
+  if (job.settings.method == rain::DetectMethod::garg_nayar)
+    s += fmt::format("; candidates {:.3f}%, after the photometric test {:.3f}%, after the correlation {:.3f}%",
+                     100 * double(r.candidates) / pixels, 100 * double(r.photometric) / pixels,
+                     100 * double(r.correlated) / pixels);
+  return s;
+}
+
+EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec) {
+  rain::validate(job.settings);
+  if (job.pred_dir.empty()) throw Error("--pred-dir is required");
+  if (job.truth_dir.empty()) throw Error("--truth-dir is required");
+  // The report's file reserved before any work (files.hpp), and JSON by its name.
+  std::optional<OutputFile> report_file;
+  if (job.output) {
+    if (lower_extension(*job.output) != ".json")
+      throw Error(fmt::format("--output {}: the report is JSON; name it .json", *job.output));
+    report_file.emplace(*job.output, "--output");
+  }
+  const auto pred = masks_in(job.pred_dir, "--pred-dir");
+  const auto truth = masks_in(job.truth_dir, "--truth-dir");
+  EvalReport report;
+  const auto warn_none = [](const std::string&) {};
+  for (const auto& [stem, path] : pred) {
+    const auto t = truth.find(stem);
+    if (t == truth.end()) {
+      report.unmatched.push_back(path.filename().string());
+      continue;
+    }
+    const DecodedImage p = read_decoded(codec, "--pred-dir", path, warn_none);
+    const DecodedImage a = read_decoded(codec, "--truth-dir", t->second, warn_none);
+    if (p.image.width != a.image.width || p.image.height != a.image.height)
+      throw Error(fmt::format("--pred-dir {}: {} is {}x{}, its true mask {}x{}", job.pred_dir, path.filename().string(),
+                              p.image.width, p.image.height, a.image.width, a.image.height));
+    const std::size_t n = std::size_t(p.image.width) * std::size_t(p.image.height);
+    std::vector<std::uint8_t> on(n);
+    std::vector<float> alpha(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      on[i] = p.image.pixels[i * std::size_t(p.image.channels)] > 0;
+      alpha[i] = a.image.pixels[i * std::size_t(a.image.channels)];
+    }
+    const rain::Confusion c = rain::score_mask(on, alpha, job.settings);
+    report.frames.emplace_back(path.filename().string(), c);
+    report.overall += c;
+  }
+  if (report.frames.empty())
+    throw Error(fmt::format("--pred-dir {}: no mask has a namesake in --truth-dir {}", job.pred_dir, job.truth_dir));
+  if (report_file) {
+    report_file->write(eval_json(job, report));
+    report_file->commit();
+  }
+  return report;
+}
+
+std::string eval_json(const EvalJob& job, const EvalReport& r) {
+  nlohmann::ordered_json j = {{"format", "hydrolux-rain-eval"},
+                              {"format_version", 1},
+                              {"rain_alpha", job.settings.rain_alpha},
+                              {"ignore_alpha", job.settings.ignore_alpha},
+                              {"overall", scores(r.overall)}};
+  nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+  for (const auto& [name, c] : r.frames) {
+    nlohmann::ordered_json f = {{"name", name}};
+    f.update(scores(c));
+    frames.push_back(f);
+  }
+  j["frames"] = frames;
+  j["unmatched"] = r.unmatched;
+  return j.dump(1) + "\n";
+}
+
+}  // namespace hydrolux::io

@@ -1,0 +1,68 @@
+// hydrolux detect-rain and hydrolux rain-eval: rain found in a folder of frames (Garg & Nayar 2004), and
+// masks scored against the true ones (rain/detect.hpp, io/detect_job.hpp; docs/rain-detection.md). The
+// options are declared there; this file registers the flags, calls the jobs and reports.
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+
+#include "common.hpp"
+#include "hydrolux/io/detect_job.hpp"
+#include "hydrolux/rain/detect.hpp"
+#include "image_plugin.hpp"
+#include "params.hpp"
+#include "progress.hpp"
+
+namespace hydrolux::cli {
+
+Command add_detect_rain(CLI::App& app) {
+  auto job = std::make_shared<io::DetectJob>();
+  auto quiet = std::make_shared<bool>(false);
+  auto* sub = add_job_command(app, "detect_rain");
+  Command cmd{sub, {}, {}};
+  add_params(*sub, std::shared_ptr<rain::DetectPaths>(job), rain::detect_path_params(), cmd.flags_for_quantity);
+  add_params(*sub, std::shared_ptr<rain::DetectSettings>(job, &job->settings), rain::detect_params(),
+             cmd.flags_for_quantity);
+  sub->add_flag("-q,--quiet", *quiet, "No progress or summary on stderr");
+  cmd.run = [job, quiet] {
+    ProgressBar bar("detect-rain", *quiet);
+    io::DetectHooks hooks{image_codec(), [&bar](double f, std::string_view label) { bar.update(f, label); }};
+    const io::DetectReport r = io::run_detect_job(*job, hooks);
+    bar.finish();
+    if (!*quiet) fmt::print(stderr, "{}\n", io::detect_summary(*job, r));
+    return 0;
+  };
+  return cmd;
+}
+
+Command add_rain_eval(CLI::App& app) {
+  auto job = std::make_shared<io::EvalJob>();
+  auto json = std::make_shared<bool>(false);
+  auto* sub = add_job_command(app, "rain_eval");
+  Command cmd{sub, {}, {}};
+  add_params(*sub, std::shared_ptr<rain::EvalPaths>(job), rain::eval_path_params(), cmd.flags_for_quantity);
+  add_params(*sub, std::shared_ptr<rain::EvalSettings>(job, &job->settings), rain::eval_params(),
+             cmd.flags_for_quantity);
+  sub->add_flag("--json", *json, "Print the report as JSON on stdout (else a summary line per frame and overall)");
+  cmd.run = [job, json] {
+    const io::EvalReport r = io::run_eval_job(*job, image_codec());
+    if (*json) {
+      std::cout << io::eval_json(*job, r);
+      return 0;
+    }
+    const auto line = [](std::string_view name, const rain::Confusion& c) {
+      fmt::print("{:<24} precision {:.4f}  recall {:.4f}  F1 {:.4f}  IoU {:.4f}  (TP {}, FP {}, FN {}, ignored {})\n",
+                 name, c.precision(), c.recall(), c.f1(), c.iou(), c.true_positive, c.false_positive,
+                 c.false_negative, c.ignored);
+    };
+    for (const auto& [name, c] : r.frames) line(name, c);
+    line("overall", r.overall);
+    if (!r.unmatched.empty())
+      warn(fmt::format("--pred-dir {}: {} mask{} without a namesake in --truth-dir, not scored", job->pred_dir,
+                       r.unmatched.size(), r.unmatched.size() == 1 ? "" : "s"));
+    return 0;
+  };
+  return cmd;
+}
+
+}  // namespace hydrolux::cli
