@@ -134,6 +134,103 @@ DetectReport run_detect_job(const DetectJob& job, const DetectHooks& hooks) {
   return report;
 }
 
+RemoveReport run_remove_job(const RemoveJob& job, const DetectHooks& hooks) {
+  rain::validate(job.settings);
+  if (job.input_dir.empty()) throw Error("--input-dir is required");
+  if (job.output_dir.empty()) throw Error("--output-dir is required");
+  const auto method = job.settings.method;
+  if (method == rain::RemoveMethod::garg_nayar && !job.mask_dir)
+    throw Error("--mask-dir: --method garg-nayar replaces the masked pixels; give the masks (detect-rain's)");
+  if (method == rain::RemoveMethod::oracle && !job.layer_dir)
+    throw Error("--layer-dir: --method oracle inverts the rain layers; give them (hydrolux rain --layer-dir)");
+  if (method != rain::RemoveMethod::garg_nayar && job.mask_dir)
+    throw Error(fmt::format("--mask-dir {}: used only with --method garg-nayar", *job.mask_dir));
+  if (method != rain::RemoveMethod::oracle && job.layer_dir)
+    throw Error(fmt::format("--layer-dir {}: used only with --method oracle", *job.layer_dir));
+  const FrameFolder plan = plan_frame_folder({job.input_dir, job.output_dir, std::nullopt, std::nullopt});
+  if (plan.frames.size() < 3 && method != rain::RemoveMethod::oracle)
+    throw Error(fmt::format("--input-dir {}: {} frame{}; removal from the neighbouring frames needs at least 3",
+                            job.input_dir, plan.frames.size(), plan.frames.size() == 1 ? "" : "s"));
+  // Each frame's mask or layer, by its stem, found before any work.
+  const std::optional<std::map<std::string, fs::path>> masks =
+      job.mask_dir ? std::optional(masks_in(*job.mask_dir, "--mask-dir")) : std::nullopt;
+  const std::optional<std::map<std::string, fs::path>> layers =
+      job.layer_dir ? std::optional(masks_in(*job.layer_dir, "--layer-dir")) : std::nullopt;
+  const auto companion = [](const std::optional<std::map<std::string, fs::path>>& m, const std::string& dir,
+                            std::string_view flag, const fs::path& frame) {
+    const auto it = m->find(frame.stem().string());
+    if (it == m->end())
+      throw Error(fmt::format("{} {}: nothing named {} for the frame {}", flag, dir, frame.stem().string(),
+                              frame.filename().string()));
+    return it->second;
+  };
+  RemoveReport report;
+  report.frames = plan.frames.size();
+  std::vector<Image> frames;
+  std::vector<rain::Mask> frame_masks;
+  const auto warn_none = [](const std::string&) {};
+  for (std::size_t k = 0; k < plan.frames.size(); ++k) {
+    Image f = read_decoded(hooks.codec, "--input-dir", plan.frames[k], warn_none).image;
+    if (k == 0) {
+      report.width = f.width, report.height = f.height;
+      const double bytes = double(plan.frames.size()) * double(f.width) * double(f.height) * (4.0 * f.channels + 1);
+      if (bytes > 0.8 * double(available_memory_bytes()))
+        throw Error(fmt::format("--input-dir {}: {} frames of {}x{} need about {} to remove rain from, more than the {} "
+                                "available; split the folder",
+                                job.input_dir, plan.frames.size(), f.width, f.height, format_bytes(bytes),
+                                format_bytes(double(available_memory_bytes()))));
+    } else if (f.width != report.width || f.height != report.height || f.channels != frames[0].channels) {
+      throw Error(fmt::format("--input-dir {}: {} is {}x{} with {} channels, the first frame {}x{} with {}", job.input_dir,
+                              plan.frames[k].filename().string(), f.width, f.height, f.channels, report.width,
+                              report.height, frames[0].channels));
+    }
+    if (masks) {
+      const fs::path mp = companion(masks, *job.mask_dir, "--mask-dir", plan.frames[k]);
+      const Image m = read_decoded(hooks.codec, "--mask-dir", mp, warn_none).image;
+      if (m.width != f.width || m.height != f.height)
+        throw Error(fmt::format("--mask-dir {}: {} is {}x{}, its frame {}x{}", *job.mask_dir, mp.filename().string(),
+                                m.width, m.height, f.width, f.height));
+      rain::Mask mk{m.width, m.height, std::vector<std::uint8_t>(std::size_t(m.width) * std::size_t(m.height))};
+      for (std::size_t i = 0; i < mk.on.size(); ++i) mk.on[i] = m.pixels[i * std::size_t(m.channels)] > 0;
+      frame_masks.push_back(std::move(mk));
+    }
+    frames.push_back(std::move(f));
+    if (hooks.progress)
+      hooks.progress(0.4 * double(k + 1) / double(plan.frames.size()),
+                     fmt::format("reading {} of {} frames", k + 1, plan.frames.size()));
+  }
+  OutputDirectory out(job.output_dir, "--output-dir");
+  const PngOptions png{8, job.png_compression};
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    Image clear;
+    if (method == rain::RemoveMethod::garg_nayar) {
+      clear = rain::remove_from_neighbours(frames, frame_masks, k);
+    } else if (method == rain::RemoveMethod::median) {
+      clear = rain::temporal_median(frames, k, job.settings.median_frames);
+    } else {
+      const fs::path lp = companion(layers, *job.layer_dir, "--layer-dir", plan.frames[k]);
+      clear = rain::invert_rain_layer(frames[k], read_decoded(hooks.codec, "--layer-dir", lp, warn_none).image);
+    }
+    for (std::size_t i = 0; i < clear.pixels.size(); ++i) report.replaced += clear.pixels[i] != frames[k].pixels[i];
+    const fs::path& name = plan.outputs[k];
+    const auto format = name.extension() == ".exr" ? ImageFormat::exr : ImageFormat::png;
+    out.write(name.string(), hooks.codec.encode(clear, format, png));
+    if (hooks.progress)
+      hooks.progress(0.4 + 0.6 * double(k + 1) / double(frames.size()),
+                     fmt::format("removing and writing {} of {} frames", k + 1, frames.size()));
+  }
+  out.commit();
+  return report;
+}
+
+std::string remove_summary(const RemoveJob& job, const RemoveReport& r) {
+  const char* method = job.settings.method == rain::RemoveMethod::garg_nayar ? "garg-nayar"
+                       : job.settings.method == rain::RemoveMethod::median   ? "median"
+                                                                             : "oracle";
+  return fmt::format("remove-rain: {} frames of {}x{} in {} ({}): {} values changed", r.frames, r.width, r.height,
+                     job.output_dir, method, r.replaced);
+}
+
 std::string detect_summary(const DetectJob& job, const DetectReport& r) {
   std::size_t total = 0;
   for (const std::size_t n : r.detected) total += n;
@@ -161,7 +258,14 @@ EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec) {
       throw Error(fmt::format("--output {}: the report is JSON; name it .json", *job.output));
     report_file.emplace(*job.output, "--output");
   }
+  if (job.clean_dir.has_value() != job.derained_dir.has_value())
+    throw Error(job.clean_dir ? "--clean-dir: goes with --derained-dir (the frames after removal)"
+                              : "--derained-dir: goes with --clean-dir (the frames before the rain)");
   const auto pred = masks_in(job.pred_dir, "--pred-dir");
+  const std::optional<std::map<std::string, fs::path>> clean =
+      job.clean_dir ? std::optional(masks_in(*job.clean_dir, "--clean-dir")) : std::nullopt;
+  const std::optional<std::map<std::string, fs::path>> derained =
+      job.derained_dir ? std::optional(masks_in(*job.derained_dir, "--derained-dir")) : std::nullopt;
   const auto truth = masks_in(job.truth_dir, "--truth-dir");
   EvalReport report;
   const auto warn_none = [](const std::string&) {};
@@ -186,6 +290,19 @@ EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec) {
     const rain::Confusion c = rain::score_mask(on, alpha, job.settings);
     report.frames.emplace_back(path.filename().string(), c);
     report.overall += c;
+    if (clean) {
+      const auto frame = [&](const std::map<std::string, fs::path>& m, const std::string& dir, std::string_view flag) {
+        const auto it = m.find(stem);
+        if (it == m.end()) throw Error(fmt::format("{} {}: no frame named {}", flag, dir, stem));
+        return read_decoded(codec, flag, it->second, warn_none).image;
+      };
+      const rain::RemovalError e =
+          rain::removal_error(frame(*derained, *job.derained_dir, "--derained-dir"),
+                              frame(*clean, *job.clean_dir, "--clean-dir"), alpha, job.settings);
+      report.removal.push_back(e);
+      if (!report.removal_overall) report.removal_overall.emplace();
+      *report.removal_overall += e;
+    }
   }
   if (report.frames.empty())
     throw Error(fmt::format("--pred-dir {}: no mask has a namesake in --truth-dir {}", job.pred_dir, job.truth_dir));
@@ -202,10 +319,21 @@ std::string eval_json(const EvalJob& job, const EvalReport& r) {
                               {"rain_alpha", job.settings.rain_alpha},
                               {"ignore_alpha", job.settings.ignore_alpha},
                               {"overall", scores(r.overall)}};
+  const auto psnr = [](double v) {
+    return std::isnan(v) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(std::isinf(v) ? 1e308 : v);
+  };
+  if (r.removal_overall) {
+    j["overall"]["psnr_in_mask"] = psnr(r.removal_overall->psnr_in());
+    j["overall"]["psnr_out_mask"] = psnr(r.removal_overall->psnr_out());
+  }
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
-  for (const auto& [name, c] : r.frames) {
-    nlohmann::ordered_json f = {{"name", name}};
-    f.update(scores(c));
+  for (std::size_t k = 0; k < r.frames.size(); ++k) {
+    nlohmann::ordered_json f = {{"name", r.frames[k].first}};
+    f.update(scores(r.frames[k].second));
+    if (k < r.removal.size()) {
+      f["psnr_in_mask"] = psnr(r.removal[k].psnr_in());
+      f["psnr_out_mask"] = psnr(r.removal[k].psnr_out());
+    }
     frames.push_back(f);
   }
   j["frames"] = frames;

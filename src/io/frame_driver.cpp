@@ -327,6 +327,13 @@ class FramePipeline {
   BoundedQueue<Image> spare_inputs_{kDecodedFrames + 2};
 };
 
+// A frame's rain layer in --layer-dir: its output's stem as .exr (the layer is linear light).
+fs::path layer_name(const fs::path& output_name) {
+  fs::path n = output_name;
+  n.replace_extension(".exr");
+  return n;
+}
+
 // A folder's run: the plan, the files and what the three stages share.
 struct FolderRun {
   FolderRun(const Driver& r, FrameFolder p) : run(r), plan(std::move(p)) {}
@@ -347,7 +354,8 @@ struct FolderRun {
       f.k = k;
       const Warn sink = [&f](const std::string& text) { f.warnings.push_back(text); };
       try {
-        f.frame = run.read_image("--input-dir", plan.frames[k].string(), sink, false, FramePipeline::kExtraBytesPerPixel);
+        f.frame = run.read_image("--input-dir", plan.frames[k].string(), sink, a.layer_dir.has_value(),
+                                 FramePipeline::kExtraBytesPerPixel);
         if (a.depth_dir) {
           try {
             f.depth = run.read_depth("--depth-dir", plan.depth_maps[k].string(), f.frame.width, f.frame.height, sink);
@@ -367,7 +375,7 @@ struct FolderRun {
   void start_or_check(const Image& frame, const std::string& name) {
     if (!first) {
       first = SequenceStart{FrameMode::folder, frame.width, frame.height, frame.channels, 0, run.a.input_dir.value(),
-                            "--input-dir " + name, run.a.depth_dir.has_value(), false,
+                            "--input-dir " + name, run.a.depth_dir.has_value(), run.a.layer_dir.has_value(),
                             FramePipeline::kExtraBytesPerPixel};
       run.effect.prepare(*first);
     } else if (run.effect.traits().one_size && (frame.width != first->width || frame.height != first->height)) {
@@ -390,7 +398,8 @@ struct FolderRun {
           if (f->depth_error) std::rethrow_exception(f->depth_error);
           auto result = pipe.acquire();
           if (!result) return;  // stopped
-          run.effect.render(f->frame, run.a.depth_dir ? &f->depth : nullptr, f->k, false, "--input-dir " + name,
+          run.effect.render(f->frame, run.a.depth_dir ? &f->depth : nullptr, f->k, run.a.layer_dir.has_value(),
+                            "--input-dir " + name,
                             *result);
           out.result = std::move(result);
         } catch (...) {
@@ -433,6 +442,9 @@ struct FolderRun {
       if (a.mask_dir)
         write_file(fs::path(*a.mask_dir) / out_name,
                    run.h.codec.encode(coverage_for_encoding(result.mask, format), format, run.png(16)), "--mask-dir");
+      if (a.layer_dir)
+        write_file(fs::path(*a.layer_dir) / layer_name(out_name),
+                   run.h.codec.encode(result.layer, ImageFormat::exr, run.png(8)), "--layer-dir");
       ++written;
       negatives.add(result.negative_values);
       if (a.stats_json) {
@@ -463,9 +475,24 @@ FrameRunResult run_folder(const Driver& run) {
   // refused here, whichever folders they are in.
   FileSet files;
   declare_frame_folder(files, f.plan, request);
+  if (a.layer_dir) {
+    std::error_code ec;
+    for (const auto& [flag, dir] : {std::pair{"--input-dir", *a.input_dir}, {"--output-dir", *a.output_dir},
+                                    {"--mask-dir", a.mask_dir.value_or("")}})
+      if (!dir.empty() && fs::exists(*a.layer_dir, ec) && same_file(*a.layer_dir, dir))
+        throw Error(fmt::format("--layer-dir {}: is {}; give the layers their own folder", *a.layer_dir, flag));
+    if (fs::exists(*a.layer_dir, ec) && !fs::is_directory(*a.layer_dir, ec))
+      throw Error(fmt::format("--layer-dir {}: exists and is not a folder", *a.layer_dir));
+    for (const auto& n : f.plan.outputs) files.planned_output("--layer-dir", fs::path(*a.layer_dir) / layer_name(n));
+  }
   OutputFile* stats = a.stats_json ? &files.output("--stats-json", *a.stats_json) : nullptr;
   run.effect.validate();
   create_output_folders(request);
+  if (a.layer_dir) {
+    std::error_code ec;
+    fs::create_directories(*a.layer_dir, ec);
+    if (ec) throw IoError(fmt::format("--layer-dir {}: cannot create: {}", *a.layer_dir, ec.message()));
+  }
   // A frame that cannot be used (unreadable, truncated, of another size, a non-finite value) is named
   // and left out, the others written, and the run ends with the list, as the batch job does: found
   // only by decoding, it would otherwise cost a second pass over every frame before the work.
@@ -559,7 +586,7 @@ FrameRunResult run_video(const Driver& run) {
   if (!a.output) throw Error("-o: give the output video (.mp4, .mov or .mkv)");
   if (a.depth || a.depth_dir)
     throw Error("--depth: depth maps are for --image and --input-dir; video frames use the ground plane");
-  if (a.mask_out || a.mask_dir || a.layer_out || a.output_dir)
+  if (a.mask_out || a.mask_dir || a.layer_out || a.layer_dir || a.output_dir)
     throw Error("--video writes one video (-o) and optionally --stats-json; masks are for --image and --input-dir");
   run.effect.check_mode(a, FrameMode::video);
   check_unused_flags(a, FrameMode::video);
@@ -611,6 +638,7 @@ FrameRunResult run_frames(const FrameRequest& a, FrameEffect& effect, const Fram
   if (modes != 1) throw Error("give exactly one of --image, --input-dir and --video");
   if (a.output_dir && !a.input_dir) throw Error("--output-dir: goes with --input-dir");
   if (a.mask_dir && !a.input_dir) throw Error("--mask-dir: goes with --input-dir (use --mask-out with --image)");
+  if (a.layer_dir && !a.input_dir) throw Error("--layer-dir: goes with --input-dir (use --layer-out with --image)");
   if (a.depth_dir && !a.input_dir) throw Error("--depth-dir: goes with --input-dir (use --depth with --image)");
   for (const auto& f : rain::rain_path_params())  // every path there is (the rain takes them all)
     if (!f.text(a).empty() && !find_field(effect.traits().paths, f.param.name))

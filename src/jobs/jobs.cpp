@@ -58,13 +58,23 @@ const std::vector<JobSpec>& job_specs() {
           "--window-frames, kept where it is elongated along the rain's common direction; one 8-bit PNG mask per frame, "
           "each stage's on request. Baselines: --method candidates, median (docs/rain-detection.md).";
       v.push_back(std::move(detect));
+      JobSpec remove{"remove_rain", "hydrolux remove-rain", "Rain removed from a folder of frames", {}};
+      remove.params = describe_fields(rain::remove_path_params());
+      for (const auto& p : describe_fields(rain::remove_params())) remove.params.push_back(p);
+      remove.description =
+          "Rain removed from a folder of frames: garg-nayar replaces the pixels of each frame's mask (detect-rain's) "
+          "by the mean of the neighbouring frames (Garg & Nayar 2004), median takes every pixel's temporal median, "
+          "and oracle inverts the rain layers that hydrolux rain --layer-dir wrote, the upper bound of any removal; "
+          "rain-eval scores the result against the clean frames (docs/rain-detection.md).";
+      v.push_back(std::move(remove));
       JobSpec eval{"rain_eval", "hydrolux rain-eval", "Rain masks scored against the true ones", {}};
       eval.params = describe_fields(rain::eval_path_params());
       for (const auto& p : describe_fields(rain::eval_params())) eval.params.push_back(p);
       eval.description =
           "Predicted rain masks (detect-rain's, or any detector's: nonzero = rain) scored against the true ones that "
           "hydrolux rain --mask-dir writes (rain where the alpha reaches --rain-alpha; faint streaks between "
-          "--ignore-alpha and it not scored): precision, recall, F1 and IoU per frame and overall, as text or JSON "
+          "--ignore-alpha and it not scored): precision, recall, F1 and IoU per frame and overall, and with "
+          "--clean-dir and --derained-dir the removal's PSNR in and out of the rain, as text or JSON "
           "(docs/rain-detection.md).";
       v.push_back(std::move(eval));
     }

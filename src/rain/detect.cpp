@@ -52,7 +52,18 @@ const Field<DetectSettings> kDetect[] = {
       "value, docs/rain-detection.md)"},
      HYDROLUX_PARAM_MEMBER(max_direction_spread_deg)},
     {{"median_frames", "--median-frames", "detector", K::integer, "frames", 3, 99,
-      "The median baseline's frames around each frame, odd"},
+      "The median baseline's frames around each frame, odd (--method median)"},
+     HYDROLUX_PARAM_MEMBER(median_frames)},
+};
+
+const Field<RemoveSettings> kRemove[] = {
+    {choice_param("method", "--method", "removal", "garg-nayar|median|oracle",
+                  "garg-nayar: the masked pixels from the neighbouring frames (Garg & Nayar 2004; needs --mask-dir); "
+                  "median: every pixel the temporal median of --median-frames frames; oracle: the rain layer inverted "
+                  "(needs --layer-dir: hydrolux rain's)"),
+     HYDROLUX_PARAM_MEMBER(method)},
+    {{"median_frames", "--median-frames", "removal", K::integer, "frames", 3, 99,
+      "The median's frames around each frame, odd (--method median)"},
      HYDROLUX_PARAM_MEMBER(median_frames)},
 };
 
@@ -96,10 +107,50 @@ const std::vector<Field<EvalPaths>>& eval_paths() {
       {path_row("truth_dir", "--truth-dir", "DIR",
                 "The true masks of the same names: the rain's alpha, as hydrolux rain --mask-dir writes it"),
        HYDROLUX_PARAM_PATH(truth_dir)},
+      {path_row("clean_dir", "--clean-dir", "DIR",
+                "The clean frames (the input of hydrolux rain), for the removal's PSNR with --derained-dir"),
+       HYDROLUX_PARAM_PATH(clean_dir)},
+      {path_row("derained_dir", "--derained-dir", "DIR", "The frames after removal (remove-rain's), named as the clean ones"),
+       HYDROLUX_PARAM_PATH(derained_dir)},
       {path_row("output", "--output", "FILE", "Write the JSON report here too (all or nothing)", "-o"),
        HYDROLUX_PARAM_PATH(output)},
   };
   return rows;
+}
+
+const std::vector<Field<RemovePaths>>& remove_paths() {
+  static const std::vector<Field<RemovePaths>> rows = {
+      {path_row("input_dir", "--input-dir", "DIR", "The rainy frames, in name order (at least 3)"),
+       HYDROLUX_PARAM_PATH(input_dir)},
+      {path_row("mask_dir", "--mask-dir", "DIR", "The rain's masks, named as the frames (detect-rain's; nonzero = rain)"),
+       HYDROLUX_PARAM_PATH(mask_dir)},
+      {path_row("layer_dir", "--layer-dir", "DIR",
+                "The rain layers, <stem>.exr, for --method oracle (hydrolux rain --layer-dir)"),
+       HYDROLUX_PARAM_PATH(layer_dir)},
+      {path_row("output_dir", "--output-dir", "DIR",
+                "Folder for the frames with the rain removed, named as hydrolux rain names its outputs (created; never "
+                "the input folder)"),
+       HYDROLUX_PARAM_PATH(output_dir)},
+  };
+  return rows;
+}
+
+// The sRGB curve, interpolated linearly between kSrgbKnots + 1 knots over [0, 1] (clamped): within 0.005 grey
+// levels of it (h^2 / 8 times its largest curvature, about 2400 just above 0.0031308, times 255), and a third
+// of the time a pow per channel took.
+double srgb_encode(float v) {
+  static const std::vector<double> knots = [] {
+    std::vector<double> k(kSrgbKnots + 1);
+    for (std::size_t i = 0; i <= kSrgbKnots; ++i) {
+      const double c = double(i) / double(kSrgbKnots);
+      k[i] = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
+    }
+    return k;
+  }();
+  const double t = std::clamp(double(v), 0.0, 1.0) * double(kSrgbKnots);
+  const std::size_t i = std::min(std::size_t(t), kSrgbKnots - 1);
+  const double f = t - double(i);
+  return knots[i] + f * (knots[i + 1] - knots[i]);
 }
 
 void check_frames(std::span<const GreyFrame> frames) {
@@ -238,6 +289,110 @@ Mask correlation_test_with(std::span<const Mask> masks, std::span<const SparseMo
 std::span<const Field<DetectSettings>> detect_params() { return kDetect; }
 std::span<const Field<EvalSettings>> eval_params() { return kEval; }
 std::span<const Field<DetectPaths>> detect_path_params() { return detect_paths(); }
+std::span<const Field<RemoveSettings>> remove_params() { return kRemove; }
+std::span<const Field<RemovePaths>> remove_path_params() { return remove_paths(); }
+
+void validate(const RemoveSettings& s) {
+  check_fields(remove_params(), s);
+  if (s.median_frames % 2 == 0)
+    throw ParamError(fmt::format("{{median_frames}} {}: must be odd (a window centred on its frame)", s.median_frames));
+}
+
+Image remove_from_neighbours(std::span<const Image> frames, std::span<const Mask> masks, std::size_t n) {
+  const Image& f = frames[n];
+  Image out = f;
+  const std::size_t ch = std::size_t(f.channels), count = frames.size();
+  const auto flagged = [&](std::size_t t, std::size_t i) { return masks[t].on[i] != 0; };
+  for (std::size_t i = 0; i < masks[n].on.size(); ++i) {
+    if (!flagged(n, i)) continue;
+    // The usable frame on each side: the neighbour, or the one beyond it where the neighbour is rain too.
+    const auto side = [&](int step) -> const Image* {
+      for (int k = 1; k <= 2; ++k) {
+        const long t = long(n) + step * k;
+        if (t < 0 || t >= long(count)) return nullptr;
+        if (!flagged(std::size_t(t), i)) return &frames[std::size_t(t)];
+      }
+      return nullptr;
+    };
+    const Image *a = side(-1), *b = side(+1);
+    if (!a && !b) continue;
+    for (std::size_t c = 0; c < ch; ++c) {
+      const std::size_t k = i * ch + c;
+      out.pixels[k] = a && b ? 0.5f * (a->pixels[k] + b->pixels[k]) : (a ? a->pixels[k] : b->pixels[k]);
+    }
+  }
+  return out;
+}
+
+Image temporal_median(std::span<const Image> frames, std::size_t n, int median_frames) {
+  const std::size_t window = std::min(std::size_t(median_frames), frames.size() - (frames.size() % 2 == 0 ? 1 : 0));
+  const std::size_t half = window / 2;
+  std::size_t first = n >= half ? n - half : 0;
+  if (first + window > frames.size()) first = frames.size() - window;
+  Image out = frames[n];
+  std::vector<float> v(window);
+  for (std::size_t k = 0; k < out.pixels.size(); ++k) {
+    for (std::size_t t = 0; t < window; ++t) v[t] = frames[first + t].pixels[k];
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(half), v.end());
+    out.pixels[k] = v[half];
+  }
+  return out;
+}
+
+Image invert_rain_layer(const Image& rainy, const Image& layer) {
+  if (layer.channels != 4) throw Error(fmt::format("a rain layer has 4 channels (premultiplied RGBA), not {}", layer.channels));
+  if (layer.width != rainy.width || layer.height != rainy.height)
+    throw Error(fmt::format("a rain layer of {}x{} for a frame of {}x{}", layer.width, layer.height, rainy.width,
+                            rainy.height));
+  Image out = rainy;
+  const std::size_t ch = std::size_t(rainy.channels), colours = std::min<std::size_t>(ch, 3);
+  for (std::size_t i = 0; i < std::size_t(rainy.width) * std::size_t(rainy.height); ++i) {
+    const double alpha = layer.pixels[i * 4 + 3];
+    if (!(alpha < 1)) continue;
+    for (std::size_t c = 0; c < colours; ++c)
+      out.pixels[i * ch + c] = float((double(rainy.pixels[i * ch + c]) - double(layer.pixels[i * 4 + c])) / (1 - alpha));
+  }
+  return out;
+}
+
+RemovalError& RemovalError::operator+=(const RemovalError& o) {
+  sum_squares_in += o.sum_squares_in, sum_squares_out += o.sum_squares_out;
+  values_in += o.values_in, values_out += o.values_out;
+  return *this;
+}
+
+namespace {
+double psnr_of(double sum_squares, std::uint64_t values) {
+  if (values == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double mse = sum_squares / double(values);
+  return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
+}
+}  // namespace
+
+double RemovalError::psnr_in() const { return psnr_of(sum_squares_in, values_in); }
+double RemovalError::psnr_out() const { return psnr_of(sum_squares_out, values_out); }
+
+RemovalError removal_error(const Image& derained, const Image& clean, std::span<const float> true_alpha,
+                           const EvalSettings& s) {
+  if (derained.width != clean.width || derained.height != clean.height ||
+      true_alpha.size() != std::size_t(clean.width) * std::size_t(clean.height))
+    throw Error(fmt::format("rain-eval: a derained frame of {}x{} against a clean one of {}x{}", derained.width,
+                            derained.height, clean.width, clean.height));
+  const std::size_t cd = std::size_t(derained.channels), cc = std::size_t(clean.channels);
+  const std::size_t colours = std::min<std::size_t>({cd, cc, 3});
+  RemovalError e;
+  for (std::size_t i = 0; i < true_alpha.size(); ++i) {
+    const float a = true_alpha[i];
+    const bool in = a >= s.rain_alpha, out = !(a > 0 && a >= s.ignore_alpha) && !in;
+    if (!in && !out) continue;
+    for (std::size_t c = 0; c < colours; ++c) {
+      const double d = 255 * (srgb_encode(derained.pixels[i * cd + c]) - srgb_encode(clean.pixels[i * cc + c]));
+      (in ? e.sum_squares_in : e.sum_squares_out) += d * d;
+      (in ? e.values_in : e.values_out) += 1;
+    }
+  }
+  return e;
+}
 std::span<const Field<EvalPaths>> eval_path_params() { return eval_paths(); }
 
 double max_beta(const DetectSettings& s) { return s.drop_time_s / s.exposure_s; }
@@ -258,23 +413,7 @@ void validate(const EvalSettings& s) {
 GreyFrame grey_levels(const Image& linear) {
   if (linear.channels < 1) throw Error("rain detection: an image without channels");
   GreyFrame g{linear.width, linear.height, std::vector<float>(std::size_t(linear.width) * std::size_t(linear.height))};
-  // The sRGB curve, interpolated linearly between 4097 knots over [0, 1]: within 0.005 grey levels of it
-  // (h^2 / 8 times its largest curvature, about 2400 just above 0.0031308, times 255), and a third of the
-  // time a pow per channel took.
-  static const std::vector<double> knots = [] {
-    std::vector<double> k(kSrgbKnots + 1);
-    for (std::size_t i = 0; i <= kSrgbKnots; ++i) {
-      const double c = double(i) / double(kSrgbKnots);
-      k[i] = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
-    }
-    return k;
-  }();
-  const auto encode = [](float v) {
-    const double t = std::clamp(double(v), 0.0, 1.0) * double(kSrgbKnots);
-    const std::size_t i = std::min(std::size_t(t), kSrgbKnots - 1);
-    const double f = t - double(i);
-    return knots[i] + f * (knots[i + 1] - knots[i]);
-  };
+  const auto encode = [](float v) { return srgb_encode(v); };
   const std::size_t ch = std::size_t(linear.channels);
   for (std::size_t i = 0; i < g.level.size(); ++i) {
     const float* p = &linear.pixels[i * ch];

@@ -43,10 +43,14 @@ std::vector<Field<FramePaths>> rows(const Words& w, bool depth, bool layer) {
   out.push_back({row("mask_out", "--mask-out", kFile, w.mask), HYDROLUX_PARAM_PATH(mask_out)});
   out.push_back({row("mask_dir", "--mask-dir", kDir, "Folder for the masks of --input-dir (same names as the frames)"),
                  HYDROLUX_PARAM_PATH(mask_dir)});
-  if (layer)
+  if (layer) {
     out.push_back({row("layer_out", "--layer-out", kFile,
                        "The rain layer for --image as a premultiplied RGBA .exr (linear)"),
                    HYDROLUX_PARAM_PATH(layer_out)});
+    out.push_back({row("layer_dir", "--layer-dir", kDir,
+                       "Folder for the rain layers of --input-dir, <stem>.exr, premultiplied RGBA (linear)"),
+                   HYDROLUX_PARAM_PATH(layer_dir)});
+  }
   out.push_back({row("stats_json", "--stats-json", kFile, w.stats), HYDROLUX_PARAM_PATH(stats_json)});
   return out;
 }

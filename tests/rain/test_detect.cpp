@@ -164,4 +164,65 @@ TEST(RainDetect, GreyLevelsAreTheLumaOfTheSrgbCodes) {
   }
 }
 
+// Garg & Nayar's removal: a masked pixel gets the mean of the frames before and after; a neighbour that is
+// rain there itself gives way to the frame beyond it; with no usable frame on either side the pixel stays.
+TEST(RainRemove, FromTheNeighbouringFrames) {
+  std::vector<Image> f;
+  for (int t = 0; t < 5; ++t) {
+    Image im(4, 1, 3);
+    for (std::size_t k = 0; k < im.pixels.size(); ++k) im.pixels[k] = float(10 * t + int(k));
+    f.push_back(im);
+  }
+  std::vector<Mask> m(5, Mask{4, 1, std::vector<std::uint8_t>(4, 0)});
+  m[2].on = {1, 1, 0, 1};
+  m[1].on = {0, 1, 0, 1};  // pixels 1 and 3 are rain in frame 1 too
+  m[0].on = {0, 0, 0, 1};  // and pixel 3 in frame 0: no usable frame before frame 2 there
+  m[3].on = {0, 0, 0, 1};
+  m[4].on = {0, 0, 0, 1};  // nor after
+  const Image out = remove_from_neighbours(f, m, 2);
+  for (std::size_t c = 0; c < 3; ++c) {
+    EXPECT_FLOAT_EQ(out.pixels[0 * 3 + c], 0.5f * (10 + 30) + float(c));      // frames 1 and 3
+    EXPECT_FLOAT_EQ(out.pixels[1 * 3 + c], 0.5f * (0 + 30) + float(3 + c));   // frames 0 and 3
+    EXPECT_FLOAT_EQ(out.pixels[2 * 3 + c], f[2].pixels[2 * 3 + c]);           // not masked
+    EXPECT_FLOAT_EQ(out.pixels[3 * 3 + c], f[2].pixels[3 * 3 + c]);           // nothing usable: kept
+  }
+}
+
+TEST(RainRemove, TemporalMedianAndTheLayerInverted) {
+  std::vector<Image> f;
+  for (const float v : {0.1f, 0.9f, 0.3f, 0.2f, 0.5f}) {
+    Image im(1, 1, 3);
+    im.pixels = {v, v, v};
+    f.push_back(im);
+  }
+  EXPECT_FLOAT_EQ(temporal_median(f, 2, 5).pixels[0], 0.3f);
+  EXPECT_FLOAT_EQ(temporal_median(f, 0, 3).pixels[0], 0.3f);  // the window moved inside: frames 0-2
+  // rainy = clear (1 - alpha) + layer, written out here, inverted.
+  Image clear(2, 1, 3), layer(2, 1, 4), rainy(2, 1, 3);
+  clear.pixels = {0.2f, 0.4f, 0.6f, 0.7f, 0.1f, 0.3f};
+  layer.pixels = {0.05f, 0.1f, 0.15f, 0.25f, 0.5f, 0.5f, 0.5f, 1.0f};
+  for (std::size_t i = 0; i < 2; ++i)
+    for (std::size_t c = 0; c < 3; ++c)
+      rainy.pixels[i * 3 + c] = clear.pixels[i * 3 + c] * (1 - layer.pixels[i * 4 + 3]) + layer.pixels[i * 4 + c];
+  const Image back = invert_rain_layer(rainy, layer);
+  for (std::size_t c = 0; c < 3; ++c) {
+    EXPECT_NEAR(back.pixels[c], clear.pixels[c], 1e-6);
+    EXPECT_FLOAT_EQ(back.pixels[3 + c], rainy.pixels[3 + c]);  // alpha 1: nothing of the scene left, kept
+  }
+}
+
+// PSNR on the sRGB codes: a value 255 codes off in each channel of the one rain pixel is 0 dB; equal frames
+// outside, +inf; the faint streak's pixel counted in neither.
+TEST(RainRemove, PsnrInAndOutOfTheRainByHand) {
+  Image clean(3, 1, 3), derained(3, 1, 3);
+  clean.pixels = {0, 0, 0, 0.5f, 0.5f, 0.5f, 0.2f, 0.2f, 0.2f};
+  derained.pixels = {1, 1, 1, 0.5f, 0.5f, 0.5f, 0.9f, 0.9f, 0.9f};
+  const std::vector<float> alpha{0.5f, 0.f, 0.02f};
+  const RemovalError e = removal_error(derained, clean, alpha, EvalSettings{});
+  EXPECT_EQ(e.values_in, 3u);
+  EXPECT_EQ(e.values_out, 3u);
+  EXPECT_NEAR(e.psnr_in(), 0.0, 1e-9);
+  EXPECT_TRUE(std::isinf(e.psnr_out()));
+}
+
 }  // namespace hydrolux::rain

@@ -150,6 +150,7 @@ constexpr TopCommand kTopCommands[] = {
     {"fog", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_fog(app)); }},
     {"lens-drops", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_lens_drops(app)); }},
     {"detect-rain", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_detect_rain(app)); }},
+    {"remove-rain", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_remove_rain(app)); }},
     {"rain-eval", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_rain_eval(app)); }},
     {"medium", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_medium(app)); }},
     {"gallery", [](CLI::App& app, std::vector<Command>& out) { out.push_back(add_gallery(app)); }},

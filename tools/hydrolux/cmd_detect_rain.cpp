@@ -5,6 +5,9 @@
 
 #include <iostream>
 #include <memory>
+#include <span>
+#include <string>
+#include <string_view>
 
 #include "common.hpp"
 #include "hydrolux/io/detect_job.hpp"
@@ -15,24 +18,42 @@
 
 namespace hydrolux::cli {
 
-Command add_detect_rain(CLI::App& app) {
-  auto job = std::make_shared<io::DetectJob>();
+namespace {
+
+// A job over a folder of frames with its declared paths and settings as flags, -q, a progress bar and its
+// summary on stderr: detect-rain and remove-rain.
+template <class Job, class Paths, class Settings, class Run, class Summary>
+Command add_folder_job(CLI::App& app, std::string_view job_name, std::string_view label,
+                       std::span<const Field<Paths>> paths, std::span<const Field<Settings>> settings, Run run,
+                       Summary summary) {
+  auto job = std::make_shared<Job>();
   auto quiet = std::make_shared<bool>(false);
-  auto* sub = add_job_command(app, "detect_rain");
+  auto* sub = add_job_command(app, job_name);
   Command cmd{sub, {}, {}};
-  add_params(*sub, std::shared_ptr<rain::DetectPaths>(job), rain::detect_path_params(), cmd.flags_for_quantity);
-  add_params(*sub, std::shared_ptr<rain::DetectSettings>(job, &job->settings), rain::detect_params(),
-             cmd.flags_for_quantity);
+  add_params(*sub, std::shared_ptr<Paths>(job), paths, cmd.flags_for_quantity);
+  add_params(*sub, std::shared_ptr<Settings>(job, &job->settings), settings, cmd.flags_for_quantity);
   sub->add_flag("-q,--quiet", *quiet, "No progress or summary on stderr");
-  cmd.run = [job, quiet] {
-    ProgressBar bar("detect-rain", *quiet);
-    io::DetectHooks hooks{image_codec(), [&bar](double f, std::string_view label) { bar.update(f, label); }};
-    const io::DetectReport r = io::run_detect_job(*job, hooks);
+  cmd.run = [job, quiet, label = std::string(label), run, summary] {
+    ProgressBar bar(label, *quiet);
+    io::DetectHooks hooks{image_codec(), [&bar](double f, std::string_view text) { bar.update(f, text); }};
+    const auto r = run(*job, hooks);
     bar.finish();
-    if (!*quiet) fmt::print(stderr, "{}\n", io::detect_summary(*job, r));
+    if (!*quiet) fmt::print(stderr, "{}\n", summary(*job, r));
     return 0;
   };
   return cmd;
+}
+
+}  // namespace
+
+Command add_detect_rain(CLI::App& app) {
+  return add_folder_job<io::DetectJob>(app, "detect_rain", "detect-rain", rain::detect_path_params(),
+                                       rain::detect_params(), io::run_detect_job, io::detect_summary);
+}
+
+Command add_remove_rain(CLI::App& app) {
+  return add_folder_job<io::RemoveJob>(app, "remove_rain", "remove-rain", rain::remove_path_params(),
+                                       rain::remove_params(), io::run_remove_job, io::remove_summary);
 }
 
 Command add_rain_eval(CLI::App& app) {
@@ -57,6 +78,9 @@ Command add_rain_eval(CLI::App& app) {
     };
     for (const auto& [name, c] : r.frames) line(name, c);
     line("overall", r.overall);
+    if (r.removal_overall)
+      fmt::print("removal: PSNR {:.2f} dB in the rain, {:.2f} dB outside it (sRGB codes 0-255)\n",
+                 r.removal_overall->psnr_in(), r.removal_overall->psnr_out());
     if (!r.unmatched.empty())
       warn(fmt::format("--pred-dir {}: {} mask{} without a namesake in --truth-dir, not scored", job->pred_dir,
                        r.unmatched.size(), r.unmatched.size() == 1 ? "" : "s"));

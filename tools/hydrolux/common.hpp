@@ -65,6 +65,7 @@ Command add_rain(CLI::App& app);
 Command add_fog(CLI::App& app);
 Command add_lens_drops(CLI::App& app);
 Command add_detect_rain(CLI::App& app);
+Command add_remove_rain(CLI::App& app);
 Command add_rain_eval(CLI::App& app);
 Command add_medium(CLI::App& app);
 Command add_spec(CLI::App& app);

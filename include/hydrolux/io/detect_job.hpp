@@ -41,6 +41,26 @@ struct DetectReport {
 DetectReport run_detect_job(const DetectJob& job, const DetectHooks& hooks);
 std::string detect_summary(const DetectJob& job, const DetectReport& report);
 
+struct RemoveJob : rain::RemovePaths {
+  rain::RemoveSettings settings;
+  int png_compression = kDefaultPngCompression;
+};
+
+struct RemoveReport {
+  std::size_t frames = 0;
+  std::size_t replaced = 0;  // pixels changed (garg-nayar: the masks' pixels that had a usable neighbour)
+  int width = 0, height = 0;
+};
+
+// Reads the frames of input_dir in name order (and each frame's mask or layer of its stem), removes the rain
+// by settings.method and writes each frame to output_dir under the name hydrolux rain gives its output
+// (<stem>.png, or .exr for EXR, HDR and PFM frames); the folder is written whole at the end or not at all.
+// Error naming the flag for a missing mask or layer, a folder that is the input folder, too few frames,
+// frames or masks of different sizes, a method without the folder it needs (--mask-dir for garg-nayar,
+// --layer-dir for oracle) or a folder the method does not read.
+RemoveReport run_remove_job(const RemoveJob& job, const DetectHooks& hooks);
+std::string remove_summary(const RemoveJob& job, const RemoveReport& report);
+
 struct EvalJob : rain::EvalPaths {
   rain::EvalSettings settings;
 };
@@ -48,6 +68,9 @@ struct EvalJob : rain::EvalPaths {
 struct EvalReport {
   std::vector<std::pair<std::string, rain::Confusion>> frames;  // by the masks' names, in name order
   rain::Confusion overall;
+  // With --clean-dir and --derained-dir: each scored frame's removal error, and overall.
+  std::vector<rain::RemovalError> removal;
+  std::optional<rain::RemovalError> removal_overall;
   std::vector<std::string> unmatched;  // predicted masks with no true mask of their name
 };
 
@@ -57,7 +80,9 @@ struct EvalReport {
 EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec);
 // {"format": "hydrolux-rain-eval", "format_version": 1, "rain_alpha", "ignore_alpha", "overall": {"precision",
 // "recall", "f1", "iou", "true_positive", "false_positive", "false_negative", "true_negative", "ignored"},
-// "frames": [{"name", ...the same}], "unmatched": [...]}; undefined ratios as null.
+// "frames": [{"name", ...the same}], "unmatched": [...]}; undefined ratios as null. With the removal's frames,
+// "psnr_in_mask" and "psnr_out_mask" (dB on the sRGB codes 0-255; null where undefined, a very large value
+// as 1e308 where equal) overall and per frame.
 std::string eval_json(const EvalJob& job, const EvalReport& report);
 
 }  // namespace hydrolux::io

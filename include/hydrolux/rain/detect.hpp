@@ -108,9 +108,42 @@ struct DetectPaths {
 std::span<const Field<DetectPaths>> detect_path_params();
 struct EvalPaths {
   std::string pred_dir, truth_dir;
+  std::optional<std::string> clean_dir, derained_dir;  // with both: the removal's PSNR in and out of the rain
   std::optional<std::string> output;  // the JSON report, besides stdout with --json
 };
 std::span<const Field<EvalPaths>> eval_path_params();
+
+// ---- removal (hydrolux remove-rain) ------------------------------------------------------------------
+
+// garg-nayar: the detected pixels from the neighbouring frames (Garg & Nayar 2004); median: every pixel the
+// temporal median of the frames around (no mask); oracle: the renderer's own rain layer inverted, the upper
+// bound of any removal.
+enum class RemoveMethod { garg_nayar = 0, median = 1, oracle = 2 };
+struct RemoveSettings {
+  RemoveMethod method = RemoveMethod::garg_nayar;
+  int median_frames = 5;  // the median's frames around each frame (odd)
+};
+std::span<const Field<RemoveSettings>> remove_params();
+void validate(const RemoveSettings& s);
+
+struct RemovePaths {
+  std::string input_dir, output_dir;
+  std::optional<std::string> mask_dir, layer_dir;
+};
+std::span<const Field<RemovePaths>> remove_path_params();
+
+// Frame `n` of `frames` (linear, of one size; `masks` one per frame, nonzero = rain) with each pixel of its
+// mask replaced by the mean of frames n - 1 and n + 1, per channel; a neighbour flagged there in its own mask
+// is replaced by the frame beyond it (n - 2, n + 2) where that is not flagged; a side with no usable frame is
+// left out, and a pixel with none on either side is kept.
+Image remove_from_neighbours(std::span<const Image> frames, std::span<const Mask> masks, std::size_t n);
+// Frame n with every pixel the median of frames n - half .. n + half (half = median_frames / 2, the window
+// moved inside the sequence at its ends), per channel.
+Image temporal_median(std::span<const Image> frames, std::size_t n, int median_frames);
+// The clear frame under a rain layer: rainy = clear (1 - alpha) + layer (premultiplied RGBA, alpha in its
+// last channel), so clear = (rainy - layer) / (1 - alpha); where alpha is 1 (nothing of the scene left) the
+// rainy pixel is kept. Error for sizes that differ or a layer without 4 channels.
+Image invert_rain_layer(const Image& rainy, const Image& layer);
 
 // ---- scores against the true masks (hydrolux rain-eval) ----------------------------------------------
 
@@ -133,6 +166,19 @@ struct Confusion {
   double f1() const;
   double iou() const;
 };
+
+// A removal's error against the clean frame, in and out of the true rain (alpha >= rain_alpha; out: below
+// ignore_alpha, the faint streaks in neither), on the sRGB codes 0-255 of every colour channel.
+struct RemovalError {
+  double sum_squares_in = 0, sum_squares_out = 0;
+  std::uint64_t values_in = 0, values_out = 0;
+  RemovalError& operator+=(const RemovalError& o);
+  // 10 log10(255^2 / mean square); +inf where equal, NaN where no value.
+  double psnr_in() const;
+  double psnr_out() const;
+};
+RemovalError removal_error(const Image& derained, const Image& clean, std::span<const float> true_alpha,
+                           const EvalSettings& s);
 
 // Predicted (nonzero: rain) against the true rain alpha (one value per pixel, in [0, 1]); the two of one
 // size, else Error.

@@ -19,7 +19,7 @@ namespace hydrolux::rain {
 struct FramePaths {
   std::optional<std::string> image, input_dir, video;
   std::optional<std::string> depth, depth_dir;
-  std::optional<std::string> output, output_dir, mask_out, mask_dir, layer_out, stats_json;
+  std::optional<std::string> output, output_dir, mask_out, mask_dir, layer_out, layer_dir, stats_json;
 };
 
 // Each effect's paths, in --help's order: the inputs, the outputs, the statistics.
