@@ -31,19 +31,20 @@ from hydrolux.atmos import LeeTable, lee
 from hydrolux.drop import drop_render, drop_undistort
 from hydrolux.io import _image_module, read_image, write_image  # noqa: F401 (_image_module: the tests')
 from hydrolux.optics import fresnel, media, refractive_index
-from hydrolux.rain import (FogResult, LensDropsResult, RainRenderer, RainResult, builtin_scene, fog, lens_drops,
-                           rain)
+from hydrolux.rain import (FogResult, LensDropsResult, RainDetection, RainRenderer, RainResult, builtin_scene,
+                           detect_rain, fog, lens_drops, rain, remove_rain)
 from hydrolux.scatter import (BulkOptics, MieResult, PhaseResult, RendererMedium, SizeDistribution, bulk_optics, mie,
                               mie_terms, phase, renderer_medium, sphere)
 # A SizeDistribution pickled while the package was one file names hydrolux._remake_distribution: it still loads.
 from hydrolux.scatter import _remake_distribution  # noqa: F401
 from hydrolux.scene import sky
+from hydrolux import eval  # noqa: E402 (hydrolux.eval.score: a module, as hydrolux.batch)
 
 __version__: str = _core.__version__
 __all__ = [
     "fresnel", "media", "refractive_index", "sphere", "mie", "mie_terms", "bulk_optics", "SizeDistribution",
     "lee", "LeeTable", "drop_render", "drop_undistort", "rain", "RainResult", "RainRenderer", "builtin_scene",
-    "lens_drops", "LensDropsResult",
+    "lens_drops", "LensDropsResult", "detect_rain", "RainDetection", "remove_rain", "eval",
     "fog", "FogResult",
     "renderer_medium", "RendererMedium",
     "read_image", "write_image", "simd_target", "set_threads", "MieResult", "phase", "PhaseResult", "BulkOptics",

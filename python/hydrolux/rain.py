@@ -275,3 +275,85 @@ def fog(image: np.ndarray, depth: Optional[np.ndarray] = None, sky_rgb: Optional
                   {k: v for k, v in options.items() if v is not None})
     _warn_negative(d["stats"]["negative_values_clamped"], "fog")
     return FogResult(d["image"], d["mask"], d["stats"])
+
+
+# ---- rain detection and removal (hydrolux detect-rain, remove-rain; docs/rain-detection.md) ----------------
+
+class RainDetection(NamedTuple):
+    """Masks of the rain found in a sequence: masks (T, H, W) uint8, 1 where rain is detected (the
+    method's); candidates, photometric and correlated the stages' masks (None where the method has
+    none).
+
+    Example:
+
+    >>> import hydrolux
+    >>> import numpy as np
+    >>> clear = hydrolux.builtin_scene(160, 90)
+    >>> r = hydrolux.RainRenderer(160, 90, seed=2, rain_rate_mmh=80, unresolved=False)
+    >>> frames = [r.render(clear, frame_index=k).image for k in range(4)]
+    >>> d = hydrolux.detect_rain(frames, exposure_s=0.008)
+    >>> d.masks.shape, d.masks.dtype
+    ((4, 90, 160), dtype('uint8'))
+    >>> bool((d.masks <= d.candidates).all())
+    True
+    """
+    masks: np.ndarray
+    candidates: Optional[np.ndarray]
+    photometric: Optional[np.ndarray]
+    correlated: Optional[np.ndarray]
+
+
+_DETECT_PARAMS = _declared("detect_rain", "detector")
+_REMOVE_PARAMS = _declared("remove_rain", "removal")
+
+
+def _known(options: dict, params: list, job: str) -> dict:
+    names = tuple(p["name"] for p in params)
+    for k in options:
+        if k not in names:
+            raise TypeError(f"unknown {job} option '{k}' (options: {', '.join(names)})")
+    return {k: v for k, v in options.items() if v is not None}
+
+
+@_with_options(_DETECT_PARAMS, 1)
+def detect_rain(frames: Sequence[np.ndarray], **options: Any) -> RainDetection:
+    """Rain found in a sequence of frames (``hydrolux detect-rain``; Garg & Nayar 2004): candidates
+    brighter than both neighbouring frames by ``min_change_grey``, each streak's photometric test and the
+    spatio-temporal correlation along the rain's direction. ``frames``: at least 3 linear images of one
+    size ((H, W) or (H, W, C)), or one (T, H, W[, C]) array. The first and last frame get empty masks.
+
+    Example:
+
+    >>> import hydrolux
+    >>> import numpy as np
+    >>> frames = np.full((3, 8, 8, 3), 0.2, np.float32)
+    >>> frames[1, 2:6, 4] = 0.3  # a short bright streak in the middle frame only
+    >>> d = hydrolux.detect_rain(frames, method="candidates")
+    >>> int(d.masks[1].sum()), int(d.masks[0].sum())
+    (4, 0)
+    """
+    d = _core.detect_rain(frames, _known(options, _DETECT_PARAMS, "detect_rain"))
+    return RainDetection(d["masks"], d["candidates"], d["photometric"], d["correlated"])
+
+
+@_with_options(_REMOVE_PARAMS, 3)
+def remove_rain(frames: Sequence[np.ndarray], masks: Optional[Sequence[np.ndarray]] = None,
+                layers: Optional[Sequence[np.ndarray]] = None, **options: Any) -> np.ndarray:
+    """Rain removed from a sequence (``hydrolux remove-rain``): ``method`` garg-nayar (the default) replaces
+    each frame's masked pixels (``masks``, nonzero = rain, e.g. ``detect_rain``'s) by the mean of the
+    neighbouring frames; median takes every pixel's temporal median; oracle inverts ``layers`` (the
+    renderer's premultiplied RGBA rain layers, ``RainRenderer.render(..., with_layer=True).layer``).
+    Returns (T, H, W, C) float32 linear.
+
+    Example:
+
+    >>> import hydrolux
+    >>> import numpy as np
+    >>> frames = np.full((3, 4, 4, 3), 0.25, np.float32)
+    >>> frames[1, 1, 1] = 0.9
+    >>> masks = np.zeros((3, 4, 4), np.uint8)
+    >>> masks[1, 1, 1] = 1
+    >>> float(hydrolux.remove_rain(frames, masks)[1, 1, 1, 0])
+    0.25
+    """
+    return _core.remove_rain(frames, masks, layers, _known(options, _REMOVE_PARAMS, "remove_rain"))

@@ -51,6 +51,7 @@ const std::vector<JobSpec>& job_specs() {
       JobSpec detect{"detect_rain", "hydrolux detect-rain", "Rain found in a folder of frames: one mask per frame", {}};
       detect.params = describe_fields(rain::detect_path_params());
       for (const auto& p : describe_fields(rain::detect_params())) detect.params.push_back(p);
+      detect.python = "hydrolux.detect_rain";
       detect.description =
           "Rain found in a folder of frames (Garg & Nayar 2004): candidates brighter than both neighbouring frames by "
           "--min-change-grey, each connected streak's photometric test (its change against its background has slope "
@@ -61,6 +62,7 @@ const std::vector<JobSpec>& job_specs() {
       JobSpec remove{"remove_rain", "hydrolux remove-rain", "Rain removed from a folder of frames", {}};
       remove.params = describe_fields(rain::remove_path_params());
       for (const auto& p : describe_fields(rain::remove_params())) remove.params.push_back(p);
+      remove.python = "hydrolux.remove_rain";
       remove.description =
           "Rain removed from a folder of frames: garg-nayar replaces the pixels of each frame's mask (detect-rain's) "
           "by the mean of the neighbouring frames (Garg & Nayar 2004), median takes every pixel's temporal median, "
@@ -70,6 +72,7 @@ const std::vector<JobSpec>& job_specs() {
       JobSpec eval{"rain_eval", "hydrolux rain-eval", "Rain masks scored against the true ones", {}};
       eval.params = describe_fields(rain::eval_path_params());
       for (const auto& p : describe_fields(rain::eval_params())) eval.params.push_back(p);
+      eval.python = "hydrolux.eval.score";
       eval.description =
           "Predicted rain masks (detect-rain's, or any detector's: nonzero = rain) scored against the true ones that "
           "hydrolux rain --mask-dir writes (rain where the alpha reaches --rain-alpha; faint streaks between "
