@@ -13,6 +13,7 @@
 #include "hydrolux/core/memory.hpp"
 #include "hydrolux/io/files.hpp"
 #include "hydrolux/io/frames.hpp"
+#include "hydrolux/io/svg_plot.hpp"
 
 namespace hydrolux::io {
 
@@ -247,7 +248,47 @@ std::string detect_summary(const DetectJob& job, const DetectReport& r) {
   return s;
 }
 
-EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec) {
+namespace {
+
+// The PR curves of the three detectors over kPrThresholds on the frames of job.input_dir, against the true
+// masks of their stems; with plots_dir, pr.svg and pr.csv there.
+void add_pr_curves(const EvalJob& job, const ImageCodec& codec, const std::map<std::string, fs::path>& truth,
+                   EvalReport& report, const std::function<void(double, std::string_view)>& progress) {
+  const FrameFolder plan = plan_frame_folder({*job.input_dir, std::string(), std::nullopt, std::nullopt});
+  const auto warn_none = [](const std::string&) {};
+  std::vector<rain::GreyFrame> grey;
+  std::vector<std::vector<float>> alpha;
+  for (const auto& f : plan.frames) {
+    const auto t = truth.find(f.stem().string());
+    if (t == truth.end())
+      throw Error(fmt::format("--truth-dir {}: no true mask for the frame {} of --input-dir", job.truth_dir,
+                              f.filename().string()));
+    grey.push_back(rain::grey_levels(read_decoded(codec, "--input-dir", f, warn_none).image));
+    const Image a = read_decoded(codec, "--truth-dir", t->second, warn_none).image;
+    if (a.width != grey.back().width || a.height != grey.back().height)
+      throw Error(fmt::format("--truth-dir {}: {} is {}x{}, its frame {}x{}", job.truth_dir, t->second.filename().string(),
+                              a.width, a.height, grey.back().width, grey.back().height));
+    std::vector<float> v(std::size_t(a.width) * std::size_t(a.height));
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = a.pixels[i * std::size_t(a.channels)];
+    alpha.push_back(std::move(v));
+  }
+  const std::pair<const char*, rain::DetectMethod> methods[] = {{"garg-nayar", rain::DetectMethod::garg_nayar},
+                                                                {"candidates", rain::DetectMethod::candidates},
+                                                                {"median", rain::DetectMethod::median}};
+  for (std::size_t m = 0; m < std::size(methods); ++m) {
+    rain::DetectSettings s = job.detector;
+    s.method = methods[m].second;
+    report.pr.emplace_back(methods[m].first,
+                           rain::pr_curve(grey, alpha, s, job.settings, rain::kPrThresholds, [&](double f, std::string_view w) {
+                             if (progress) progress((double(m) + f) / 3.0, fmt::format("{}: {}", methods[m].first, w));
+                           }));
+  }
+}
+
+}  // namespace
+
+EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec,
+                        const std::function<void(double, std::string_view)>& progress) {
   rain::validate(job.settings);
   if (job.pred_dir.empty()) throw Error("--pred-dir is required");
   if (job.truth_dir.empty()) throw Error("--truth-dir is required");
@@ -261,6 +302,19 @@ EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec) {
   if (job.clean_dir.has_value() != job.derained_dir.has_value())
     throw Error(job.clean_dir ? "--clean-dir: goes with --derained-dir (the frames after removal)"
                               : "--derained-dir: goes with --clean-dir (the frames before the rain)");
+  if (job.plots_dir && !job.input_dir)
+    throw Error(fmt::format("--plots-dir {}: the PR curves need the rainy frames (--input-dir)", *job.plots_dir));
+  rain::validate(job.detector);
+  std::optional<OutputDirectory> plots;
+  if (job.plots_dir) {
+    std::error_code ec;
+    if (fs::exists(*job.plots_dir, ec) && !fs::is_directory(*job.plots_dir, ec))
+      throw Error(fmt::format("--plots-dir {}: exists and is not a folder", *job.plots_dir));
+    for (const auto& [flag, dir] : {std::pair{"--input-dir", job.input_dir.value_or("")}, {"--pred-dir", job.pred_dir},
+                                    {"--truth-dir", job.truth_dir}})
+      if (!dir.empty() && fs::exists(*job.plots_dir, ec) && same_file(*job.plots_dir, dir))
+        throw Error(fmt::format("--plots-dir {}: is {}; give the plots their own folder", *job.plots_dir, flag));
+  }
   const auto pred = masks_in(job.pred_dir, "--pred-dir");
   const std::optional<std::map<std::string, fs::path>> clean =
       job.clean_dir ? std::optional(masks_in(*job.clean_dir, "--clean-dir")) : std::nullopt;
@@ -306,10 +360,44 @@ EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec) {
   }
   if (report.frames.empty())
     throw Error(fmt::format("--pred-dir {}: no mask has a namesake in --truth-dir {}", job.pred_dir, job.truth_dir));
+  if (job.input_dir) {
+    add_pr_curves(job, codec, masks_in(job.truth_dir, "--truth-dir"), report, progress);
+    if (job.plots_dir) {
+      plots.emplace(*job.plots_dir, "--plots-dir");
+      std::string csv = "method,min_change_grey,precision,recall,f1,iou,true_positive,false_positive,false_negative\n";
+      Plot plot;
+      plot.title = "Rain detection over its threshold c (1 to 16 grey levels)";
+      plot.x_label = "recall";
+      plot.y_label = "precision";
+      plot.x_tick = plot.y_tick = 0.1;
+      plot.legend = LegendCorner::BottomLeft;
+      const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c"};
+      double x_max = 0;
+      for (std::size_t m = 0; m < report.pr.size(); ++m) {
+        PlotSeries series{report.pr[m].first, {}, {}, colours[m % 3], m == 1};
+        for (const auto& p : report.pr[m].second) {
+          const auto& c = p.scores;
+          csv += fmt::format("{},{:g},{:.6g},{:.6g},{:.6g},{:.6g},{},{},{}\n", report.pr[m].first, p.min_change_grey,
+                             c.precision(), c.recall(), c.f1(), c.iou(), c.true_positive, c.false_positive,
+                             c.false_negative);
+          if (std::isnan(c.precision()) || std::isnan(c.recall())) continue;
+          series.x.push_back(c.recall());
+          series.y.push_back(c.precision());
+          x_max = std::max(x_max, c.recall());
+        }
+        plot.series.push_back(std::move(series));
+      }
+      plot.x_max = std::max(0.05, std::ceil(x_max * 20 + 1e-9) / 20);
+      plot.x_tick = plot.x_max <= 0.5 ? 0.05 : 0.1;
+      plots->write("pr.svg", render_svg(plot));
+      plots->write("pr.csv", csv);
+    }
+  }
   if (report_file) {
     report_file->write(eval_json(job, report));
     report_file->commit();
   }
+  if (plots) plots->commit();
   return report;
 }
 
@@ -338,6 +426,19 @@ std::string eval_json(const EvalJob& job, const EvalReport& r) {
   }
   j["frames"] = frames;
   j["unmatched"] = r.unmatched;
+  if (!r.pr.empty()) {
+    nlohmann::ordered_json curves = nlohmann::ordered_json::object();
+    for (const auto& [method, points] : r.pr) {
+      nlohmann::ordered_json list = nlohmann::ordered_json::array();
+      for (const auto& p : points) {
+        nlohmann::ordered_json q = {{"min_change_grey", p.min_change_grey}};
+        q.update(scores(p.scores));
+        list.push_back(q);
+      }
+      curves[method] = list;
+    }
+    j["pr_curve"] = curves;
+  }
   return j.dump(1) + "\n";
 }
 

@@ -72,6 +72,7 @@ const std::vector<JobSpec>& job_specs() {
       JobSpec eval{"rain_eval", "hydrolux rain-eval", "Rain masks scored against the true ones", {}};
       eval.params = describe_fields(rain::eval_path_params());
       for (const auto& p : describe_fields(rain::eval_params())) eval.params.push_back(p);
+      for (const auto& p : describe_fields(rain::eval_detector_params())) eval.params.push_back(p);
       eval.python = "hydrolux.eval.score";
       eval.description =
           "Predicted rain masks (detect-rain's, or any detector's: nonzero = rain) scored against the true ones that "

@@ -112,6 +112,12 @@ const std::vector<Field<EvalPaths>>& eval_paths() {
        HYDROLUX_PARAM_PATH(clean_dir)},
       {path_row("derained_dir", "--derained-dir", "DIR", "The frames after removal (remove-rain's), named as the clean ones"),
        HYDROLUX_PARAM_PATH(derained_dir)},
+      {path_row("input_dir", "--input-dir", "DIR",
+                "The rainy frames the masks were detected in: with them, each detector's precision-recall curve over "
+                "--min-change-grey (garg-nayar, candidates, median)"),
+       HYDROLUX_PARAM_PATH(input_dir)},
+      {path_row("plots_dir", "--plots-dir", "DIR", "Folder for the PR curves as pr.svg and pr.csv (with --input-dir)"),
+       HYDROLUX_PARAM_PATH(plots_dir)},
       {path_row("output", "--output", "FILE", "Write the JSON report here too (all or nothing)", "-o"),
        HYDROLUX_PARAM_PATH(output)},
   };
@@ -288,6 +294,12 @@ Mask correlation_test_with(std::span<const Mask> masks, std::span<const SparseMo
 
 std::span<const Field<DetectSettings>> detect_params() { return kDetect; }
 std::span<const Field<EvalSettings>> eval_params() { return kEval; }
+std::span<const Field<DetectSettings>> eval_detector_params() {
+  const auto all = detect_params();
+  std::size_t first = 0;
+  while (first < all.size() && all[first].param.name != "exposure_s") ++first;
+  return all.subspan(first);
+}
 std::span<const Field<DetectPaths>> detect_path_params() { return detect_paths(); }
 std::span<const Field<RemoveSettings>> remove_params() { return kRemove; }
 std::span<const Field<RemovePaths>> remove_path_params() { return remove_paths(); }
@@ -547,6 +559,27 @@ Detection detect_rain(std::span<const GreyFrame> frames, const DetectSettings& s
   }
   d.result = d.correlated;
   return d;
+}
+
+std::vector<PrPoint> pr_curve(std::span<const GreyFrame> frames, std::span<const std::vector<float>> true_alpha,
+                              const DetectSettings& s, const EvalSettings& e, std::span<const double> thresholds,
+                              const ProgressFn& progress) {
+  validate(e);
+  if (true_alpha.size() != frames.size())
+    throw Error(fmt::format("pr_curve: {} true masks for {} frames", true_alpha.size(), frames.size()));
+  std::vector<PrPoint> out;
+  for (std::size_t k = 0; k < thresholds.size(); ++k) {
+    DetectSettings at = s;
+    at.min_change_grey = thresholds[k];
+    const Detection d = detect_rain(frames, at, [&](double f, std::string_view what) {
+      if (progress)
+        progress((double(k) + f) / double(thresholds.size()), fmt::format("c = {:g}: {}", thresholds[k], what));
+    });
+    PrPoint p{thresholds[k], {}};
+    for (std::size_t n = 0; n < frames.size(); ++n) p.scores += score_mask(d.result[n].on, true_alpha[n], e);
+    out.push_back(p);
+  }
+  return out;
 }
 
 Confusion& Confusion::operator+=(const Confusion& o) {

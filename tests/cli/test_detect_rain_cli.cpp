@@ -222,3 +222,54 @@ TEST(DetectRainCli, RemovalRefusesWhatItCannotUse) {
   expect_usage_errors(cases);
   EXPECT_FALSE(fs::exists(out));
 }
+
+// rain-eval --input-dir: each detector's PR curve over c. The candidates at a larger c are a subset of those
+// at a smaller one, so their recall cannot rise with c; garg-nayar's point at c = 3 is detect-rain's default
+// masks' score; the curves go to pr.svg and pr.csv as well.
+TEST(DetectRainCli, PrCurvesOverTheThreshold) {
+  const fs::path masks = dir() / "masks_for_pr", plots = dir() / "plots";
+  ASSERT_EQ(run("detect-rain -q --exposure-s 0.008 --input-dir " + scene().rainy.string() + " --output-dir " +
+                masks.string()).code, 0);
+  const auto r = run("rain-eval -q --json --exposure-s 0.008 --pred-dir " + masks.string() + " --truth-dir " +
+                     scene().truth.string() + " --input-dir " + scene().rainy.string() + " --plots-dir " + plots.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("pr_curve"));
+  for (const char* method : {"garg-nayar", "candidates", "median"}) {
+    const auto& curve = j["pr_curve"][method];
+    ASSERT_EQ(curve.size(), 9u) << method;
+    for (std::size_t k = 1; k < curve.size(); ++k) {
+      EXPECT_GT(curve[k]["min_change_grey"].get<double>(), curve[k - 1]["min_change_grey"].get<double>());
+      if (std::string(method) == "candidates") {
+        EXPECT_LE(curve[k]["true_positive"].get<int>(), curve[k - 1]["true_positive"].get<int>()) << k;
+      }
+    }
+  }
+  const auto& gn = j["pr_curve"]["garg-nayar"];
+  const auto at3 = std::find_if(gn.begin(), gn.end(), [](const auto& p) { return p["min_change_grey"] == 3.0; });
+  ASSERT_NE(at3, gn.end());
+  EXPECT_EQ((*at3)["true_positive"], j["overall"]["true_positive"]);
+  EXPECT_EQ((*at3)["false_positive"], j["overall"]["false_positive"]);
+  // docs/rain-detection.md: garg-nayar's precision 1 from c = 3 up (where it detects anything); the candidates'
+  // and the median's never above 0.66, the block's edges among them at every threshold.
+  for (const auto& p : gn) {
+    if (p["min_change_grey"].get<double>() >= 3 && !p["precision"].is_null()) {
+      EXPECT_GE(p["precision"].get<double>(), 0.99);
+    }
+  }
+  for (const char* method : {"candidates", "median"}) {
+    for (const auto& p : j["pr_curve"][method]) {
+      if (!p["precision"].is_null()) {
+        EXPECT_LT(p["precision"].get<double>(), 0.7) << method;
+      }
+    }
+  }
+  EXPECT_TRUE(fs::exists(plots / "pr.svg"));
+  const std::string csv = hydrolux::testing::slurp(plots / "pr.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 27);
+  // --plots-dir without the frames is refused.
+  const std::pair<std::string, std::string> bad[] = {
+      {"rain-eval --pred-dir " + masks.string() + " --truth-dir " + scene().truth.string() + " --plots-dir " +
+           (dir() / "p2").string(), "--plots-dir"}};
+  expect_usage_errors(bad);
+}

@@ -64,9 +64,16 @@ Command add_rain_eval(CLI::App& app) {
   add_params(*sub, std::shared_ptr<rain::EvalPaths>(job), rain::eval_path_params(), cmd.flags_for_quantity);
   add_params(*sub, std::shared_ptr<rain::EvalSettings>(job, &job->settings), rain::eval_params(),
              cmd.flags_for_quantity);
+  add_params(*sub, std::shared_ptr<rain::DetectSettings>(job, &job->detector), rain::eval_detector_params(),
+             cmd.flags_for_quantity);
+  auto quiet = std::make_shared<bool>(false);
+  sub->add_flag("-q,--quiet", *quiet, "No progress on stderr");
   sub->add_flag("--json", *json, "Print the report as JSON on stdout (else a summary line per frame and overall)");
-  cmd.run = [job, json] {
-    const io::EvalReport r = io::run_eval_job(*job, image_codec());
+  cmd.run = [job, json, quiet] {
+    ProgressBar bar("rain-eval", *quiet || !job->input_dir);
+    const io::EvalReport r =
+        io::run_eval_job(*job, image_codec(), [&bar](double f, std::string_view text) { bar.update(f, text); });
+    bar.finish();
     if (*json) {
       std::cout << io::eval_json(*job, r);
       return 0;
@@ -78,6 +85,12 @@ Command add_rain_eval(CLI::App& app) {
     };
     for (const auto& [name, c] : r.frames) line(name, c);
     line("overall", r.overall);
+    for (const auto& [method, points] : r.pr) {
+      fmt::print("PR curve, {}:", method);
+      for (const auto& p : points)
+        fmt::print(" c {:g}: P {:.3f} R {:.3f};", p.min_change_grey, p.scores.precision(), p.scores.recall());
+      fmt::print("\n");
+    }
     if (r.removal_overall)
       fmt::print("removal: PSNR {:.2f} dB in the rain, {:.2f} dB outside it (sRGB codes 0-255)\n",
                  r.removal_overall->psnr_in(), r.removal_overall->psnr_out());

@@ -63,7 +63,9 @@ std::string remove_summary(const RemoveJob& job, const RemoveReport& report);
 
 struct EvalJob : rain::EvalPaths {
   rain::EvalSettings settings;
+  rain::DetectSettings detector;  // the PR curves' detectors (with --input-dir): all but method and c
 };
+
 
 struct EvalReport {
   std::vector<std::pair<std::string, rain::Confusion>> frames;  // by the masks' names, in name order
@@ -71,18 +73,22 @@ struct EvalReport {
   // With --clean-dir and --derained-dir: each scored frame's removal error, and overall.
   std::vector<rain::RemovalError> removal;
   std::optional<rain::RemovalError> removal_overall;
+  // With --input-dir: per detector ("garg-nayar", "candidates", "median") its curve over kPrThresholds.
+  std::vector<std::pair<std::string, std::vector<rain::PrPoint>>> pr;
   std::vector<std::string> unmatched;  // predicted masks with no true mask of their name
 };
 
 // Scores each mask of pred_dir (nonzero: rain) against the true mask of its name in truth_dir (the rain's
 // alpha, as hydrolux rain --mask-dir writes it). Error naming the flag for a folder without masks, no
 // name in common, or masks of different sizes.
-EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec);
+EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec,
+                        const std::function<void(double, std::string_view)>& progress = {});
 // {"format": "hydrolux-rain-eval", "format_version": 1, "rain_alpha", "ignore_alpha", "overall": {"precision",
 // "recall", "f1", "iou", "true_positive", "false_positive", "false_negative", "true_negative", "ignored"},
 // "frames": [{"name", ...the same}], "unmatched": [...]}; undefined ratios as null. With the removal's frames,
 // "psnr_in_mask" and "psnr_out_mask" (dB on the sRGB codes 0-255; null where undefined, a very large value
-// as 1e308 where equal) overall and per frame.
+// as 1e308 where equal) overall and per frame. With --input-dir, "pr_curve": {"garg-nayar": [{"min_change_grey",
+// "precision", "recall", "f1", "iou"}, ...], "candidates": ..., "median": ...}.
 std::string eval_json(const EvalJob& job, const EvalReport& report);
 
 }  // namespace hydrolux::io

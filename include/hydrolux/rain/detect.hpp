@@ -109,6 +109,8 @@ std::span<const Field<DetectPaths>> detect_path_params();
 struct EvalPaths {
   std::string pred_dir, truth_dir;
   std::optional<std::string> clean_dir, derained_dir;  // with both: the removal's PSNR in and out of the rain
+  std::optional<std::string> input_dir;   // the rainy frames: the detectors' PR curves over their threshold
+  std::optional<std::string> plots_dir;   // the PR curves as SVG and CSV
   std::optional<std::string> output;  // the JSON report, besides stdout with --json
 };
 std::span<const Field<EvalPaths>> eval_path_params();
@@ -154,6 +156,9 @@ struct EvalSettings {
   double ignore_alpha = 0.01;  // the rain renderer's --min-alpha default
 };
 std::span<const Field<EvalSettings>> eval_params();
+// The detector's settings rain-eval takes for its PR curves: detect_params() from exposure_s on (the method
+// and c are swept).
+std::span<const Field<DetectSettings>> eval_detector_params();
 void validate(const EvalSettings& s);
 
 // Pixel counts of one frame or of many summed.
@@ -184,5 +189,19 @@ RemovalError removal_error(const Image& derained, const Image& clean, std::span<
 // size, else Error.
 Confusion score_mask(std::span<const std::uint8_t> predicted, std::span<const float> true_alpha,
                      const EvalSettings& s);
+
+// The precision-recall curve of a detector over its threshold c (min_change_grey): detect_rain at each of
+// `thresholds` with the other settings of `s`, scored against the true alpha of every frame (one vector of
+// width * height values per frame), summed over the frames.
+struct PrPoint {
+  double min_change_grey = 0;
+  Confusion scores;
+};
+// The thresholds a curve takes by default, grey levels: from below Garg & Nayar's 3 to where only bright
+// streaks pass.
+inline constexpr double kPrThresholds[] = {1, 1.5, 2, 3, 4, 6, 8, 12, 16};
+std::vector<PrPoint> pr_curve(std::span<const GreyFrame> frames, std::span<const std::vector<float>> true_alpha,
+                              const DetectSettings& s, const EvalSettings& e, std::span<const double> thresholds,
+                              const ProgressFn& progress = {});
 
 }  // namespace hydrolux::rain
