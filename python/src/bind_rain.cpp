@@ -154,11 +154,14 @@ py::dict lens_drops(const py::array& image, const py::dict& kw) {
 // A sequence of frames (a list of (H, W) or (H, W, C) arrays, or one (T, H, W[, C]) array), each as an Image.
 std::vector<Image> frames_arg(const py::handle& frames, const char* arg) {
   std::vector<Image> out;
-  for (const auto& f : frames) out.push_back(to_image(py::array::ensure(f), arg));
+  for (const auto& f : frames) {
+    out.push_back(to_image(py::array::ensure(f), arg));
+    rain::check_finite(out.back(), fmt::format("{}[{}]", arg, out.size() - 1));
+  }
   for (const auto& f : out)
-    if (f.width != out[0].width || f.height != out[0].height)
-      throw Error(fmt::format("{}: a frame of {}x{} among frames of {}x{}", arg, f.width, f.height, out[0].width,
-                              out[0].height));
+    if (f.width != out[0].width || f.height != out[0].height || f.channels != out[0].channels)
+      throw Error(fmt::format("{}: a frame of {}x{} with {} channels among frames of {}x{} with {}", arg, f.width,
+                              f.height, f.channels, out[0].width, out[0].height, out[0].channels));
   return out;
 }
 

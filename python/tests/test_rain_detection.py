@@ -81,5 +81,11 @@ def test_bad_arguments_are_refused():
         hydrolux.remove_rain(frames)
     with pytest.raises(ValueError, match="layers"):
         hydrolux.remove_rain(frames, method="oracle")
+    with pytest.raises(ValueError, match="channels"):
+        hydrolux.remove_rain([frames[0], np.zeros((8, 8, 1), np.float32), frames[0]], method="median")
+    nan = np.zeros((8, 8, 3), np.float32)
+    nan[2, 3, 1] = np.nan
+    with pytest.raises(ValueError, match=r"frames\[1\]: a non-finite value"):
+        hydrolux.detect_rain([frames[0], nan, frames[0]])
     with pytest.raises(ValueError, match="derained"):
         hydrolux.eval.score([np.zeros((8, 8))], [np.zeros((8, 8))], clean=frames[:1])

@@ -21,6 +21,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Whether two folders are one, existing or not (the paths made absolute and resolved as far as they exist).
+bool same_folder(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  const fs::path ca = fs::weakly_canonical(fs::absolute(a), ec), cb = fs::weakly_canonical(fs::absolute(b), ec);
+  return ca == cb || (fs::exists(a, ec) && fs::exists(b, ec) && same_file(a, b));
+}
+
+// A decoded image's pixels checked finite, named by flag and file.
+Image finite_image(const ImageCodec& codec, std::string_view flag, const fs::path& path) {
+  Image img = read_decoded(codec, flag, path, [](const std::string&) {}).image;
+  rain::check_finite(img, fmt::format("{} {}", flag, path.string()));
+  return img;
+}
+
 // The image files of a folder by name (frames.hpp's extensions, no hidden ones), or Error naming the flag.
 std::map<std::string, fs::path> masks_in(const std::string& dir, std::string_view flag) {
   std::error_code ec;
@@ -29,7 +43,10 @@ std::map<std::string, fs::path> masks_in(const std::string& dir, std::string_vie
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
     if (!is_frame_file(e.path()) || name.front() == '.' || !fs::is_regular_file(e.path(), ec)) continue;
-    out.emplace(e.path().stem().string(), e.path());
+    const auto [it, fresh] = out.emplace(e.path().stem().string(), e.path());
+    if (!fresh)
+      throw Error(fmt::format("{} {}: both {} and {} are named {}; keep one", flag, dir, it->second.filename().string(),
+                              name, it->first));
   }
   if (ec) throw Error(fmt::format("{} {}: cannot list: {}", flag, dir, ec.message()));
   if (out.empty()) throw Error(fmt::format("{} {}: no image files (png, jpg, exr, tif, hdr, ppm, pfm)", flag, dir));
@@ -59,10 +76,10 @@ DetectReport run_detect_job(const DetectJob& job, const DetectHooks& hooks) {
   const FrameFolder plan = plan_frame_folder({job.input_dir, job.output_dir, std::nullopt, std::nullopt});
   std::error_code ec;
   if (job.stages_dir) {
-    if (fs::exists(*job.stages_dir, ec) && same_file(*job.stages_dir, job.input_dir))
+    if (same_folder(*job.stages_dir, job.input_dir))
       throw Error(fmt::format("--stages-dir {}: is the input folder", *job.stages_dir));
-    if (fs::exists(*job.stages_dir, ec) && fs::exists(job.output_dir, ec) && same_file(*job.stages_dir, job.output_dir))
-      throw Error(fmt::format("--stages-dir {}: is --output-dir; the stages and the masks share names", *job.stages_dir));
+    if (same_folder(*job.stages_dir, job.output_dir))
+      throw Error(fmt::format("--stages-dir {}: is --output-dir; give the stages their own folder", *job.stages_dir));
   }
   if (plan.frames.size() < 3)
     throw Error(fmt::format("--input-dir {}: {} frame{}; rain detection compares each frame with the ones before and "
@@ -84,6 +101,7 @@ DetectReport run_detect_job(const DetectJob& job, const DetectHooks& hooks) {
   const auto warn_none = [](const std::string&) {};
   for (std::size_t k = 0; k < plan.frames.size(); ++k) {
     const DecodedImage d = read_decoded(hooks.codec, "--input-dir", plan.frames[k], warn_none);
+    rain::check_finite(d.image, "--input-dir " + plan.frames[k].string());
     if (k == 0) {
       report.width = d.image.width, report.height = d.image.height;
       // Grey levels (4 bytes), the stages' masks (3 bytes), the correlation's table (32 bytes, one frame).
@@ -148,6 +166,9 @@ RemoveReport run_remove_job(const RemoveJob& job, const DetectHooks& hooks) {
     throw Error(fmt::format("--mask-dir {}: used only with --method garg-nayar", *job.mask_dir));
   if (method != rain::RemoveMethod::oracle && job.layer_dir)
     throw Error(fmt::format("--layer-dir {}: used only with --method oracle", *job.layer_dir));
+  for (const auto& [flag, dir] : {std::pair{"--mask-dir", job.mask_dir}, {"--layer-dir", job.layer_dir}})
+    if (dir && same_folder(*dir, job.output_dir))
+      throw Error(fmt::format("--output-dir {}: is {}; the frames would replace its files", job.output_dir, flag));
   const FrameFolder plan = plan_frame_folder({job.input_dir, job.output_dir, std::nullopt, std::nullopt});
   if (plan.frames.size() < 3 && method != rain::RemoveMethod::oracle)
     throw Error(fmt::format("--input-dir {}: {} frame{}; removal from the neighbouring frames needs at least 3",
@@ -171,7 +192,7 @@ RemoveReport run_remove_job(const RemoveJob& job, const DetectHooks& hooks) {
   std::vector<rain::Mask> frame_masks;
   const auto warn_none = [](const std::string&) {};
   for (std::size_t k = 0; k < plan.frames.size(); ++k) {
-    Image f = read_decoded(hooks.codec, "--input-dir", plan.frames[k], warn_none).image;
+    Image f = finite_image(hooks.codec, "--input-dir", plan.frames[k]);
     if (k == 0) {
       report.width = f.width, report.height = f.height;
       const double bytes = double(plan.frames.size()) * double(f.width) * double(f.height) * (4.0 * f.channels + 1);
@@ -210,7 +231,13 @@ RemoveReport run_remove_job(const RemoveJob& job, const DetectHooks& hooks) {
       clear = rain::temporal_median(frames, k, job.settings.median_frames);
     } else {
       const fs::path lp = companion(layers, *job.layer_dir, "--layer-dir", plan.frames[k]);
-      clear = rain::invert_rain_layer(frames[k], read_decoded(hooks.codec, "--layer-dir", lp, warn_none).image);
+      const Image layer = finite_image(hooks.codec, "--layer-dir", lp);
+      if (layer.channels != 4 || layer.width != frames[k].width || layer.height != frames[k].height)
+        throw Error(fmt::format("--layer-dir {}: {} is {}x{} with {} channels; its frame's layer is {}x{} premultiplied "
+                                "RGBA (hydrolux rain --layer-dir)",
+                                *job.layer_dir, lp.filename().string(), layer.width, layer.height, layer.channels,
+                                frames[k].width, frames[k].height));
+      clear = rain::invert_rain_layer(frames[k], layer);
     }
     for (std::size_t i = 0; i < clear.pixels.size(); ++i) report.replaced += clear.pixels[i] != frames[k].pixels[i];
     const fs::path& name = plan.outputs[k];
@@ -263,7 +290,11 @@ void add_pr_curves(const EvalJob& job, const ImageCodec& codec, const std::map<s
     if (t == truth.end())
       throw Error(fmt::format("--truth-dir {}: no true mask for the frame {} of --input-dir", job.truth_dir,
                               f.filename().string()));
-    grey.push_back(rain::grey_levels(read_decoded(codec, "--input-dir", f, warn_none).image));
+    grey.push_back(rain::grey_levels(finite_image(codec, "--input-dir", f)));
+    if (grey.back().width != grey.front().width || grey.back().height != grey.front().height)
+      throw Error(fmt::format("--input-dir {}: {} is {}x{}, the first frame {}x{}", *job.input_dir,
+                              f.filename().string(), grey.back().width, grey.back().height, grey.front().width,
+                              grey.front().height));
     const Image a = read_decoded(codec, "--truth-dir", t->second, warn_none).image;
     if (a.width != grey.back().width || a.height != grey.back().height)
       throw Error(fmt::format("--truth-dir {}: {} is {}x{}, its frame {}x{}", job.truth_dir, t->second.filename().string(),
@@ -272,6 +303,10 @@ void add_pr_curves(const EvalJob& job, const ImageCodec& codec, const std::map<s
     for (std::size_t i = 0; i < v.size(); ++i) v[i] = a.pixels[i * std::size_t(a.channels)];
     alpha.push_back(std::move(v));
   }
+  if (grey.size() < 3)
+    throw Error(fmt::format("--input-dir {}: {} frame{}; the detectors compare each frame with its neighbours, so the PR "
+                            "curves need at least 3",
+                            *job.input_dir, grey.size(), grey.size() == 1 ? "" : "s"));
   const std::pair<const char*, rain::DetectMethod> methods[] = {{"garg-nayar", rain::DetectMethod::garg_nayar},
                                                                 {"candidates", rain::DetectMethod::candidates},
                                                                 {"median", rain::DetectMethod::median}};
@@ -302,8 +337,6 @@ EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec,
   if (job.clean_dir.has_value() != job.derained_dir.has_value())
     throw Error(job.clean_dir ? "--clean-dir: goes with --derained-dir (the frames after removal)"
                               : "--derained-dir: goes with --clean-dir (the frames before the rain)");
-  if (job.plots_dir && !job.input_dir)
-    throw Error(fmt::format("--plots-dir {}: the PR curves need the rainy frames (--input-dir)", *job.plots_dir));
   rain::validate(job.detector);
   std::optional<OutputDirectory> plots;
   if (job.plots_dir) {
@@ -348,7 +381,11 @@ EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec,
       const auto frame = [&](const std::map<std::string, fs::path>& m, const std::string& dir, std::string_view flag) {
         const auto it = m.find(stem);
         if (it == m.end()) throw Error(fmt::format("{} {}: no frame named {}", flag, dir, stem));
-        return read_decoded(codec, flag, it->second, warn_none).image;
+        Image img = finite_image(codec, flag, it->second);
+        if (img.width != p.image.width || img.height != p.image.height)
+          throw Error(fmt::format("{} {}: {} is {}x{}, its mask {}x{}", flag, dir, it->second.filename().string(),
+                                  img.width, img.height, p.image.width, p.image.height));
+        return img;
       };
       const rain::RemovalError e =
           rain::removal_error(frame(*derained, *job.derained_dir, "--derained-dir"),
@@ -360,10 +397,27 @@ EvalReport run_eval_job(const EvalJob& job, const ImageCodec& codec,
   }
   if (report.frames.empty())
     throw Error(fmt::format("--pred-dir {}: no mask has a namesake in --truth-dir {}", job.pred_dir, job.truth_dir));
+  if (job.plots_dir) {
+    // The scores of every frame as CSV (undefined ratios empty), and the PR curves below where computed.
+    plots.emplace(*job.plots_dir, "--plots-dir");
+    const auto num = [](double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string(); };
+    std::string csv = "name,precision,recall,f1,iou,true_positive,false_positive,false_negative,true_negative,ignored,"
+                      "psnr_in_mask,psnr_out_mask\n";
+    for (std::size_t k = 0; k <= report.frames.size(); ++k) {
+      const bool all = k == report.frames.size();
+      const rain::Confusion& c = all ? report.overall : report.frames[k].second;
+      const rain::RemovalError* e = all ? (report.removal_overall ? &*report.removal_overall : nullptr)
+                                        : (k < report.removal.size() ? &report.removal[k] : nullptr);
+      csv += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", all ? "overall" : report.frames[k].first,
+                         num(c.precision()), num(c.recall()), num(c.f1()), num(c.iou()), c.true_positive,
+                         c.false_positive, c.false_negative, c.true_negative, c.ignored,
+                         e ? num(e->psnr_in()) : std::string(), e ? num(e->psnr_out()) : std::string());
+    }
+    plots->write("scores.csv", csv);
+  }
   if (job.input_dir) {
     add_pr_curves(job, codec, masks_in(job.truth_dir, "--truth-dir"), report, progress);
     if (job.plots_dir) {
-      plots.emplace(*job.plots_dir, "--plots-dir");
       std::string csv = "method,min_change_grey,precision,recall,f1,iou,true_positive,false_positive,false_negative\n";
       Plot plot;
       plot.title = "Rain detection over its threshold c (1 to 16 grey levels)";

@@ -116,7 +116,7 @@ const std::vector<Field<EvalPaths>>& eval_paths() {
                 "The rainy frames the masks were detected in: with them, each detector's precision-recall curve over "
                 "--min-change-grey (garg-nayar, candidates, median)"),
        HYDROLUX_PARAM_PATH(input_dir)},
-      {path_row("plots_dir", "--plots-dir", "DIR", "Folder for the PR curves as pr.svg and pr.csv (with --input-dir)"),
+      {path_row("plots_dir", "--plots-dir", "DIR", "Folder for the scores of every frame as scores.csv, and with --input-dir the PR curves as pr.svg and pr.csv"),
        HYDROLUX_PARAM_PATH(plots_dir)},
       {path_row("output", "--output", "FILE", "Write the JSON report here too (all or nothing)", "-o"),
        HYDROLUX_PARAM_PATH(output)},
@@ -153,7 +153,7 @@ double srgb_encode(float v) {
     }
     return k;
   }();
-  const double t = std::clamp(double(v), 0.0, 1.0) * double(kSrgbKnots);
+  const double t = (v > 0 ? std::min(double(v), 1.0) : 0.0) * double(kSrgbKnots);  // NaN: 0
   const std::size_t i = std::min(std::size_t(t), kSrgbKnots - 1);
   const double f = t - double(i);
   return knots[i] + f * (knots[i + 1] - knots[i]);
@@ -310,7 +310,22 @@ void validate(const RemoveSettings& s) {
     throw ParamError(fmt::format("{{median_frames}} {}: must be odd (a window centred on its frame)", s.median_frames));
 }
 
+namespace {
+void check_alike(std::span<const Image> frames) {
+  for (const Image& f : frames)
+    if (f.width != frames[0].width || f.height != frames[0].height || f.channels != frames[0].channels)
+      throw Error(fmt::format("rain removal: a frame of {}x{} with {} channels among frames of {}x{} with {}", f.width,
+                              f.height, f.channels, frames[0].width, frames[0].height, frames[0].channels));
+}
+}  // namespace
+
 Image remove_from_neighbours(std::span<const Image> frames, std::span<const Mask> masks, std::size_t n) {
+  check_alike(frames);
+  if (masks.size() != frames.size()) throw Error(fmt::format("rain removal: {} masks for {} frames", masks.size(), frames.size()));
+  for (const Mask& m : masks)
+    if (m.width != frames[0].width || m.height != frames[0].height)
+      throw Error(fmt::format("rain removal: a mask of {}x{} for frames of {}x{}", m.width, m.height, frames[0].width,
+                              frames[0].height));
   const Image& f = frames[n];
   Image out = f;
   const std::size_t ch = std::size_t(f.channels), count = frames.size();
@@ -337,6 +352,7 @@ Image remove_from_neighbours(std::span<const Image> frames, std::span<const Mask
 }
 
 Image temporal_median(std::span<const Image> frames, std::size_t n, int median_frames) {
+  check_alike(frames);
   const std::size_t window = std::min(std::size_t(median_frames), frames.size() - (frames.size() % 2 == 0 ? 1 : 0));
   const std::size_t half = window / 2;
   std::size_t first = n >= half ? n - half : 0;
@@ -435,6 +451,18 @@ GreyFrame grey_levels(const Image& linear) {
   return g;
 }
 
+void check_finite(const Image& image, std::string_view origin) {
+  const std::size_t ch = std::size_t(std::max(image.channels, 1));
+  for (std::size_t i = 0; i < image.pixels.size(); ++i)
+    if (!std::isfinite(image.pixels[i])) {
+      const std::size_t p = i / ch;
+      throw Error(fmt::format("{}: a non-finite value ({}) at pixel ({}, {}), channel {}; rain detection and removal "
+                              "take finite light",
+                              origin, image.pixels[i], p % std::size_t(image.width), p / std::size_t(image.width),
+                              i % ch));
+    }
+}
+
 std::size_t Mask::count() const { return std::size_t(std::count(on.begin(), on.end(), std::uint8_t(1))); }
 
 Mask rain_candidates(const GreyFrame& previous, const GreyFrame& frame, const GreyFrame& next, double min_change) {
@@ -503,11 +531,13 @@ Needle correlation_needle(std::span<const Mask> masks, std::size_t n, int x, int
 Mask median_residual(std::span<const GreyFrame> frames, std::size_t n, int median_frames, double min_change) {
   const GreyFrame& f = frames[n];
   Mask m = empty_mask(f.width, f.height);
-  const std::size_t half = std::size_t(median_frames) / 2;
-  if (n < half || n + half >= frames.size()) return m;
-  std::vector<float> v(static_cast<std::size_t>(median_frames));
+  const std::size_t window = std::size_t(median_frames), half = window / 2;
+  if (frames.size() < window) return m;
+  std::size_t first = n >= half ? n - half : 0;
+  if (first + window > frames.size()) first = frames.size() - window;
+  std::vector<float> v(window);
   for (std::size_t i = 0; i < m.on.size(); ++i) {
-    for (std::size_t k = 0; k < v.size(); ++k) v[k] = frames[n - half + k].level[i];
+    for (std::size_t k = 0; k < v.size(); ++k) v[k] = frames[first + k].level[i];
     std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(half), v.end());
     m.on[i] = f.level[i] - v[half] >= min_change;
   }
@@ -526,6 +556,8 @@ Detection detect_rain(std::span<const GreyFrame> frames, const DetectSettings& s
     if (progress) progress(done / (stages * double(count)), what);
   };
   if (s.method == DetectMethod::median) {
+    if (std::size_t(s.median_frames) > count)
+      throw ParamError(fmt::format("{{median_frames}} {}: more than the {} frames", s.median_frames, count));
     d.result.resize(count);
     for (std::size_t n = 0; n < count; ++n) {
       d.result[n] = median_residual(frames, n, s.median_frames, s.min_change_grey);

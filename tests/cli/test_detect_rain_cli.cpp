@@ -221,6 +221,34 @@ TEST(DetectRainCli, RemovalRefusesWhatItCannotUse) {
   fs::create_directories(dir() / "other");
   expect_usage_errors(cases);
   EXPECT_FALSE(fs::exists(out));
+  // The removal's output on its masks, two masks of one name, a NaN in a frame: refused, nothing touched.
+  const fs::path masks = dir() / "masks_kept", dup = dir() / "dup", nan_dir = dir() / "nan";
+  fs::create_directories(masks);
+  fs::create_directories(dup);
+  fs::create_directories(nan_dir);
+  for (int k = 0; k < 10; ++k)
+    fs::copy_file(scene().truth / ("f" + std::to_string(k) + ".png"), masks / ("f" + std::to_string(k) + ".png"),
+                  fs::copy_options::overwrite_existing);
+  const std::string before = hydrolux::testing::slurp(masks / "f3.png");
+  fs::copy_file(scene().truth / "f0.png", dup / "f0.png", fs::copy_options::overwrite_existing);
+  io::write_image(dup / "f0.exr", io::read_image(scene().truth / "f0.png"));
+  for (int k = 0; k < 3; ++k) {
+    Image f = io::read_image(scene().rainy / ("f" + std::to_string(k) + ".png"));
+    if (k == 1) f.pixels[7] = std::nanf("");
+    io::write_image(nan_dir / ("f" + std::to_string(k) + ".exr"), f);
+  }
+  const std::string fresh = (dir() / "fresh").string();
+  const std::pair<std::string, std::string> more[] = {
+      {"remove-rain --input-dir " + in + " --mask-dir " + masks.string() + " --output-dir " + masks.string(),
+       "--output-dir"},
+      {"detect-rain --input-dir " + in + " --output-dir " + fresh + " --stages-dir " + fresh, "--stages-dir"},
+      {"rain-eval --pred-dir " + dup.string() + " --truth-dir " + scene().truth.string(), "keep one"},
+      {"detect-rain --input-dir " + nan_dir.string() + " --output-dir " + out, "non-finite"},
+  };
+  expect_usage_errors(more);
+  EXPECT_EQ(hydrolux::testing::slurp(masks / "f3.png"), before);
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(fresh));
 }
 
 // rain-eval --input-dir: each detector's PR curve over c. The candidates at a larger c are a subset of those
@@ -267,9 +295,14 @@ TEST(DetectRainCli, PrCurvesOverTheThreshold) {
   EXPECT_TRUE(fs::exists(plots / "pr.svg"));
   const std::string csv = hydrolux::testing::slurp(plots / "pr.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 27);
-  // --plots-dir without the frames is refused.
+  // scores.csv: a line per frame and the overall one, the JSON's numbers.
+  const std::string scores = hydrolux::testing::slurp(plots / "scores.csv");
+  EXPECT_EQ(std::count(scores.begin(), scores.end(), '\n'), 1 + 10 + 1);
+  EXPECT_NE(scores.find(fmt::format("overall,{:.6g},", j["overall"]["precision"].get<double>())), std::string::npos)
+      << scores;
+  // --plots-dir on a folder the scores read is refused.
   const std::pair<std::string, std::string> bad[] = {
       {"rain-eval --pred-dir " + masks.string() + " --truth-dir " + scene().truth.string() + " --plots-dir " +
-           (dir() / "p2").string(), "--plots-dir"}};
+           masks.string(), "--plots-dir"}};
   expect_usage_errors(bad);
 }

@@ -115,7 +115,16 @@ TEST(RainDetect, TheMedianResidual) {
   const Mask m = median_residual(f, 2, 5, 3);
   EXPECT_TRUE(on(m, 3, 3));
   EXPECT_FALSE(on(m, 4, 4));
-  EXPECT_EQ(median_residual(f, 1, 5, 3).count(), 0u);  // fewer than 5 frames around frame 1
+  // At the sequence's ends the window moves inside it: frame 0 against the median of frames 0-4.
+  at(f[0], 1, 1) = 58;
+  EXPECT_TRUE(on(median_residual(f, 0, 5, 3), 1, 1));
+  at(f[4], 2, 2) = 58;
+  EXPECT_TRUE(on(median_residual(f, 4, 5, 3), 2, 2));
+  EXPECT_EQ(median_residual(f, 4, 5, 3).count(), 1u);
+  DetectSettings s;
+  s.method = DetectMethod::median;
+  s.median_frames = 7;
+  EXPECT_THROW(detect_rain(f, s), ParamError);  // more frames than the sequence has
 }
 
 TEST(RainDetect, RefusesTooFewFramesAndMixedSizes) {
@@ -223,6 +232,23 @@ TEST(RainRemove, PsnrInAndOutOfTheRainByHand) {
   EXPECT_EQ(e.values_out, 3u);
   EXPECT_NEAR(e.psnr_in(), 0.0, 1e-9);
   EXPECT_TRUE(std::isinf(e.psnr_out()));
+}
+
+// Frames of different channel counts are refused, not read at the wrong stride; NaN is refused by name.
+TEST(RainRemove, RefusesUnlikeFramesAndNonFiniteValues) {
+  std::vector<Image> f{Image(4, 4, 3), Image(4, 4, 1), Image(4, 4, 3)};
+  EXPECT_THROW(temporal_median(f, 1, 3), Error);
+  std::vector<Mask> m(3, Mask{4, 4, std::vector<std::uint8_t>(16, 1)});
+  EXPECT_THROW(remove_from_neighbours(f, m, 1), Error);
+  Image bad(4, 4, 3);
+  bad.pixels[5 * 3 + 1] = std::nanf("");
+  try {
+    check_finite(bad, "frames[2]");
+    FAIL() << "NaN accepted";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "frames[2]: a non-finite value (nan) at pixel (1, 1), channel 1; rain detection and removal "
+                           "take finite light");
+  }
 }
 
 }  // namespace hydrolux::rain

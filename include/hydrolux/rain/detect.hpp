@@ -27,6 +27,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hydrolux/core/image.hpp"
@@ -63,6 +64,9 @@ struct GreyFrame {
   std::vector<float> level;  // width * height, row-major
 };
 GreyFrame grey_levels(const Image& linear);
+// Throws Error "<origin>: a non-finite value (nan) at pixel (x, y), channel c; ..." for the first NaN or
+// infinity in row order: detection, removal and scores take finite light only (as hydrolux rain does).
+void check_finite(const Image& image, std::string_view origin);
 
 // One mask per frame: 1 where rain is detected, else 0; width * height bytes.
 struct Mask {
@@ -78,7 +82,8 @@ struct Detection {
 };
 
 // The stages for every frame of `frames` (all of one size; at least 3). The first and last frames
-// have one neighbour and get empty masks (the median's: those with fewer than median_frames around).
+// have one neighbour and get empty masks (the median's window is moved inside the sequence instead, and it
+// needs at least median_frames frames).
 // Throws Error for frames of different sizes or fewer than 3.
 Detection detect_rain(std::span<const GreyFrame> frames, const DetectSettings& s, const ProgressFn& progress = {});
 
@@ -89,6 +94,7 @@ Mask rain_candidates(const GreyFrame& previous, const GreyFrame& frame, const Gr
 Mask photometric_test(const Mask& candidates, const GreyFrame& previous, const GreyFrame& frame,
                       const GreyFrame& next, double max_beta);
 Mask correlation_test(std::span<const Mask> masks, std::size_t n, const DetectSettings& s);
+// The median's window: median_frames frames centred on n, moved inside the sequence at its ends.
 Mask median_residual(std::span<const GreyFrame> frames, std::size_t n, int median_frames, double min_change);
 
 // The correlation's needle at one pixel of frame n: its direction (degrees from the image's x axis
@@ -110,7 +116,7 @@ struct EvalPaths {
   std::string pred_dir, truth_dir;
   std::optional<std::string> clean_dir, derained_dir;  // with both: the removal's PSNR in and out of the rain
   std::optional<std::string> input_dir;   // the rainy frames: the detectors' PR curves over their threshold
-  std::optional<std::string> plots_dir;   // the PR curves as SVG and CSV
+  std::optional<std::string> plots_dir;   // scores.csv per frame; the PR curves as SVG and CSV
   std::optional<std::string> output;  // the JSON report, besides stdout with --json
 };
 std::span<const Field<EvalPaths>> eval_path_params();
