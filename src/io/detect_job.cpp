@@ -76,6 +76,9 @@ DetectReport run_detect_job(const DetectJob& job, const DetectHooks& hooks) {
   const FrameFolder plan = plan_frame_folder({job.input_dir, job.output_dir, std::nullopt, std::nullopt});
   std::error_code ec;
   if (job.stages_dir) {
+    if (job.settings.method == rain::DetectMethod::median)
+      throw Error(fmt::format("--stages-dir {}: the median baseline has no stages (--method garg-nayar or candidates)",
+                              *job.stages_dir));
     if (same_folder(*job.stages_dir, job.input_dir))
       throw Error(fmt::format("--stages-dir {}: is the input folder", *job.stages_dir));
     if (same_folder(*job.stages_dir, job.output_dir))

@@ -242,6 +242,8 @@ TEST(DetectRainCli, RemovalRefusesWhatItCannotUse) {
       {"remove-rain --input-dir " + in + " --mask-dir " + masks.string() + " --output-dir " + masks.string(),
        "--output-dir"},
       {"detect-rain --input-dir " + in + " --output-dir " + fresh + " --stages-dir " + fresh, "--stages-dir"},
+      {"detect-rain --method median --input-dir " + in + " --output-dir " + fresh + " --stages-dir " +
+           (dir() / "fresh_stages").string(), "--stages-dir"},
       {"rain-eval --pred-dir " + dup.string() + " --truth-dir " + scene().truth.string(), "keep one"},
       {"detect-rain --input-dir " + nan_dir.string() + " --output-dir " + out, "non-finite"},
   };
