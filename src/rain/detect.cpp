@@ -10,6 +10,7 @@
 #include <numbers>
 #include <vector>
 
+#include "hydrolux/color/srgb.hpp"
 #include "hydrolux/core/error.hpp"
 #include "hydrolux/core/shared_params.hpp"
 
@@ -148,8 +149,7 @@ double srgb_encode(float v) {
   static const std::vector<double> knots = [] {
     std::vector<double> k(kSrgbKnots + 1);
     for (std::size_t i = 0; i <= kSrgbKnots; ++i) {
-      const double c = double(i) / double(kSrgbKnots);
-      k[i] = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
+      k[i] = color::srgb_encode(double(i) / double(kSrgbKnots));
     }
     return k;
   }();

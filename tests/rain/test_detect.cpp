@@ -58,6 +58,25 @@ TEST(RainDetect, ThePhotometricTestBoundsTheSlopeOfTheChangeAgainstTheBackground
     const Mask kept = photometric_test(cand, prev, now, next, max_beta(s));
     EXPECT_EQ(kept.count(), beta < max_beta(s) ? 20u : 0u) << "beta " << beta;
   }
+  // A streak over a background that varies by less than a grey level cannot test the slope: it is kept, even
+  // where its changes would fit a slope of 0.5 (the ramp of 0.05 levels a pixel makes beta = 0.5 from noise).
+  {
+    GreyFrame p2 = flat(20, 20, 0), n2 = flat(20, 20, 0), c2 = flat(20, 20, 0);
+    Mask cand2{20, 20, std::vector<std::uint8_t>(400, 0)};
+    for (int y = 2; y < 12; ++y) {
+      const float bg = 80 + 0.05f * float(y);
+      at(p2, 4, y) = at(n2, 4, y) = bg;
+      at(c2, 4, y) = bg + 70 - 0.5f * bg;
+      cand2.on[std::size_t(y) * 20 + 4] = 1;
+    }
+    EXPECT_EQ(photometric_test(cand2, p2, c2, n2, max_beta(s)).count(), 10u);
+    for (int y = 2; y < 12; ++y) {  // the same slope over a background spread over 9 grey levels: rejected
+      const float bg = 80 + 1.0f * float(y);
+      at(p2, 4, y) = at(n2, 4, y) = bg;
+      at(c2, 4, y) = bg + 70 - 0.5f * bg;
+    }
+    EXPECT_EQ(photometric_test(cand2, p2, c2, n2, max_beta(s)).count(), 0u);
+  }
   // A streak over a background that varies less than a grey level cannot test the slope: it is kept.
   GreyFrame prev = flat(20, 20, 80), now = flat(20, 20, 80), next = flat(20, 20, 80);
   Mask cand{20, 20, std::vector<std::uint8_t>(400, 0)};
@@ -103,6 +122,23 @@ TEST(RainDetect, TheCorrelationKeepsStreaksAlongTheRainsDirection) {
         }
       }
   ASSERT_GT(vertical, 50u);
+  // A 4 x 5 blob, upright like the rain but hardly elongated ((l1 - l2) / (l1 + l2) = (24 - 15) / (24 + 15) =
+  // 0.23 for the autocorrelation of a w x h rectangle, moments in the ratio w^2 - 1 : h^2 - 1): dropped by the
+  // elongation bound alone, kept without it.
+  std::vector<Mask> blob = masks;
+  for (int y = 10; y < 15; ++y)
+    for (int x = 44; x < 48; ++x) blob[15].on[std::size_t(y) * w + std::size_t(x)] = 1;
+  for (int y = 4; y < 21; ++y)  // nothing else near it in any frame
+    for (int x = 38; x < 54; ++x)
+      for (auto& m : blob)
+        if (&m != &blob[15] || y < 10 || y >= 15 || x < 44 || x >= 48) m.on[std::size_t(y) * w + std::size_t(x)] = 0;
+  const Needle upright = correlation_needle(blob, 15, 45, 12, s);
+  EXPECT_NEAR(upright.direction_deg, 90, 1e-9);
+  EXPECT_NEAR(upright.elongation, 9.0 / 39.0, 1e-9);
+  EXPECT_FALSE(on(correlation_test(blob, 15, s), 45, 12));
+  DetectSettings any_shape = s;
+  any_shape.min_elongation = 0;
+  EXPECT_TRUE(on(correlation_test(blob, 15, any_shape), 45, 12));
   // Streaks that cross others in the window broaden their needle; most stay within the bounds.
   EXPECT_GT(double(vertical_kept), 0.9 * double(vertical));
 }
